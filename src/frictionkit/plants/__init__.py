@@ -1,0 +1,5 @@
+"""Physical axes driven against friction."""
+
+from .mass import Mass
+
+__all__ = ["Mass"]

@@ -1,0 +1,400 @@
+"""Read recordings from CSV, MATLAB ``.mat`` (v5 and v7.3), HDF5 and Parquet files.
+
+Columns are mapped explicitly to signals (``time=``, ``position=``, ``velocity=``,
+``force=``, ...), and each may be multiplied by a scale factor to reach SI units,
+e.g. the EMPS force ``F = gtau * vir`` with ``gtau = 35.15065188248547 N/V``::
+
+    rec = load_recording("DATA_EMPS.csv", time="t_s", position="qm_m", force="vir_V",
+                         scales={"force": 35.15065188248547})
+
+Input files are opened read-only and never modified; the SHA-256 of the bytes read
+is stored in ``Recording.provenance["sha256"]``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import DataError
+from .recording import Recording
+
+#: Keyword of the loader → signal name of :class:`Recording`.
+ROLE_TO_SIGNAL = {
+    "time": "t",
+    "position": "x",
+    "velocity": "v",
+    "force": "F",
+    "current": "current",
+    "command": "command",
+    "reference": "reference",
+}
+
+#: File suffixes understood by :func:`load_recording` → reader name.
+SUFFIXES = {
+    ".csv": "csv",
+    ".txt": "csv",
+    ".tsv": "csv",
+    ".mat": "mat",
+    ".h5": "hdf5",
+    ".hdf5": "hdf5",
+    ".hdf": "hdf5",
+    ".parquet": "parquet",
+    ".pq": "parquet",
+}
+
+
+# --------------------------------------------------------------------------- tables
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with path.open("rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _check_path(path: str | Path) -> Path:
+    p = Path(path)
+    if not p.exists():
+        raise DataError(f"file '{p}': not found")
+    if not p.is_file():
+        raise DataError(f"file '{p}': is not a regular file")
+    return p
+
+
+def _file_kind(p: Path) -> str:
+    kind = SUFFIXES.get(p.suffix.lower())
+    if kind is None:
+        raise DataError(
+            f"file '{p}': unknown file type '{p.suffix or '(no suffix)'}'; supported: "
+            + ", ".join(sorted(SUFFIXES))
+        )
+    return kind
+
+
+def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
+    import pandas as pd
+
+    if delimiter is None:
+        with p.open("r", errors="replace") as fh:
+            head = fh.readline()
+        counts = {d: head.count(d) for d in (",", ";", "\t")}
+        delimiter = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
+    try:
+        df = pd.read_csv(p, sep=delimiter)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise DataError(f"file '{p}': cannot be parsed as CSV ({str(exc).splitlines()[0]})") from None
+    return {str(c): df[c].to_numpy() for c in df.columns}
+
+
+def _read_parquet(p: Path) -> dict[str, np.ndarray]:
+    import pandas as pd
+
+    try:
+        df = pd.read_parquet(p)
+    except Exception as exc:  # pyarrow raises several unrelated types
+        raise DataError(f"file '{p}': cannot be read as Parquet ({str(exc).splitlines()[0]})") from None
+    return {str(c): df[c].to_numpy() for c in df.columns}
+
+
+def _read_hdf5(p: Path) -> dict[str, np.ndarray]:
+    import h5py
+
+    out: dict[str, np.ndarray] = {}
+    try:
+        with h5py.File(p, "r") as f:
+
+            def visit(name: str, obj: Any) -> None:
+                if isinstance(obj, h5py.Dataset) and not name.startswith("#"):
+                    out[name] = np.asarray(obj[()])
+
+            f.visititems(visit)
+    except OSError as exc:
+        raise DataError(f"file '{p}': cannot be read as HDF5 ({str(exc).splitlines()[0]})") from None
+    return out
+
+
+def _read_mat(p: Path) -> dict[str, np.ndarray]:
+    import h5py
+    import scipy.io
+
+    if h5py.is_hdf5(p):  # MATLAB v7.3 files are HDF5 with a 512-byte user block
+        data = _read_hdf5(p)
+        # MATLAB writes column-major arrays; vectors come out as (1, n) or (n, 1).
+        return {k: np.asarray(v).T for k, v in data.items()}
+    try:
+        raw = scipy.io.loadmat(p, squeeze_me=False)
+    except (ValueError, TypeError, NotImplementedError) as exc:
+        raise DataError(f"file '{p}': cannot be read as a MATLAB .mat file ({str(exc).splitlines()[0]})") from None
+    return {k: v for k, v in raw.items() if not k.startswith("__")}
+
+
+def read_table(path: str | Path, *, delimiter: str | None = None) -> dict[str, np.ndarray]:
+    """All columns (variables, datasets) of a data file as a name → array dict.
+
+    Parameters
+    ----------
+    path : str or Path
+        ``.csv``/``.txt``/``.tsv``, ``.mat`` (v5 or v7.3), ``.h5``/``.hdf5`` (dataset
+        paths such as ``"axis/velocity"`` are the names) or ``.parquet``.
+    delimiter : str, optional
+        CSV field separator; default: detected.
+
+    Returns
+    -------
+    dict of str to ndarray
+        The file is read only; nothing is written.
+
+    Examples
+    --------
+    >>> from frictionkit.data import read_table
+    >>> cols = read_table("DATA_EMPS.csv")  # doctest: +SKIP
+    >>> sorted(cols)  # doctest: +SKIP
+    ['qg_m', 'qm_m', 't_s', 'vir_V']
+    """
+    p = _check_path(path)
+    kind = _file_kind(p)
+    if kind == "csv":
+        return _read_csv(p, delimiter)
+    if kind == "parquet":
+        return _read_parquet(p)
+    if kind == "hdf5":
+        return _read_hdf5(p)
+    return _read_mat(p)
+
+
+# --------------------------------------------------------------------------- mapping
+def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
+    if col not in table:
+        avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: {avail}")
+    arr = np.asarray(table[col])
+    if arr.dtype.kind not in "biuf":
+        try:
+            arr = arr.astype(np.float64)
+        except (TypeError, ValueError):
+            raise DataError(f"file '{p}': column '{col}' (given for {role}) is not numeric") from None
+    arr = arr.astype(np.float64)
+    if arr.ndim > 1:
+        arr = arr.squeeze()
+        if arr.ndim != 1:
+            raise DataError(f"file '{p}': column '{col}' (given for {role}) has shape {arr.shape}, must be a vector")
+    return arr
+
+
+def _select_rows(
+    table: Mapping[str, np.ndarray], p: Path, where: Mapping[str, Any] | None
+) -> np.ndarray | None:
+    if not where:
+        return None
+    mask = None
+    for col, want in where.items():
+        if col not in table:
+            raise DataError(f"file '{p}': column '{col}' (given in where) not found; available columns: {', '.join(table)}")
+        vals = np.asarray(table[col])
+        if vals.dtype.kind in "biuf":
+            try:
+                m = vals == float(want)
+            except (TypeError, ValueError):
+                m = np.zeros(vals.shape, bool)
+        else:
+            m = vals.astype(str) == str(want)
+        mask = m if mask is None else (mask & m)
+    if not mask.any():
+        raise DataError(f"file '{p}': no row matches where={dict(where)}")
+    return mask
+
+
+def _build(
+    table: Mapping[str, np.ndarray],
+    p: Path,
+    roles: Mapping[str, str | None],
+    scales: Mapping[str, float] | None,
+    rows: np.ndarray | None,
+    *,
+    current_gain: float | None,
+    units: Mapping[str, str] | None,
+    name: str,
+    extra_prov: Mapping[str, Any],
+) -> Recording:
+    scales = dict(scales or {})
+    unknown = set(scales) - set(ROLE_TO_SIGNAL)
+    if unknown:
+        raise DataError(f"scales: unknown key(s) {sorted(unknown)}; use {sorted(ROLE_TO_SIGNAL)}")
+    if roles.get("time") is None:
+        raise DataError("time column must be given (time='...')")
+    kw: dict[str, np.ndarray] = {}
+    columns: dict[str, str] = {}
+    for role, col in roles.items():
+        if col is None:
+            continue
+        arr = _column(table, p, role, col)
+        if rows is not None:
+            arr = arr[rows]
+        arr = arr * float(scales.get(role, 1.0))
+        sig = ROLE_TO_SIGNAL[role]
+        kw[sig] = arr
+        columns[sig] = col
+    prov = {"file": str(p), "columns": columns, "scales": scales, **extra_prov}
+    return Recording(**kw, current_gain=current_gain, units=dict(units or {}), name=name, provenance=prov)
+
+
+def load_recording(
+    path: str | Path,
+    *,
+    time: str,
+    position: str | None = None,
+    velocity: str | None = None,
+    force: str | None = None,
+    current: str | None = None,
+    current_gain: float | None = None,
+    command: str | None = None,
+    reference: str | None = None,
+    scales: Mapping[str, float] | None = None,
+    units: Mapping[str, str] | None = None,
+    where: Mapping[str, Any] | None = None,
+    name: str | None = None,
+    delimiter: str | None = None,
+) -> Recording:
+    """Load one :class:`Recording` from a CSV, ``.mat``, HDF5 or Parquet file.
+
+    Parameters
+    ----------
+    path : str or Path
+        Data file; the type is taken from the suffix (see :data:`SUFFIXES`).
+    time, position, velocity, force, current, command, reference : str, optional
+        Column (variable, dataset) name for each signal; ``time`` is required.
+    current_gain : float, optional
+        Force per ampere [N/A or N·m/A], used when ``force`` is absent.
+    scales : mapping, optional
+        Factor per role (keys as the keyword names: ``"force"``, ``"velocity"`` ...)
+        that converts the stored numbers to SI, e.g. ``{"force": 35.15065188248547}``
+        (EMPS: N per V) or ``{"velocity": frictionkit.units.RPM}``.
+    units : mapping, optional
+        Unit strings per signal name (``"F": "N·m"``, ``"v": "rad/s"``) after scaling.
+    where : mapping, optional
+        Keep only rows whose column equals the value, e.g. ``{"drive_id": 1}``.
+    name : str, optional
+        Label of the recording; default the file stem.
+    delimiter : str, optional
+        CSV separator; default detected.
+
+    Returns
+    -------
+    Recording
+        ``provenance`` holds ``file``, ``columns``, ``scales``, ``sha256``.
+
+    Raises
+    ------
+    DataError
+        Unknown file type, missing column, non-numeric column, NaN/inf values,
+        non-monotonic or repeated time stamps, too few samples.
+
+    Examples
+    --------
+    >>> from frictionkit.data import load_recording
+    >>> rec = load_recording("DATA_EMPS.csv", time="t_s", position="qm_m", force="vir_V",
+    ...                      scales={"force": 35.15065188248547})  # doctest: +SKIP
+    >>> rec.n  # doctest: +SKIP
+    24841
+    """
+    p = _check_path(path)
+    digest = _sha256(p)
+    table = read_table(p, delimiter=delimiter)
+    rows = _select_rows(table, p, where)
+    roles = dict(time=time, position=position, velocity=velocity, force=force,
+                 current=current, command=command, reference=reference)
+    extra = {"sha256": digest}
+    if where:
+        extra["where"] = {k: (v.item() if hasattr(v, "item") else v) for k, v in where.items()}
+    return _build(table, p, roles, scales, rows, current_gain=current_gain, units=units,
+                  name=name or p.stem, extra_prov=extra)
+
+
+def load_csv(path: str | Path, **kwargs: Any) -> Recording:
+    """:func:`load_recording` for CSV files (same keywords); refuses other suffixes.
+
+    Examples
+    --------
+    >>> from frictionkit.data import load_csv
+    >>> rec = load_csv("DATA_EMPS.csv", time="t_s", position="qm_m", force="vir_V",
+    ...                scales={"force": 35.15065188248547})  # doctest: +SKIP
+    """
+    p = Path(path)
+    if SUFFIXES.get(p.suffix.lower()) != "csv":
+        raise DataError(f"file '{p}': load_csv needs a .csv/.txt/.tsv file, got '{p.suffix}'")
+    return load_recording(p, **kwargs)
+
+
+def load_groups(
+    path: str | Path,
+    *,
+    group: str | Sequence[str],
+    time: str,
+    position: str | None = None,
+    velocity: str | None = None,
+    force: str | None = None,
+    current: str | None = None,
+    current_gain: float | None = None,
+    command: str | None = None,
+    reference: str | None = None,
+    scales: Mapping[str, float] | None = None,
+    units: Mapping[str, str] | None = None,
+    where: Mapping[str, Any] | None = None,
+    delimiter: str | None = None,
+) -> dict[str, Recording]:
+    """Split a long table into one :class:`Recording` per value of the ``group`` column(s).
+
+    Used for files that stack many records, such as the screw-drive steady-state
+    records (one group per ``source_file``; select a drive with ``where``).
+
+    Parameters
+    ----------
+    group : str or sequence of str
+        Column(s) whose values identify a record; the record name joins the values
+        with ``"/"``. Rows keep their file order inside each group.
+    time, position, ..., delimiter
+        As in :func:`load_recording`.
+
+    Returns
+    -------
+    dict of str to Recording
+        In order of first appearance in the file.
+
+    Examples
+    --------
+    >>> from frictionkit.data import load_groups
+    >>> recs = load_groups("steady_state_records.csv", group="source_file", time="t_s",
+    ...                    velocity="motor_velocity_rad_per_s", force="motor_torque_N_m",
+    ...                    where={"drive_id": 1})  # doctest: +SKIP
+    >>> len(recs)  # doctest: +SKIP
+    32
+    """
+    p = _check_path(path)
+    digest = _sha256(p)
+    table = read_table(p, delimiter=delimiter)
+    sel = _select_rows(table, p, where)
+    keys = [group] if isinstance(group, str) else list(group)
+    if not keys:
+        raise DataError("group: give at least one column")
+    for k in keys:
+        if k not in table:
+            raise DataError(f"file '{p}': column '{k}' (given for group) not found; available columns: {', '.join(table)}")
+    n = len(next(iter(table.values())))
+    idx = np.arange(n) if sel is None else np.flatnonzero(sel)
+    labels = ["/".join(str(table[k][i]) for k in keys) for i in idx]
+    order: dict[str, list[int]] = {}
+    for i, lab in zip(idx, labels):
+        order.setdefault(lab, []).append(int(i))
+    roles = dict(time=time, position=position, velocity=velocity, force=force,
+                 current=current, command=command, reference=reference)
+    out: dict[str, Recording] = {}
+    for lab, rows in order.items():
+        extra = {"sha256": digest, "group": {k: str(table[k][rows[0]]) for k in keys}, "first_row": rows[0]}
+        out[lab] = _build(table, p, roles, scales, np.asarray(rows), current_gain=current_gain,
+                          units=units, name=lab, extra_prov=extra)
+    return out

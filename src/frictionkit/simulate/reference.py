@@ -1,0 +1,569 @@
+"""Slow, obviously-correct ``scipy.integrate.solve_ivp`` twins of the simulation kernels.
+
+These functions exist for parity tests and benchmarks. They trade speed for
+transparency: every right-hand side is written out in NumPy, every switching of
+the GMS model is an explicit ``solve_ivp`` event, and the integration restarts
+after each event with the new stick/slip flags, so that the dynamics inside each
+piece are smooth.
+
+Model conventions (SPEC §1, seed 000 eqs. 1-3, 6, 9; seed 002 eqs. 5-8)
+-----------------------------------------------------------------------
+Parameters are taken from the packed arrays of :mod:`frictionkit.models.pack`:
+row 0 for ``v >= 0``, row 1 for ``v < 0``.
+
+* LuGre / Dahl: ``dz/dt = v - sigma0 |v| z / |s(v)|``,
+  ``F = sigma0 z + sigma1 dz/dt + sigma2 v``.
+* GMS: a sticking element obeys ``dF_i/dt = k_i v`` and breaks away when
+  ``sgn(v) F_i`` reaches ``xi_i |s(v)|`` while ``v != 0``; a slipping element obeys
+  ``dF_i/dt = sgn(v) C (xi_i - F_i / s(v))`` (``s`` signed), i.e.
+  ``C (d xi_i - F_i / |s|)`` with ``d`` the direction of slip, and sticks again when
+  the velocity reverses. ``F = sum F_i + sigma2 v``.
+
+  Velocity reversal is a terminal event only while some element slips: when every
+  element sticks, the right-hand side is continuous through ``v = 0`` and only the
+  breakaway thresholds change side (a breakaway that becomes due exactly at
+  ``v = 0`` is still caught, because the event function jumps through zero there).
+  In the motion-driven twin, where ``v`` is constant over each sample interval, a
+  slipping element sticks at the start of any interval whose velocity is not in
+  its direction of slip (reversed *or zero*).
+
+``|s(v)|`` is floored at ``1e-9 max(Fc, Fs)`` so that a law with ``Fs = 0`` does not
+divide by zero at rest.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .. import _validate as val
+from ..errors import ParameterError, SimulationError
+from ..models.pack import kind_of, pack_gms, pack_lugre
+
+__all__ = ["reference_force_driven", "reference_motion_driven"]
+
+_METHODS = ("LSODA", "RK45", "RK23", "DOP853", "Radau", "BDF")
+
+#: Default cap on the number of GMS switching events in one run.
+MAX_EVENTS = 200_000
+
+#: Consecutive (near) zero-length pieces tolerated before giving up (chattering).
+_MAX_STALLS = 64
+
+
+# --------------------------------------------------------------------------- helpers
+def _smag(row: np.ndarray, v: float, floor: float) -> float:
+    """``|s(v)|`` for one packed static row (magnitude, evaluated at ``|v|``)."""
+    Fc, Fs, vs, delta, _sigma2, shape = row
+    r = abs(v) / vs
+    if shape == 0.0:
+        phi = math.exp(-(r**delta)) if r < 1e3 else 0.0
+    else:
+        phi = 1.0 / (1.0 + r * r)
+    return max(abs(Fc + (Fs - Fc) * phi), floor)
+
+
+def _floor(static: np.ndarray) -> float:
+    return 1e-9 * float(np.max(static[:, :2]))
+
+
+def _row(v: float) -> int:
+    return 0 if v >= 0.0 else 1
+
+
+def _check_common(owner: str, dt, method, rtol, atol, max_step) -> tuple[float, float, float, float]:
+    dt = val.positive(owner, "dt", dt)
+    if method not in _METHODS:
+        raise ParameterError(f"{owner}.method = {method!r}: must be one of {list(_METHODS)}")
+    rtol = val.positive(owner, "rtol", rtol)
+    atol = val.positive(owner, "atol", atol)
+    max_step = math.inf if max_step is None else val.positive(owner, "max_step", max_step)
+    return dt, rtol, atol, max_step
+
+
+def _mass_value(owner: str, m) -> float:
+    return val.positive(owner, "m", getattr(m, "m", m))
+
+
+def _fail(owner: str, sol, t0: float) -> SimulationError:
+    return SimulationError(f"{owner}: solve_ivp failed after t = {t0:.6g} s: {sol.message}")
+
+
+# --------------------------------------------------------------------------- LuGre
+def _lugre_zdot(static, dyn, floor, v, z):
+    r = _row(v)
+    S = _smag(static[r], v, floor)
+    return v - dyn[r, 0] * abs(v) * z / S
+
+
+def _lugre_force(static, dyn, floor, v, z):
+    r = _row(v)
+    zd = _lugre_zdot(static, dyn, floor, v, z)
+    return dyn[r, 0] * z + dyn[r, 1] * zd + static[r, 4] * v
+
+
+# --------------------------------------------------------------------------- GMS
+class _GMSMode:
+    """Right-hand side and event functions of the GMS model for one stick/slip mode.
+
+    ``slip`` marks the slipping elements; ``d`` (+1/-1) is their common direction of
+    slip and fixes the parameter row while any element slips. With no element
+    slipping (``d = 0``) the row follows the sign of ``v``.
+    """
+
+    def __init__(self, p, floor: float, slip: np.ndarray, d: int):
+        self.p = p
+        self.floor = floor
+        self.slip = slip.copy()
+        self.stick = ~self.slip
+        self.d = d if self.slip.any() else 0
+
+    def row(self, v: float) -> int:
+        if self.d:
+            return 0 if self.d > 0 else 1
+        return _row(v)
+
+    def dF(self, v: float, F: np.ndarray) -> np.ndarray:
+        """Element force rates at velocity ``v``."""
+        p, r = self.p, self.row(v)
+        out = p.k[r] * v
+        if self.d:
+            S = _smag(p.static[r], v, self.floor)
+            out = np.where(self.slip, p.C[r] * (self.d * p.xi[r] - F / S), out)
+        return out
+
+    def margin(self, i: int, v: float, Fi: float) -> float:
+        """Breakaway margin ``xi_i |s(v)| - sgn(v) F_i`` of a sticking element (> 0: holds)."""
+        if self.d:
+            sgn = self.d
+        elif v == 0.0:
+            return 1.0 + abs(Fi)  # at rest nothing breaks away
+        else:
+            sgn = 1 if v > 0.0 else -1
+        r = 0 if sgn > 0 else 1
+        return self.p.xi[r, i] * _smag(self.p.static[r], v, self.floor) - sgn * Fi
+
+
+def _gms_initial_breakaway(mode: _GMSMode, v: float, F: np.ndarray, tol: float) -> np.ndarray:
+    """Sticking elements already at or past their threshold (only while moving)."""
+    out = np.zeros(F.size, dtype=bool)
+    if v == 0.0 and not mode.d:
+        return out
+    for i in np.flatnonzero(mode.stick):
+        if mode.margin(i, v, F[i]) <= tol:
+            out[i] = True
+    return out
+
+
+# --------------------------------------------------------------------------- public API
+def reference_force_driven(
+    model,
+    m,
+    u,
+    dt: float,
+    *,
+    method: str = "LSODA",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_step: float | None = None,
+    max_events: int = MAX_EVENTS,
+) -> dict[str, Any]:
+    """Mass driven by a sampled force against dynamic friction, solved by ``solve_ivp``.
+
+    Integrates ``dx/dt = v``, ``m dv/dt = u(t) - F`` together with the friction
+    states, starting at rest (``x = v = 0``, ``z = 0`` / every ``F_i = 0``, every GMS
+    element sticking). ``u`` is sampled at ``t_k = k dt`` and linearly interpolated.
+
+    LuGre and Dahl are integrated over the whole record in one call (their
+    right-hand side is continuous). GMS is integrated piecewise between switching
+    events — breakaway of a sticking element and velocity reversal while some
+    element slips — restarting after each event with the new stick/slip flags.
+
+    Parameters
+    ----------
+    model : LuGre | Dahl | GMS | Directional
+        Dynamic friction law (a ``Directional`` of one of them picks its parameter
+        set by the sign of ``v``).
+    m : float or Mass
+        Moving mass [kg] (or inertia [kg·m²]), > 0.
+    u : array_like, shape (N,)
+        Driving force [N] at ``t_k = k dt``, ``N >= 2``, finite.
+    dt : float
+        Sample period [s], > 0.
+    method : {"LSODA", "RK45", "RK23", "DOP853", "Radau", "BDF"}
+        ``solve_ivp`` method.
+    rtol, atol : float
+        ``solve_ivp`` tolerances, > 0.
+    max_step : float or None
+        Largest step [s]; ``None`` for no limit.
+    max_events : int
+        Cap on GMS switching events; exceeding it raises :class:`SimulationError`.
+
+    Returns
+    -------
+    dict
+        ``t`` (N,) [s]; ``x`` (N,) [m]; ``v`` (N,) [m/s]; ``F`` (N,) friction [N] at
+        the samples (LuGre ``sigma0 z + sigma1 dz/dt + sigma2 v``, GMS
+        ``sum F_i + sigma2 v``); ``states`` (N, 1) ``z`` or (N, M) ``F_i``;
+        ``nfev`` right-hand-side evaluations; ``wall_s`` wall time [s];
+        ``n_events``, ``n_breakaway``, ``n_reversal`` (GMS switching events; 0 for LuGre).
+
+    Raises
+    ------
+    ParameterError
+        Bad ``model``, ``m``, ``dt``, ``method`` or tolerances.
+    DataError
+        ``u`` not a finite 1-D signal of at least 2 samples.
+    SimulationError
+        ``solve_ivp`` fails, or the GMS event count exceeds ``max_events`` / the
+        switching chatters without progress.
+
+    Examples
+    --------
+    >>> import numpy as np, frictionkit as fk
+    >>> from frictionkit.simulate.reference import reference_force_driven
+    >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
+    >>> out = reference_force_driven(fk.LuGre(law, sigma0=1e5, sigma1=63.2), 1.0,
+    ...                              np.full(201, 0.5), 1e-3)
+    >>> bool(abs(out["x"]).max() < 1e-4)        # 0.5 N < Fs: stays in pre-sliding
+    True
+    """
+    owner = "reference_force_driven"
+    kind = kind_of(model)
+    mval = _mass_value(owner, m)
+    u = val.signal("u", u)
+    dt, rtol, atol, max_step = _check_common(owner, dt, method, rtol, atol, max_step)
+    max_events = int(max_events)
+    if max_events < 0:
+        raise ParameterError(f"{owner}.max_events = {max_events}: must be >= 0")
+
+    N = u.size
+    t = dt * np.arange(N)
+    T = t[-1]
+    du = np.diff(u)
+
+    def u_at(tt: float) -> float:
+        k = min(max(int(tt / dt), 0), N - 2)
+        return u[k] + du[k] * (tt / dt - k)
+
+    tic = time.perf_counter()
+    if kind == "lugre":
+        p = pack_lugre(model)
+        static, dyn = p.static, p.dyn
+        floor = _floor(static)
+
+        def rhs(tt, y):
+            v, z = y[1], y[2]
+            zd = _lugre_zdot(static, dyn, floor, v, z)
+            r = _row(v)
+            F = dyn[r, 0] * z + dyn[r, 1] * zd + static[r, 4] * v
+            return np.array([v, (u_at(tt) - F) / mval, zd])
+
+        sol = solve_ivp(
+            rhs, (0.0, T), np.zeros(3), method=method, t_eval=t, rtol=rtol, atol=atol,
+            max_step=max_step,
+        )
+        if sol.status != 0:
+            raise _fail(owner, sol, float(sol.t[-1]) if sol.t.size else 0.0)
+        x, v, z = sol.y
+        F = np.array([_lugre_force(static, dyn, floor, vi, zi) for vi, zi in zip(v, z)])
+        return dict(
+            t=t, x=x, v=v, F=F, states=z[:, None], nfev=int(sol.nfev),
+            wall_s=time.perf_counter() - tic, n_events=0, n_breakaway=0, n_reversal=0,
+        )
+
+    # ----------------------------------------------------------------- GMS
+    p = pack_gms(model)
+    M = p.k.shape[1]
+    floor = _floor(p.static)
+    S_ref = float(np.max(p.static[:, :2]))
+    tol = 1e-10 * S_ref
+    out = np.empty((N, 2 + M))
+    out[0] = 0.0
+    filled = 1
+    y = np.zeros(2 + M)
+    t0 = 0.0
+    slip = np.zeros(M, dtype=bool)
+    d = 0
+    nfev = n_break = n_rev = stalls = 0
+
+    while t0 < T:
+        mode = _GMSMode(p, floor, slip, d)
+        # Elements already at their threshold break away before integrating.
+        v0 = y[1]
+        if not mode.d and v0 != 0.0:
+            due = _gms_initial_breakaway(mode, v0, y[2:], tol)
+            if due.any():
+                slip = slip | due
+                d = 1 if v0 > 0.0 else -1
+                n_break += int(due.sum())
+                mode = _GMSMode(p, floor, slip, d)
+        elif mode.d:
+            due = _gms_initial_breakaway(mode, v0, y[2:], tol)
+            if due.any():
+                slip = slip | due
+                n_break += int(due.sum())
+                mode = _GMSMode(p, floor, slip, d)
+
+        def rhs(tt, yy, mode=mode):
+            v = yy[1]
+            Fi = yy[2:]
+            r = mode.row(v)
+            Ft = Fi.sum() + p.static[r, 4] * v
+            return np.concatenate(([v, (u_at(tt) - Ft) / mval], mode.dF(v, Fi)))
+
+        events = []
+        stick_idx = np.flatnonzero(mode.stick)
+        for i in stick_idx:
+            def ev(tt, yy, i=i, mode=mode):
+                return mode.margin(i, yy[1], yy[2 + i])
+
+            ev.terminal = True
+            ev.direction = -1
+            events.append(ev)
+        if mode.d:
+            def ev_rev(tt, yy, dd=mode.d):
+                return dd * yy[1]
+
+            ev_rev.terminal = True
+            ev_rev.direction = -1
+            events.append(ev_rev)
+
+        t_eval = t[filled:]
+        sol = solve_ivp(
+            rhs, (t0, T), y, method=method, t_eval=t_eval, events=events or None,
+            rtol=rtol, atol=atol, max_step=max_step,
+        )
+        nfev += int(sol.nfev)
+        if sol.status == -1:
+            raise _fail(owner, sol, t0)
+        n_new = sol.t.size
+        if n_new:
+            out[filled:filled + n_new] = sol.y.T
+            filled += n_new
+        if sol.status == 0:
+            break
+
+        # A terminal event ended the piece: find which one(s) and when.
+        t_ev = [te[-1] if te.size else -math.inf for te in sol.t_events]
+        j = int(np.argmax(t_ev))
+        t_e = t_ev[j]
+        y = np.array(sol.y_events[j][-1], dtype=float)
+        if t_e - t0 <= 1e-14 * max(1.0, abs(t0)):
+            stalls += 1
+            if stalls > _MAX_STALLS + 4 * M:
+                raise SimulationError(
+                    f"{owner}: GMS switching chatters at t = {t_e:.9g} s "
+                    f"({stalls} zero-length pieces in a row, v = {y[1]:.3g} m/s); "
+                    "the stick/slip state cannot be resolved"
+                )
+        else:
+            stalls = 0
+        reversed_ = mode.d and sol.t_events[-1].size and sol.t_events[-1][-1] >= t_e
+        if reversed_:
+            # Velocity reversal: every slipping element sticks again.
+            y[1] = 0.0
+            slip = np.zeros(M, dtype=bool)
+            d = 0
+            n_rev += 1
+        else:
+            broke = np.zeros(M, dtype=bool)
+            for n_i, i in enumerate(stick_idx):
+                te = sol.t_events[n_i]
+                if (te.size and te[-1] >= t_e) or mode.margin(i, y[1], y[2 + i]) <= tol:
+                    broke[i] = True
+            if not mode.d:
+                v_e = y[1]
+                if v_e != 0.0:
+                    d = 1 if v_e > 0.0 else -1
+                else:
+                    a = u_at(t_e) - y[2:].sum()
+                    d = 1 if a >= 0.0 else -1
+            slip = slip | broke
+            n_break += int(broke.sum())
+        t0 = t_e
+        if n_break + n_rev > max_events:
+            raise SimulationError(
+                f"{owner}: more than max_events = {max_events} GMS switching events "
+                f"(reached t = {t0:.6g} s of {T:.6g} s); raise max_events or check the input"
+            )
+
+    if filled < N:  # the last event fell exactly on the final sample
+        out[filled:] = y
+    x, v, Fi = out[:, 0], out[:, 1], out[:, 2:]
+    sig2 = np.where(v < 0.0, p.static[1, 4], p.static[0, 4])
+    F = Fi.sum(axis=1) + sig2 * v
+    return dict(
+        t=t, x=x, v=v, F=F, states=Fi, nfev=nfev, wall_s=time.perf_counter() - tic,
+        n_events=n_break + n_rev, n_breakaway=n_break, n_reversal=n_rev,
+    )
+
+
+def reference_motion_driven(
+    model,
+    x,
+    dt: float,
+    *,
+    method: str = "LSODA",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_step: float | None = None,
+) -> dict[str, Any]:
+    """Friction along a prescribed, sampled position, solved interval by interval.
+
+    The position is linearly interpolated between samples, so the velocity on
+    ``[t_k, t_{k+1}]`` is the constant ``(x_{k+1} - x_k) / dt``. Each interval is
+    integrated with ``solve_ivp``; for GMS the breakaways inside an interval are
+    events, and at the start of an interval whose velocity is not in the direction
+    of slip (reversed or zero) every slipping element sticks.
+
+    Parameters
+    ----------
+    model : LuGre | Dahl | GMS | Directional
+        Dynamic friction law.
+    x : array_like, shape (N,)
+        Position [m] at ``t_k = k dt``, ``N >= 2``, finite.
+    dt : float
+        Sample period [s], > 0.
+    method, rtol, atol, max_step
+        As in :func:`reference_force_driven`.
+
+    Returns
+    -------
+    dict
+        ``t`` (N,) [s]; ``F`` (N,) friction [N] from the state at ``t_k`` and the
+        velocity of the interval ending at ``t_k`` (the first interval's for
+        ``k = 0``); ``v`` (N,) that velocity; ``states`` (N, 1) ``z`` or (N, M)
+        ``F_i``; for GMS also ``slipping`` (N, M) flags at ``t_k`` and
+        ``n_breakaway``; ``nfev``; ``wall_s``.
+
+    Raises
+    ------
+    ParameterError
+        Bad ``model``, ``dt``, ``method`` or tolerances.
+    DataError
+        ``x`` not a finite 1-D signal of at least 2 samples.
+    SimulationError
+        ``solve_ivp`` fails.
+
+    Examples
+    --------
+    >>> import numpy as np, frictionkit as fk
+    >>> from frictionkit.simulate.reference import reference_motion_driven
+    >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
+    >>> gms = fk.GMS(law, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
+    >>> out = reference_motion_driven(gms, np.array([0.0, 1e-7]), 1e-3)
+    >>> round(float(out["F"][1]), 6)          # all sticking: (sum k) * x + sigma2 * v
+    0.11104
+    """
+    owner = "reference_motion_driven"
+    kind = kind_of(model)
+    x = val.signal("x", x)
+    dt, rtol, atol, max_step = _check_common(owner, dt, method, rtol, atol, max_step)
+    N = x.size
+    t = dt * np.arange(N)
+    vi = np.diff(x) / dt  # velocity of interval k = [t_k, t_{k+1}]
+    vs_ = np.concatenate(([vi[0]], vi))  # velocity of the interval ending at t_k
+    tic = time.perf_counter()
+    nfev = 0
+
+    if kind == "lugre":
+        p = pack_lugre(model)
+        static, dyn = p.static, p.dyn
+        floor = _floor(static)
+        z = np.zeros(N)
+        for k in range(N - 1):
+            v = vi[k]
+            if v == 0.0:
+                z[k + 1] = z[k]
+                continue
+
+            def rhs(tt, y, v=v):
+                return [_lugre_zdot(static, dyn, floor, v, y[0])]
+
+            sol = solve_ivp(
+                rhs, (t[k], t[k + 1]), [z[k]], method=method, rtol=rtol, atol=atol,
+                max_step=max_step,
+            )
+            nfev += int(sol.nfev)
+            if sol.status != 0:
+                raise _fail(owner, sol, t[k])
+            z[k + 1] = sol.y[0, -1]
+        F = np.array([_lugre_force(static, dyn, floor, v, zk) for v, zk in zip(vs_, z)])
+        return dict(t=t, F=F, v=vs_, states=z[:, None], nfev=nfev, wall_s=time.perf_counter() - tic)
+
+    p = pack_gms(model)
+    M = p.k.shape[1]
+    floor = _floor(p.static)
+    tol = 1e-10 * float(np.max(p.static[:, :2]))
+    Fi = np.zeros((N, M))
+    flags = np.zeros((N, M), dtype=bool)
+    slip = np.zeros(M, dtype=bool)
+    d = 0
+    n_break = 0
+    for k in range(N - 1):
+        v = vi[k]
+        dv = 0 if v == 0.0 else (1 if v > 0.0 else -1)
+        if slip.any() and dv != d:
+            slip[:] = False  # reversal (or stop): every slipping element sticks
+        F = Fi[k].copy()
+        if dv == 0:
+            Fi[k + 1] = F
+            flags[k + 1] = slip
+            continue
+        d = dv
+        ta, tb = t[k], t[k + 1]
+        while True:
+            mode = _GMSMode(p, floor, slip, d)
+            due = _gms_initial_breakaway(mode, v, F, tol)
+            if due.any():
+                slip |= due
+                n_break += int(due.sum())
+                mode = _GMSMode(p, floor, slip, d)
+            stick_idx = np.flatnonzero(mode.stick)
+            events = []
+            for i in stick_idx:
+                def ev(tt, yy, i=i, mode=mode, v=v):
+                    return mode.margin(i, v, yy[i])
+
+                ev.terminal = True
+                ev.direction = -1
+                events.append(ev)
+
+            def rhs(tt, yy, mode=mode, v=v):
+                return mode.dF(v, yy)
+
+            sol = solve_ivp(
+                rhs, (ta, tb), F, method=method, events=events or None, rtol=rtol,
+                atol=atol, max_step=max_step,
+            )
+            nfev += int(sol.nfev)
+            if sol.status == -1:
+                raise _fail(owner, sol, ta)
+            if sol.status == 0:
+                F = sol.y[:, -1]
+                break
+            t_ev = [te[-1] if te.size else -math.inf for te in sol.t_events]
+            j = int(np.argmax(t_ev))
+            ta = t_ev[j]
+            F = np.array(sol.y_events[j][-1], dtype=float)
+            for n_i, i in enumerate(stick_idx):
+                te = sol.t_events[n_i]
+                if (te.size and te[-1] >= ta) or mode.margin(i, v, F[i]) <= tol:
+                    slip[i] = True
+                    n_break += 1
+            if ta >= tb:
+                break
+        Fi[k + 1] = F
+        flags[k + 1] = slip
+
+    sig2 = np.where(vs_ < 0.0, p.static[1, 4], p.static[0, 4])
+    Ftot = Fi.sum(axis=1) + sig2 * vs_
+    return dict(
+        t=t, F=Ftot, v=vs_, states=Fi, slipping=flags, n_breakaway=n_break, nfev=nfev,
+        wall_s=time.perf_counter() - tic,
+    )

@@ -1,0 +1,366 @@
+"""The result object returned by every identification procedure.
+
+An :class:`IdentificationResult` carries the identified model object, a table of
+parameters (value, standard error, 95 % confidence interval, unit), their
+correlation matrix, residual statistics, warnings about unidentifiable parameters,
+and the provenance of the data. It plots itself (``.plot(ax=None)``) and round-trips
+through JSON with units and provenance (``save_json`` / ``load_json``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from ..errors import DataError
+
+#: Version of the JSON layout written by :meth:`IdentificationResult.save_json`.
+JSON_FORMAT = "frictionkit.identification/1"
+
+
+# --------------------------------------------------------------------------- statistics
+def parameter_statistics(values, cov, dof: int, *, level: float = 0.95) -> dict[str, np.ndarray]:
+    """Standard errors, t-distribution confidence intervals and correlations from a covariance.
+
+    Parameters
+    ----------
+    values : array_like
+        Parameter estimates.
+    cov : array_like
+        Their covariance matrix (``sigma^2 (J^T J)^-1`` for least squares).
+    dof : int
+        Residual degrees of freedom ``n - p`` (> 0).
+    level : float
+        Confidence level of the intervals (default 0.95).
+
+    Returns
+    -------
+    dict
+        ``stderr`` (p,), ``ci`` (p, 2), ``correlation`` (p, p). Entries are NaN where
+        the covariance is not finite.
+
+    Examples
+    --------
+    >>> from frictionkit.identify.result import parameter_statistics
+    >>> s = parameter_statistics([1.0], [[0.04]], dof=10)
+    >>> round(float(s["stderr"][0]), 3), s["ci"].round(3).tolist()
+    (0.2, [[0.554, 1.446]])
+    """
+    values = np.asarray(values, dtype=float)
+    cov = np.asarray(cov, dtype=float)
+    var = np.diag(cov).copy()
+    var[var < 0] = np.nan
+    se = np.sqrt(var)
+    tq = float(stats.t.ppf(0.5 + level / 2.0, max(int(dof), 1)))
+    ci = np.column_stack([values - tq * se, values + tq * se])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se, se)
+    np.fill_diagonal(corr, np.where(np.isfinite(se), 1.0, np.nan))
+    return {"stderr": se, "ci": ci, "correlation": corr}
+
+
+# --------------------------------------------------------------------------- model (de)serialisation
+def _model_registry() -> dict[str, type]:
+    from ..models.static import CoulombViscous, Directional, Stribeck
+    from .rigid_body import RigidBody
+
+    return {c.__name__: c for c in (Stribeck, CoulombViscous, Directional, RigidBody)}
+
+
+def model_to_dict(model: Any) -> dict[str, Any] | None:
+    """A JSON-ready description ``{"type": ..., <fields>}`` of a frozen model dataclass."""
+    if model is None:
+        return None
+    if not dataclasses.is_dataclass(model):
+        raise DataError(f"cannot serialise model of type {type(model).__name__}")
+    out: dict[str, Any] = {"type": type(model).__name__}
+    for f in dataclasses.fields(model):
+        val = getattr(model, f.name)
+        out[f.name] = model_to_dict(val) if dataclasses.is_dataclass(val) else _jsonable(val)
+    return out
+
+
+def model_from_dict(data: Mapping[str, Any] | None) -> Any:
+    """Rebuild a model written by :func:`model_to_dict`."""
+    if data is None:
+        return None
+    reg = _model_registry()
+    kind = data.get("type")
+    if kind not in reg:
+        raise DataError(f"model type {kind!r} unknown; known: {sorted(reg)}")
+    kw = {k: (model_from_dict(v) if isinstance(v, Mapping) and "type" in v else v)
+          for k, v in data.items() if k != "type"}
+    return reg[kind](**kw)
+
+
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, np.ndarray):
+        return [_jsonable(v) for v in x.tolist()]
+    if isinstance(x, (np.floating, float)):
+        x = float(x)
+        return x if math.isfinite(x) else None
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    if isinstance(x, Mapping):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    return x
+
+
+def _floats(x: Any) -> np.ndarray:
+    return np.array([np.nan if v is None else v for v in np.ravel(np.array(x, dtype=object))],
+                    dtype=float).reshape(np.shape(x))
+
+
+# --------------------------------------------------------------------------- result
+@dataclass(frozen=True, kw_only=True, eq=False)
+class IdentificationResult:
+    """Parameters identified from data, with their uncertainty and diagnostics.
+
+    Parameters
+    ----------
+    kind : str
+        Procedure: ``"static_map"`` or ``"rigid_body"``.
+    model_name : str
+        Model structure, e.g. ``"exponential"``, ``"rigid_body_symmetric"``.
+    model : object or None
+        The identified model object (``Stribeck``, ``Directional``, ``RigidBody`` ...);
+        None when the estimates do not make a valid model (see ``warnings``).
+    names : tuple of str
+        Parameter names.
+    values, stderr : ndarray
+        Estimates and standard errors, in the units of ``units``.
+    ci95 : ndarray, shape (p, 2)
+        95 % confidence intervals (Student t with ``dof`` degrees of freedom).
+    units : tuple of str
+        Unit of each parameter.
+    correlation : ndarray, shape (p, p)
+        Parameter correlation matrix.
+    rms : float
+        Root-mean-square residual [unit of the fitted signal].
+    relative_error_percent : float
+        ``100 * ||y - y_hat|| / ||y||``.
+    n_obs, dof : int
+        Observations used, and residual degrees of freedom.
+    success : bool
+        False when the optimiser did not converge.
+    message : str
+        Optimiser or procedure message.
+    warnings : tuple of str
+        Identifiability and quality flags (empty when nothing is suspicious).
+    diagnostics : mapping
+        Procedure-specific numbers (AIC, BIC, condition number, candidates ...).
+    provenance : mapping
+        Where the data came from (file, columns, scales, hash) and the settings used.
+    data : mapping of str to ndarray
+        What the fit saw, for plots: static maps ``v``, ``F``, ``F_pred``; rigid body
+        ``t``, ``y``, ``y_pred``.
+    parts : mapping of str to IdentificationResult
+        Per-direction results (``"positive"``, ``"negative"``) of a static-map fit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit.identify import fit_static_map
+    >>> v = np.r_[np.linspace(0.01, 0.2, 12), -np.linspace(0.01, 0.2, 12)]
+    >>> F = np.sign(v) * 2.0 + 10.0 * v
+    >>> res = fit_static_map(v, F, model="coulomb_viscous")
+    >>> round(res["Fc_pos"], 6), round(res["sigma2_neg"], 6)
+    (2.0, 10.0)
+    """
+
+    kind: str
+    model_name: str
+    model: Any
+    names: tuple[str, ...]
+    values: np.ndarray
+    stderr: np.ndarray
+    ci95: np.ndarray
+    units: tuple[str, ...]
+    correlation: np.ndarray
+    rms: float
+    relative_error_percent: float
+    n_obs: int
+    dof: int
+    success: bool = True
+    message: str = ""
+    warnings: tuple[str, ...] = ()
+    diagnostics: Mapping[str, Any] = field(default_factory=dict)
+    provenance: Mapping[str, Any] = field(default_factory=dict)
+    data: Mapping[str, np.ndarray] = field(default_factory=dict)
+    parts: Mapping[str, IdentificationResult] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        p = len(self.names)
+        for name in ("values", "stderr"):
+            arr = np.asarray(getattr(self, name), dtype=float).reshape(p)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+        ci = np.asarray(self.ci95, dtype=float).reshape(p, 2)
+        corr = np.asarray(self.correlation, dtype=float).reshape(p, p)
+        for a in (ci, corr):
+            a.setflags(write=False)
+        object.__setattr__(self, "ci95", ci)
+        object.__setattr__(self, "correlation", corr)
+        object.__setattr__(self, "names", tuple(self.names))
+        object.__setattr__(self, "units", tuple(self.units))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+        object.__setattr__(self, "diagnostics", MappingProxyType(dict(self.diagnostics)))
+        object.__setattr__(self, "provenance", MappingProxyType(dict(self.provenance)))
+        object.__setattr__(self, "data", MappingProxyType({k: np.asarray(v, dtype=float) for k, v in self.data.items()}))
+        object.__setattr__(self, "parts", MappingProxyType(dict(self.parts)))
+        if len(self.units) != p:
+            raise DataError(f"IdentificationResult: {p} names but {len(self.units)} units")
+
+    # ------------------------------------------------------------------ access
+    @property
+    def params(self) -> dict[str, float]:
+        """``{name: value}``."""
+        return dict(zip(self.names, self.values.tolist()))
+
+    def __getitem__(self, name: str) -> float:
+        try:
+            return float(self.values[self.names.index(name)])
+        except ValueError:
+            raise KeyError(f"{name!r}: not a parameter of this result; parameters are {list(self.names)}") from None
+
+    def parameter(self, name: str) -> dict[str, Any]:
+        """Value, standard error, 95 % interval and unit of one parameter."""
+        i = self.names.index(name) if name in self.names else None
+        if i is None:
+            raise KeyError(f"{name!r}: not a parameter of this result; parameters are {list(self.names)}")
+        return {"value": float(self.values[i]), "stderr": float(self.stderr[i]),
+                "ci95": [float(self.ci95[i, 0]), float(self.ci95[i, 1])], "unit": self.units[i]}
+
+    @property
+    def flagged(self) -> bool:
+        """True when the fit carries warnings or did not converge."""
+        return bool(self.warnings) or not self.success
+
+    def summary(self) -> str:
+        """Plain-text parameter table with intervals, residuals and warnings."""
+        lines = [f"{self.kind}: {self.model_name}  (n = {self.n_obs}, dof = {self.dof})",
+                 f"{'parameter':<12}{'value':>14}{'stderr':>12}{'95 % CI':>30}  unit"]
+        for i, n in enumerate(self.names):
+            ci = f"[{self.ci95[i, 0]:.6g}, {self.ci95[i, 1]:.6g}]"
+            lines.append(f"{n:<12}{self.values[i]:>14.6g}{self.stderr[i]:>12.3g}{ci:>30}  {self.units[i]}")
+        lines.append(f"RMS residual {self.rms:.6g}, relative error {self.relative_error_percent:.4g} %")
+        lines.extend(f"warning: {w}" for w in self.warnings)
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        vals = ", ".join(f"{n}={v:.6g}" for n, v in zip(self.names, self.values))
+        return f"IdentificationResult({self.kind}, {self.model_name}: {vals})"
+
+    # ------------------------------------------------------------------ presentation
+    def plot(self, ax=None):
+        """Fitted curve over the data points (static map) or measured vs predicted (rigid body).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Axes to draw on; default a new figure.
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        from ..plotting.identify import plot_identification
+
+        return plot_identification(self, ax=ax)
+
+    # ------------------------------------------------------------------ JSON
+    def to_dict(self, *, include_data: bool = True) -> dict[str, Any]:
+        """JSON-ready dict; see :meth:`save_json` for the layout."""
+        out = {
+            "format": JSON_FORMAT,
+            "kind": self.kind,
+            "model_name": self.model_name,
+            "model": model_to_dict(self.model),
+            "parameters": {n: self.parameter(n) for n in self.names},
+            "correlation": self.correlation,
+            "rms": self.rms,
+            "relative_error_percent": self.relative_error_percent,
+            "n_obs": self.n_obs,
+            "dof": self.dof,
+            "success": self.success,
+            "message": self.message,
+            "warnings": list(self.warnings),
+            "diagnostics": dict(self.diagnostics),
+            "provenance": dict(self.provenance),
+            "parts": {k: v.to_dict(include_data=include_data) for k, v in self.parts.items()},
+        }
+        if include_data:
+            out["data"] = dict(self.data)
+        return _jsonable(out)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> IdentificationResult:
+        """Inverse of :meth:`to_dict`."""
+        if d.get("format") != JSON_FORMAT:
+            raise DataError(f"not a frictionkit identification result (format = {d.get('format')!r}, expected {JSON_FORMAT!r})")
+        params = d["parameters"]
+        names = tuple(params)
+        return cls(
+            kind=d["kind"],
+            model_name=d["model_name"],
+            model=model_from_dict(d.get("model")),
+            names=names,
+            values=_floats([params[n]["value"] for n in names]),
+            stderr=_floats([params[n]["stderr"] for n in names]),
+            ci95=_floats([params[n]["ci95"] for n in names]).reshape(len(names), 2),
+            units=tuple(params[n]["unit"] for n in names),
+            correlation=_floats(d["correlation"]).reshape(len(names), len(names)),
+            rms=float(d["rms"]) if d["rms"] is not None else math.nan,
+            relative_error_percent=float(d["relative_error_percent"]) if d["relative_error_percent"] is not None else math.nan,
+            n_obs=int(d["n_obs"]),
+            dof=int(d["dof"]),
+            success=bool(d.get("success", True)),
+            message=d.get("message", ""),
+            warnings=tuple(d.get("warnings", ())),
+            diagnostics=d.get("diagnostics", {}),
+            provenance=d.get("provenance", {}),
+            data={k: _floats(v) for k, v in (d.get("data") or {}).items()},
+            parts={k: cls.from_dict(v) for k, v in (d.get("parts") or {}).items()},
+        )
+
+    def save_json(self, path: str | Path, *, include_data: bool = True) -> Path:
+        """Write the result as JSON (UTF-8, indented).
+
+        The top level holds ``model`` (type and fields), ``parameters`` (each with
+        ``value``, ``stderr``, ``ci95``, ``unit``), ``relative_error_percent``, ``rms``,
+        ``correlation``, ``warnings``, ``diagnostics``, ``provenance``, ``parts``
+        and, with ``include_data``, the fitted ``data``. Non-finite numbers become ``null``.
+
+        Examples
+        --------
+        >>> res.save_json("fit.json")  # doctest: +SKIP
+        >>> IdentificationResult.load_json("fit.json").params == res.params  # doctest: +SKIP
+        True
+        """
+        p = Path(path)
+        p.write_text(json.dumps(self.to_dict(include_data=include_data), indent=1, ensure_ascii=False) + "\n",
+                     encoding="utf-8")
+        return p
+
+    @classmethod
+    def load_json(cls, path: str | Path) -> IdentificationResult:
+        """Read a result written by :meth:`save_json`."""
+        p = Path(path)
+        try:
+            d = json.loads(p.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as exc:
+            raise DataError(f"file '{p}': not valid JSON ({exc})") from None
+        return cls.from_dict(d)

@@ -1,0 +1,465 @@
+"""Static friction map from steady-state (constant-velocity) data.
+
+Procedure (seed 002 §3.1 eq. 10, seed 000 §5.2.1 eq. 18): average force over
+constant-velocity segments, then, for each direction separately, minimise
+``sum_i [F_i - Fss(v_i)]^2`` over ``Fc, Fs, vs, delta, sigma2`` with bounded
+nonlinear least squares (``scipy.optimize.least_squares``), where
+
+    Fss(v) = sgn(v) [Fc + (Fs - Fc) phi(|v| / vs)] + sigma2 v,
+    phi = exp(-r**delta)  (exponential, seed 000 eq. 4 / seed 002 eq. 9b with delta = 2)
+    phi = 1 / (1 + r**2)  (Lorentzian, seed 002 eq. 9a).
+
+Standard errors come from the Jacobian at the solution, ``s^2 (J^T J)^-1`` with
+``s^2 = RSS / (n - p)``; 95 % intervals use Student's t with ``n - p`` degrees of
+freedom. The model structure (Coulomb-viscous, exponential or Lorentzian Stribeck)
+is chosen per direction by AIC or BIC unless given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..data.recording import Recording
+from ..data.segmentation import SteadyStatePoints, steady_state_points
+from ..errors import DataError, IdentificationError, ParameterError
+from ..models.static import CoulombViscous, Directional, Stribeck
+from .result import IdentificationResult, parameter_statistics
+
+#: Model structures :func:`fit_static_map` can fit.
+MODELS = ("coulomb_viscous", "exponential", "lorentzian")
+
+#: Relative standard error above which a parameter is flagged as not identifiable.
+UNIDENTIFIABLE_RSE = 1.0
+
+#: Ratio of smallest to largest singular value of the Jacobian below which it is rank deficient.
+RANK_TOL = 1e-8
+
+_LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+
+
+@dataclass(frozen=True)
+class _Structure:
+    name: str
+    params: tuple[str, ...]
+
+
+def _structure(model: str, delta: float | None) -> _Structure:
+    if model == "coulomb_viscous":
+        return _Structure(model, ("Fc", "sigma2"))
+    if model == "lorentzian":
+        return _Structure(model, ("Fc", "Fs", "vs", "sigma2"))
+    if model == "exponential":
+        if delta is None:
+            return _Structure(model, ("Fc", "Fs", "vs", "delta", "sigma2"))
+        return _Structure(model, ("Fc", "Fs", "vs", "sigma2"))
+    raise ParameterError(f"fit_static_map.model = {model!r}: must be 'auto' or one of {list(MODELS)}")
+
+
+def _curve(st: _Structure, p: np.ndarray, u: np.ndarray, delta: float | None) -> np.ndarray:
+    """Friction magnitude for speeds ``u >= 0`` (scaled units)."""
+    if st.name == "coulomb_viscous":
+        return p[0] + p[1] * u
+    Fc, Fs, vs = p[0], p[1], p[2]
+    r = u / vs
+    if st.name == "lorentzian":
+        phi = 1.0 / (1.0 + r * r)
+    else:
+        d = p[3] if delta is None else delta
+        with np.errstate(over="ignore", under="ignore"):
+            phi = np.exp(-(r**d))
+    return Fc + (Fs - Fc) * phi + p[-1] * u
+
+
+def _bounds(st: _Structure) -> tuple[np.ndarray, np.ndarray]:
+    lo = {"Fc": 0.0, "Fs": 0.0, "vs": 1e-6, "delta": 0.1, "sigma2": 0.0}
+    hi = {"Fc": np.inf, "Fs": np.inf, "vs": 1e3, "delta": 10.0, "sigma2": np.inf}
+    return np.array([lo[n] for n in st.params]), np.array([hi[n] for n in st.params])
+
+
+def _starts(st: _Structure, u: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
+    order = np.argsort(u)
+    upper = order[len(order) // 2:] if len(order) >= 4 else order
+    if np.ptp(u[upper]) > 0:
+        slope, icpt = np.polyfit(u[upper], y[upper], 1)
+    else:
+        slope, icpt = 0.0, float(np.mean(y))
+    Fc0 = max(float(icpt), 1e-3)
+    s0 = max(float(slope), 0.0)
+    if st.name == "coulomb_viscous":
+        return [np.array([Fc0, s0])]
+    Fs0 = max(float(np.mean(y[order[:2]])), 1e-3)
+    out = []
+    for vs0 in (0.02, 0.1, 0.3):
+        vs0 = max(vs0, 1.5e-6)
+        for d0 in ((1.0, 2.0) if "delta" in st.params else (None,)):
+            p = [Fc0, Fs0, vs0] + ([d0] if d0 is not None else []) + [s0]
+            out.append(np.array(p))
+    return out
+
+
+def _unit_of(name: str, Fu: str, vu: str) -> str:
+    if name in ("Fc", "Fs"):
+        return Fu
+    if name == "vs":
+        return vu
+    if name == "delta":
+        return "1"
+    if vu.endswith("/s"):
+        return f"{Fu}·s/{vu[:-2]}"
+    return f"{Fu}/({vu})"
+
+
+def _fit_direction(
+    u: np.ndarray, y: np.ndarray, w: np.ndarray, st: _Structure, *, delta: float | None,
+    loss: str, f_scale: float | None,
+) -> dict:
+    """Fit one structure to speeds ``u`` and friction magnitudes ``y`` (unscaled)."""
+    Fsc = float(np.max(np.abs(y))) or 1.0
+    vsc = float(np.max(u))
+    us, ys = u / vsc, y / Fsc
+    lo, hi = _bounds(st)
+
+    def resid(p):
+        return (_curve(st, p, us, delta) - ys) * w
+
+    fs = 1.0 if f_scale is None else float(f_scale) / Fsc
+    best = None
+    for p0 in _starts(st, us, ys):
+        p0 = np.clip(p0, lo, np.where(np.isfinite(hi), hi * (1 - 1e-9), hi))
+        r = least_squares(resid, p0, bounds=(lo, hi), loss=loss, f_scale=fs, x_scale="jac",
+                          method="trf", max_nfev=2000 * len(p0))
+        if best is None or r.cost < best.cost:
+            best = r
+    # scale factors back to physical units
+    scale = np.array([{"Fc": Fsc, "Fs": Fsc, "vs": vsc, "delta": 1.0, "sigma2": Fsc / vsc}[n] for n in st.params])
+    n, p = u.size, len(st.params)
+    dof = n - p
+    raw = (_curve(st, best.x, us, delta) - ys) * Fsc  # unweighted residuals, physical units
+    J = best.jac
+    if loss == "linear":
+        s2 = float(np.sum(best.fun**2)) / dof
+    else:
+        s2 = 2.0 * float(best.cost) / dof
+    sv = np.linalg.svd(J, compute_uv=False)
+    rank_ratio = float(sv[-1] / sv[0]) if sv[0] > 0 else 0.0
+    cov_s = s2 * np.linalg.pinv(J.T @ J)
+    # J and s2 are both in scaled residual units, so cov_s is the covariance of the
+    # scaled parameters; each physical parameter is scaled parameter * scale.
+    cov = cov_s * np.outer(scale, scale)
+    values = best.x * scale
+    rss = float(np.sum(raw**2))
+    k = p
+    aic = n * np.log(max(rss, 1e-300) / n) + 2 * k
+    bic = n * np.log(max(rss, 1e-300) / n) + k * np.log(n)
+    return {"res": best, "values": values, "cov": cov, "dof": dof, "raw": raw, "rss": rss,
+            "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J}
+
+
+def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str) -> list[str]:
+    out = []
+    vals, se = fit["values"], np.sqrt(np.clip(np.diag(fit["cov"]), 0, None))
+    if fit["rank_ratio"] < RANK_TOL:
+        out.append(f"{label}: Jacobian is rank deficient (singular value ratio {fit['rank_ratio']:.2g}); "
+                   "some parameters are not identifiable from these data")
+    active = fit["res"].active_mask
+    for i, n in enumerate(st.params):
+        if active[i] != 0:
+            out.append(f"{label}: {n} = {vals[i]:.6g} is at its bound; its standard error is not meaningful")
+            continue
+        rse = se[i] / abs(vals[i]) if vals[i] != 0 else np.inf
+        if not np.isfinite(rse) or rse > UNIDENTIFIABLE_RSE:
+            hint = ""
+            if n == "vs":
+                slow = int(np.sum(u < 2.0 * vals[i]))
+                hint = f" ({slow} point(s) below 2·vs; add low-speed plateaus)"
+            out.append(f"{label}: {n} not identifiable: standard error {se[i]:.3g} is "
+                       f"{100 * rse:.0f} % of its value {vals[i]:.6g}{hint}")
+    if not fit["res"].success:
+        out.append(f"{label}: optimiser did not converge ({fit['res'].message})")
+    return out
+
+
+def _law(st: _Structure, vals: dict, delta: float | None):
+    if st.name == "coulomb_viscous":
+        return CoulombViscous(Fc=vals["Fc"], sigma2=vals["sigma2"])
+    return Stribeck(Fc=vals["Fc"], Fs=vals["Fs"], vs=vals["vs"],
+                    delta=vals.get("delta", 2.0 if delta is None else delta),
+                    sigma2=vals["sigma2"], shape=st.name)
+
+
+def _as_points(v, F, sigma) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, SteadyStatePoints | None]:
+    if isinstance(v, Recording):
+        v = steady_state_points(v)
+    if isinstance(v, SteadyStatePoints):
+        if F is not None:
+            raise DataError("fit_static_map: pass either SteadyStatePoints or (v, F) arrays, not both")
+        return v.v, v.F, sigma, v
+    if F is None:
+        raise DataError("fit_static_map: F (mean force/torque per segment) is required with a velocity array")
+    va = np.asarray(v, dtype=float).ravel()
+    Fa = np.asarray(F, dtype=float).ravel()
+    if va.size != Fa.size:
+        raise DataError(f"fit_static_map: v has {va.size} points, F has {Fa.size}")
+    for nm, a in (("v", va), ("F", Fa)):
+        bad = ~np.isfinite(a)
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise DataError(f"fit_static_map: {nm}[{i}] = {a[i]!r}: must be finite")
+    return va, Fa, sigma, None
+
+
+def fit_static_map(
+    v,
+    F=None,
+    *,
+    model: str = "auto",
+    direction: str = "both",
+    delta: float | None = None,
+    loss: str = "linear",
+    f_scale: float | None = None,
+    sigma=None,
+    criterion: str = "aic",
+    units: dict | None = None,
+) -> IdentificationResult:
+    """Fit a static friction map per direction to steady-state points.
+
+    Parameters
+    ----------
+    v : array_like, SteadyStatePoints or Recording
+        Mean velocity of each constant-velocity segment [m/s or rad/s]; or the points
+        from :func:`~frictionkit.data.steady_state_points`; or a recording, whose
+        plateaus are then found and averaged automatically.
+    F : array_like, optional
+        Mean friction force/torque of each segment [N or N·m] (signed, as measured).
+    model : {"auto", "coulomb_viscous", "exponential", "lorentzian"}
+        Structure; ``"auto"`` picks, per direction, the lowest ``criterion`` among the
+        structures that leave at least one residual degree of freedom.
+    direction : {"both", "positive", "negative"}
+        Which direction(s) to fit; each is fitted independently (seed 002 §3.1).
+    delta : float, optional
+        Fix the exponent of the exponential shape (2 gives seed 002 eq. 9b); default free.
+    loss : {"linear", "soft_l1", "huber", "cauchy", "arctan"}
+        Loss of ``scipy.optimize.least_squares``; robust losses down-weight outliers.
+    f_scale : float, optional
+        Residual scale of the robust loss [N or N·m]; default ``max |F|`` of the
+        direction (the internal force unit).
+    sigma : array_like, optional
+        Standard deviation of each mean force (weights ``1/sigma``); default equal weights.
+    criterion : {"aic", "bic"}
+        Model-choice criterion for ``model="auto"``.
+    units : dict, optional
+        ``{"v": ..., "F": ...}`` unit strings used for the parameter units; default
+        taken from the points, else ``m/s`` and ``N``.
+
+    Returns
+    -------
+    IdentificationResult
+        Parameters ``Fc_pos, Fs_pos, vs_pos, delta_pos, sigma2_pos`` and/or the ``_neg``
+        set (only those of the chosen structures), ``parts["positive"]`` /
+        ``parts["negative"]`` with the per-direction results, and ``model`` a
+        ``Directional`` law (or the single-direction law). ``warnings`` flags
+        parameters that are not identifiable (relative standard error above
+        :data:`UNIDENTIFIABLE_RSE`, at a bound, or a rank-deficient Jacobian).
+
+    Raises
+    ------
+    DataError
+        Non-finite or mismatched inputs.
+    IdentificationError
+        Too few points in a direction for the requested structure.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit import Stribeck
+    >>> from frictionkit.identify import fit_static_map
+    >>> law = Stribeck(Fc=1.0, Fs=1.5, vs=0.01, delta=2.0, sigma2=5.0)
+    >>> v = np.geomspace(1e-3, 0.2, 20)
+    >>> res = fit_static_map(v, law.steady_state(v), model="exponential", direction="positive")
+    >>> round(res["Fs_pos"], 4), round(res["vs_pos"], 4)
+    (1.5, 0.01)
+    """
+    va, Fa, sig, pts = _as_points(v, F, sigma)
+    if direction not in ("both", "positive", "negative"):
+        raise ParameterError(f"fit_static_map.direction = {direction!r}: must be 'both', 'positive' or 'negative'")
+    if loss not in _LOSSES:
+        raise ParameterError(f"fit_static_map.loss = {loss!r}: must be one of {list(_LOSSES)}")
+    if criterion not in ("aic", "bic"):
+        raise ParameterError(f"fit_static_map.criterion = {criterion!r}: must be 'aic' or 'bic'")
+    if model != "auto":
+        _structure(model, delta)
+    if delta is not None and not (np.isfinite(delta) and delta > 0):
+        raise ParameterError(f"fit_static_map.delta = {delta!r}: must be finite and > 0")
+    if sig is not None:
+        sig = np.asarray(sig, dtype=float).ravel()
+        if sig.size != va.size or not np.all(np.isfinite(sig) & (sig > 0)):
+            raise DataError("fit_static_map.sigma: need one finite, positive standard deviation per point")
+    un = dict(pts.units) if pts is not None else {"v": "m/s", "F": "N"}
+    un.update(units or {})
+    Fu, vu = un["F"], un["v"]
+
+    dirs = {"both": (1, -1), "positive": (1,), "negative": (-1,)}[direction]
+    parts: dict[str, IdentificationResult] = {}
+    laws = {}
+    for sgn in dirs:
+        label = "positive" if sgn == 1 else "negative"
+        sel = np.sign(va) == sgn
+        u = np.abs(va[sel])
+        y = sgn * Fa[sel]
+        w = np.ones(u.size) if sig is None else 1.0 / sig[sel]
+        w = w / np.mean(w) if w.size else w
+        cands = list(MODELS) if model == "auto" else [model]
+        fits = {}
+        for m in cands:
+            st = _structure(m, delta)
+            if u.size < len(st.params) + 1:
+                continue
+            fits[m] = (st, _fit_direction(u, y, w, st, delta=delta, loss=loss, f_scale=f_scale))
+        if not fits:
+            need = len(_structure(cands[0], delta).params) + 1
+            raise IdentificationError(
+                f"{label} direction: {u.size} steady-state point(s); a {cands[0]} fit needs at least {need}"
+            )
+        chosen = min(fits, key=lambda m: fits[m][1][criterion])
+        st, fit = fits[chosen]
+        st_vals = dict(zip(st.params, fit["values"].tolist()))
+        flags = _flags(st, fit, u, label)
+        try:
+            law = _law(st, st_vals, delta)
+        except ParameterError as exc:
+            law = None
+            flags.append(f"{label}: estimates do not form a valid model ({exc})")
+        laws[label] = law
+        stats = parameter_statistics(fit["values"], fit["cov"], fit["dof"])
+        pred = sgn * (y + fit["raw"])  # raw = predicted - measured magnitude
+        parts[label] = IdentificationResult(
+            kind="static_map",
+            model_name=chosen,
+            model=law,
+            names=st.params,
+            values=fit["values"],
+            stderr=stats["stderr"],
+            ci95=stats["ci"],
+            units=tuple(_unit_of(n, Fu, vu) for n in st.params),
+            correlation=stats["correlation"],
+            rms=float(np.sqrt(np.mean(fit["raw"] ** 2))),
+            relative_error_percent=float(100 * np.linalg.norm(fit["raw"]) / np.linalg.norm(y)),
+            n_obs=int(u.size),
+            dof=int(fit["dof"]),
+            success=bool(fit["res"].success),
+            message=str(fit["res"].message),
+            warnings=tuple(flags),
+            diagnostics={
+                "criterion": criterion,
+                "candidates": {m: {"aic": f["aic"], "bic": f["bic"], "rss": f["rss"], "n_params": len(s.params)}
+                               for m, (s, f) in fits.items()},
+                "singular_value_ratio": fit["rank_ratio"],
+                "nfev": int(fit["res"].nfev),
+                "loss": loss,
+                "delta_fixed": delta,
+            },
+            provenance={"units": {"v": vu, "F": Fu}},
+            data={"v": va[sel], "F": Fa[sel], "F_pred": pred,
+                  **({"F_std": pts.F_std[sel]} if pts is not None else {})},
+        )
+    return _combine(parts, laws, un, pts, direction)
+
+
+def _combine(parts, laws, un, pts, direction) -> IdentificationResult:
+    sfx = {"positive": "_pos", "negative": "_neg"}
+    names, units, vals, se, ci, warns, blocks = [], [], [], [], [], [], []
+    for label, r in parts.items():
+        names += [n + sfx[label] for n in r.names]
+        units += list(r.units)
+        vals.append(r.values)
+        se.append(r.stderr)
+        ci.append(r.ci95)
+        warns += list(r.warnings)
+        blocks.append(r.correlation)
+    p = len(names)
+    corr = np.full((p, p), 0.0)
+    i = 0
+    for b in blocks:
+        k = b.shape[0]
+        corr[i:i + k, i:i + k] = b
+        i += k
+    if len(laws) == 2:
+        lp, ln = laws["positive"], laws["negative"]
+        if lp is None or ln is None:
+            model = None
+        elif type(lp) is not type(ln):
+            model = Directional(positive=_as_stribeck(lp), negative=_as_stribeck(ln))
+        else:
+            model = Directional(positive=lp, negative=ln)
+        model_name = "directional(" + ", ".join(r.model_name for r in parts.values()) + ")"
+    else:
+        model = next(iter(laws.values()))
+        model_name = next(iter(parts.values())).model_name
+    raw = np.concatenate([r.data["F_pred"] - r.data["F"] for r in parts.values()])
+    Fall = np.concatenate([r.data["F"] for r in parts.values()])
+    data = {k: np.concatenate([r.data[k] for r in parts.values()]) for k in next(iter(parts.values())).data}
+    prov = {"units": {"v": un["v"], "F": un["F"]}, "direction": direction}
+    if pts is not None:
+        prov["labels"] = list(pts.labels)
+    return IdentificationResult(
+        kind="static_map",
+        model_name=model_name,
+        model=model,
+        names=tuple(names),
+        values=np.concatenate(vals),
+        stderr=np.concatenate(se),
+        ci95=np.vstack(ci),
+        units=tuple(units),
+        correlation=corr,
+        rms=float(np.sqrt(np.mean(raw**2))),
+        relative_error_percent=float(100 * np.linalg.norm(raw) / np.linalg.norm(Fall)),
+        n_obs=int(raw.size),
+        dof=int(sum(r.dof for r in parts.values())),
+        success=all(r.success for r in parts.values()),
+        message="; ".join(f"{k}: {r.message}" for k, r in parts.items()),
+        warnings=tuple(warns),
+        diagnostics={k: dict(r.diagnostics) for k, r in parts.items()},
+        provenance=prov,
+        data=data,
+        parts=parts,
+    )
+
+
+def _as_stribeck(law):
+    if isinstance(law, Stribeck):
+        return law
+    # A flat Stribeck curve (Fs = Fc) is Coulomb + viscous; vs is then irrelevant.
+    return Stribeck(Fc=law.Fc, Fs=law.Fc, vs=1.0, sigma2=law.sigma2)
+
+
+def fit_static_records(records, *, trim: float = 0.0, **kwargs) -> IdentificationResult:
+    """Average each record whole (one steady-state point per record) and fit the map.
+
+    Parameters
+    ----------
+    records : mapping of str to Recording
+        E.g. from :func:`~frictionkit.data.load_groups` (one record per speed).
+    trim : float
+        Fraction dropped at both ends of each record before averaging (default 0).
+    **kwargs
+        Passed to :func:`fit_static_map`.
+
+    Returns
+    -------
+    IdentificationResult
+
+    Examples
+    --------
+    >>> recs = load_groups("steady_state_records.csv", group="source_file", time="t_s",
+    ...                    velocity="motor_velocity_rad_per_s", force="motor_torque_N_m",
+    ...                    where={"drive_id": 1})  # doctest: +SKIP
+    >>> fit_static_records(recs).summary()  # doctest: +SKIP
+    """
+    return fit_static_map(steady_state_points(records, trim=trim), **kwargs)
+
+
+__all__: Sequence[str] = ("MODELS", "fit_static_map", "fit_static_records")

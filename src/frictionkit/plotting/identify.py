@@ -1,0 +1,65 @@
+"""Plots of identification results (matplotlib is imported inside the functions)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def plot_identification(result, ax=None):
+    """Draw an :class:`~frictionkit.identify.IdentificationResult`.
+
+    Static maps: averaged data points and the fitted steady-state curve for each
+    direction. Rigid body: measured and predicted force against time.
+
+    Parameters
+    ----------
+    result : IdentificationResult
+        A result from :func:`~frictionkit.identify.fit_static_map` or
+        :func:`~frictionkit.identify.fit_rigid_body`.
+    ax : matplotlib Axes, optional
+        Axes to draw on; default a new figure.
+
+    Returns
+    -------
+    matplotlib Axes
+
+    Examples
+    --------
+    >>> ax = plot_identification(res)  # doctest: +SKIP
+    >>> ax.figure.savefig("fit.png")  # doctest: +SKIP
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.4, 4.0))
+    d = result.data
+    prov = result.provenance
+    if result.kind == "static_map":
+        v, F = d.get("v", np.zeros(0)), d.get("F", np.zeros(0))
+        if "F_std" in d and np.any(d["F_std"] > 0):
+            ax.errorbar(v, F, yerr=d["F_std"], fmt="o", ms=4, color="C0", ecolor="0.7", label="measured (mean ± std)")
+        else:
+            ax.plot(v, F, "o", ms=4, color="C0", label="measured")
+        if result.model is not None and v.size:
+            for sign in (1, -1):
+                sel = np.sign(v) == sign
+                if not sel.any():
+                    continue
+                hi = float(np.max(np.abs(v[sel])))
+                vv = sign * np.linspace(hi * 1e-3, hi * 1.05, 400)
+                ax.plot(vv, result.model.steady_state(vv), "-", color="C1",
+                        label=f"fit ({result.model_name})" if sign == 1 or not (np.sign(v) == 1).any() else None)
+        ax.axhline(0.0, color="0.8", lw=0.8)
+        ax.axvline(0.0, color="0.8", lw=0.8)
+        ax.set_xlabel(f"velocity [{prov.get('units', {}).get('v', 'm/s')}]")
+        ax.set_ylabel(f"friction [{prov.get('units', {}).get('F', 'N')}]")
+        ax.set_title(f"static map, RMS residual {result.rms:.3g}")
+    else:
+        t = d.get("t", np.arange(d.get("y", np.zeros(0)).size))
+        ax.plot(t, d.get("y", []), "-", lw=0.8, color="C0", label="measured")
+        ax.plot(t, d.get("y_pred", []), "-", lw=0.8, color="C1", label="predicted")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel(f"force [{prov.get('units', {}).get('F', 'N')}]")
+        ax.set_title(f"{result.model_name}: relative error {result.relative_error_percent:.3g} %")
+    ax.legend(loc="best", fontsize="small")
+    return ax

@@ -1,0 +1,160 @@
+"""Numba kernel: ball-screw plant (any linear mechanical chain + Dahl friction sites) in a
+closed loop with PID, disturbance observer, feed-forward and quantised sensors.
+
+Flat arrays and floats in, arrays and a status code out; no validation here (the public
+wrapper in :mod:`frictionkit.control.loop` validates).
+
+Integration scheme
+------------------
+Over one sub-step ``h`` the linear part ``dX/dt = A X + B w`` is advanced *exactly* with
+the precomputed zero-order-hold pair ``Phi = exp(A h)``, ``Gam = int_0^h exp(A s) ds B``,
+so stiff springs cost nothing in stability. The friction forces ``w[1:]`` are held over the
+sub-step; each Dahl state is advanced by its exact solution for the sub-step's velocity,
+``F+ = s Fc + (F - s Fc) exp(-sigma0 |v| h / Fc)`` (``s = sgn v``), which keeps
+``|F| <= Fc`` for any ``h``.
+
+Status codes: 0 ok, 1 non-finite state (run stopped at ``k_end``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import njit
+
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+
+# Layout of the ``ctrl`` parameter vector.
+C_KP, C_KI, C_KD, C_TAUD, C_T, C_DOB, C_AQ, C_KTAU, C_JN, C_BN, C_IMAX, C_FBTABLE, C_R, C_QENC, C_QSCALE = range(15)
+N_CTRL = 15
+
+
+@njit
+def _quantise(x, q):
+    if q > 0.0:
+        return math.floor(x / q) * q
+    return x
+
+
+@njit
+def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
+                c_mot, c_tab, c_frc,
+                theta_d, u_ff, u_f, noise_enc, noise_scale, ctrl,
+                out_xt, out_thm, out_xt_meas, out_thm_meas, out_i, out_fbn, out_fric):
+    """Run ``theta_d.size`` control periods. ``X`` and ``F`` are updated in place.
+
+    Returns ``(status, k_end)``; samples ``k >= k_end`` of the outputs are left untouched.
+    """
+    n2 = X.size
+    nf = Fc.size
+    N = theta_d.size
+    kp = ctrl[C_KP]
+    ki = ctrl[C_KI]
+    kd = ctrl[C_KD]
+    taud = ctrl[C_TAUD]
+    T = ctrl[C_T]
+    dob_on = ctrl[C_DOB] > 0.5
+    aq = ctrl[C_AQ]
+    ktau = ctrl[C_KTAU]
+    Jn = ctrl[C_JN]
+    Bn = ctrl[C_BN]
+    imax = ctrl[C_IMAX]
+    fb_table = ctrl[C_FBTABLE] > 0.5
+    R = ctrl[C_R]
+    qenc = ctrl[C_QENC]
+    qscale = ctrl[C_QSCALE]
+
+    w = np.zeros(1 + nf)
+    for j in range(nf):
+        w[1 + j] = F[j]
+    Xn = np.empty(n2)
+
+    integ = 0.0
+    dterm = 0.0
+    e_prev = 0.0
+    thm_prev = 0.0
+    om_prev = 0.0
+    dhat = 0.0
+    i_dob_prev = 0.0  # current applied last period, excluding the friction compensation
+
+    for k in range(N):
+        # ---- sensors
+        thm = 0.0
+        xt = 0.0
+        fbn = 0.0
+        for a in range(n2):
+            thm += c_mot[a] * X[a]
+            xt += c_tab[a] * X[a]
+            fbn += c_frc[a] * X[a]
+        thm_m = _quantise(thm + noise_enc[k], qenc)
+        xt_m = _quantise(xt + noise_scale[k], qscale)
+        out_xt[k] = xt
+        out_thm[k] = thm
+        out_xt_meas[k] = xt_m
+        out_thm_meas[k] = thm_m
+        out_fbn[k] = fbn
+        for j in range(nf):
+            out_fric[j, k] = F[j]
+
+        # ---- PID (backward Euler, filtered derivative, conditional integration)
+        y = xt_m / R if fb_table else thm_m
+        e = theta_d[k] - y
+        if k == 0:
+            e_prev = e
+            thm_prev = thm_m
+        dterm = (taud * dterm + kd * (e - e_prev)) / (taud + T)
+        u_c = kp * e + integ + dterm
+
+        # ---- disturbance observer on motor velocity (inverse nominal model + 1st-order LPF)
+        om = (thm_m - thm_prev) / T
+        if dob_on and k > 0:
+            raw = ktau * i_dob_prev - Bn * om - Jn * (om - om_prev) / T
+            dhat = aq * dhat + (1.0 - aq) * raw
+        i_dob = u_ff[k] + u_c + dhat / ktau
+        i_cmd = i_dob + u_f[k]
+        sat = False
+        if i_cmd > imax:
+            i_cmd = imax
+            sat = True
+        elif i_cmd < -imax:
+            i_cmd = -imax
+            sat = True
+        if not sat:
+            integ += ki * T * e
+        i_dob_prev = i_cmd - u_f[k]
+        e_prev = e
+        thm_prev = thm_m
+        om_prev = om
+        out_i[k] = i_cmd
+
+        # ---- plant: n_sub exact linear sub-steps, Dahl sites advanced exactly
+        w[0] = i_cmd
+        for s in range(n_sub):
+            for j in range(nf):
+                if Fc[j] > 0.0:
+                    v = 0.0
+                    for a in range(n2):
+                        v += Cv[j, a] * X[a]
+                    if v > 0.0:
+                        F[j] = Fc[j] + (F[j] - Fc[j]) * math.exp(-sig0[j] * v * h / Fc[j])
+                    elif v < 0.0:
+                        F[j] = -Fc[j] + (F[j] + Fc[j]) * math.exp(sig0[j] * v * h / Fc[j])
+                w[1 + j] = F[j]
+            for a in range(n2):
+                acc = 0.0
+                for b in range(n2):
+                    acc += Phi[a, b] * X[b]
+                for b in range(1 + nf):
+                    acc += Gam[a, b] * w[b]
+                Xn[a] = acc
+            ok = True
+            for a in range(n2):
+                X[a] = Xn[a]
+                if not math.isfinite(Xn[a]):
+                    ok = False
+            if not ok:
+                return STATUS_NONFINITE, k + 1
+    return STATUS_OK, N

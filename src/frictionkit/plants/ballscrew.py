@@ -1,0 +1,291 @@
+"""Ball-screw-driven stage (seed 001): rigid model eq. 1 and the elastic chain of Fig. 7.
+
+Both plants are frozen, keyword-only, validated parameter objects. They do not simulate by
+themselves: :meth:`linear_chain` returns the mechanical chain as matrices
+(``M q'' + D q' + K q = Bu u - sum_i c_i F_i``) that
+:func:`frictionkit.control.loop.simulate_closed_loop` discretises exactly and runs in the
+numba kernel :mod:`frictionkit.kernels.ballscrew`.
+
+Elastic model (Fig. 7), generalised coordinates ``q = [theta_m, theta_s, x_l, x_m, x_r, x_t]``:
+
+* ``theta_m`` motor (+ coupling hub) [rad]; ``theta_s`` screw at the nut [rad], joined by the
+  series torsional stiffness ``k_o`` of coupling and screw (``k_coupling``, ``k_torsion``);
+* ``x_l, x_m, x_r`` axial positions of the left, middle and right thirds of the screw
+  (``M_b/3`` each), bearings ``k_bearing`` to ground at both ends, screw axial stiffness
+  ``k_axial`` (left part) and ``k_axial_right``;
+* screw-ball-nut contact ``F_bn = k_nut (R theta_s + x_m - x_t)``, the drive force on the
+  table (eq. 2);
+* table ``M_t x_t'' = F_bn - f_g - C_t x_t'`` (eq. 2 plus the Table 1 guide viscosity).
+
+Friction sites (Dahl, rate form): the guide ``f_g`` acting on ``x_t`` and the nut
+``f_n`` opposing screw rotation (linear-equivalent force on ``R theta_s``; its reaction is
+a torque carried by the guide). Stiffness-proportional damping ``beta K`` with ``beta`` set
+so the first elastic mode has ``damping_ratio``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as val
+from ..errors import ParameterError
+
+#: ``sigma0 = DAHL_SPAN * Fc / presliding_length``: the Dahl curve goes from ``-Fc`` to
+#: ``0.9 Fc`` over ``presliding_length`` (``1 - 2 exp(-u) = 0.9`` -> ``u = ln 20``).
+DAHL_SPAN = math.log(20.0)
+
+
+@dataclass(frozen=True)
+class LinearChain:
+    """A mechanical chain ``M q'' + D q' + K q = b u - C^T F`` with named outputs.
+
+    Attributes
+    ----------
+    M, D, K : ndarray (n, n)
+        Mass, damping and stiffness matrices (SI, mixed rotational/linear coordinates).
+    b : ndarray (n,)
+        Generalised force per ampere of motor current.
+    C : ndarray (nf, n)
+        Friction-site velocity rows: site ``j`` slides at ``C[j] @ q'`` [m/s] and its force
+        ``F_j`` [N] acts through ``-C[j]``.
+    Fc, sigma0 : ndarray (nf,)
+        Dahl Coulomb levels [N] and pre-sliding stiffnesses [N/m].
+    motor, table : ndarray (n,)
+        Output rows: motor angle [rad] and table position [m] from ``q``.
+    drive_force_q, drive_force_v : ndarray (n,)
+        Output rows of the drive force on the table ``F_bn`` [N] from ``q`` and ``q'``.
+    names : tuple of str
+        Coordinate names.
+    """
+
+    M: np.ndarray
+    D: np.ndarray
+    K: np.ndarray
+    b: np.ndarray
+    C: np.ndarray
+    Fc: np.ndarray
+    sigma0: np.ndarray
+    motor: np.ndarray
+    table: np.ndarray
+    drive_force_q: np.ndarray
+    drive_force_v: np.ndarray
+    names: tuple
+
+    def state_space(self):
+        """Continuous ``(A, B)`` for ``X = [q, q']`` and inputs ``w = [u, F_1 .. F_nf]``."""
+        n = self.M.shape[0]
+        Minv = np.linalg.inv(self.M)
+        A = np.zeros((2 * n, 2 * n))
+        A[:n, n:] = np.eye(n)
+        A[n:, :n] = -Minv @ self.K
+        A[n:, n:] = -Minv @ self.D
+        Bw = np.zeros((2 * n, 1 + self.C.shape[0]))
+        Bw[n:, 0] = Minv @ self.b
+        for j in range(self.C.shape[0]):
+            Bw[n:, 1 + j] = -Minv @ self.C[j]
+        return A, Bw
+
+    def discretize(self, h: float):
+        """Exact zero-order-hold pair ``(Phi, Gam)`` over ``h`` [s] (matrix exponential)."""
+        from scipy.linalg import expm
+
+        A, Bw = self.state_space()
+        n2, m = Bw.shape
+        aug = np.zeros((n2 + m, n2 + m))
+        aug[:n2, :n2] = A * h
+        aug[:n2, n2:] = Bw * h
+        E = expm(aug)
+        return np.ascontiguousarray(E[:n2, :n2]), np.ascontiguousarray(E[:n2, n2:])
+
+
+def _dahl_arrays(levels, length):
+    Fc = np.array(levels, dtype=float)
+    sig = np.where(Fc > 0.0, DAHL_SPAN * Fc / length, 0.0)
+    return Fc, sig
+
+
+@dataclass(frozen=True, kw_only=True)
+class RigidBallScrew:
+    """Seed 001 eq. 1: ``P_n(s) = K_tau / (J s^2 + B s)`` from current [A] to motor angle [rad].
+
+    Parameters
+    ----------
+    K_tau : float — torque constant [N·m/A] (eq. 1: 0.715).
+    J : float — total inertia at the motor [kg·m²] (eq. 1: 0.01).
+    B : float — total viscosity at the motor [N·m·s/rad] (eq. 1: 0.1).
+    L_p : float — screw lead [m/rev] (Table 1: 0.012); table position ``x_t = R theta``.
+    friction : float — linear-equivalent Coulomb level of one Dahl site at the motor [N]
+        (0 for none).
+    presliding_length : float — Dahl transition length [m].
+
+    Examples
+    --------
+    >>> from frictionkit.plants.ballscrew import RigidBallScrew
+    >>> p = RigidBallScrew(K_tau=0.715, J=0.01, B=0.1)
+    >>> round(p.R * 1e3, 4)
+    1.9099
+    """
+
+    K_tau: float = 0.715
+    J: float = 0.01
+    B: float = 0.1
+    L_p: float = 1.2e-2
+    friction: float = 0.0
+    presliding_length: float = 10e-6
+
+    def __post_init__(self) -> None:
+        o = "RigidBallScrew"
+        for name in ("K_tau", "J", "L_p", "presliding_length"):
+            object.__setattr__(self, name, val.positive(o, name, getattr(self, name)))
+        for name in ("B", "friction"):
+            object.__setattr__(self, name, val.nonnegative(o, name, getattr(self, name)))
+
+    @property
+    def R(self) -> float:
+        """Screw ratio ``L_p / 2 pi`` [m/rad]."""
+        return self.L_p / (2.0 * math.pi)
+
+    def transfer_function(self):
+        """``(num, den)`` of eq. 1 in descending powers of ``s``."""
+        return np.array([self.K_tau]), np.array([self.J, self.B, 0.0])
+
+    def linear_chain(self) -> LinearChain:
+        R = self.R
+        Fc, sig = _dahl_arrays([self.friction], self.presliding_length)
+        one = np.ones(1)
+        return LinearChain(
+            M=np.array([[self.J]]), D=np.array([[self.B]]), K=np.zeros((1, 1)),
+            b=np.array([self.K_tau]), C=np.array([[R]]), Fc=Fc, sigma0=sig,
+            motor=one.copy(), table=R * one, drive_force_q=np.zeros(1), drive_force_v=np.zeros(1),
+            names=("theta",),
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class ElasticBallScrew:
+    """Elastic multi-mass ball-screw stage after seed 001 Fig. 7 / Table 1.
+
+    Parameters
+    ----------
+    J_m, B_m : float — motor inertia [kg·m²] and viscosity [N·m·s/rad] (Table 1, ``B_m``
+        corrected, see :mod:`frictionkit.presets.zhu_fujimoto`).
+    J_b, B_b, M_b : float — screw inertia [kg·m²], viscosity [N·m·s/rad], mass [kg].
+    M_t, C_t : float — table mass [kg] and guide viscosity [N·s/m].
+    L_p : float — lead [m/rev].
+    K_tau : float — torque constant [N·m/A].
+    k_coupling, k_torsion : float — coupling and screw (motor -> nut) torsional stiffness
+        [N·m/rad], in series.
+    k_axial, k_axial_right : float — axial stiffness of the screw left/right of the nut [N/m]
+        (``k_axial_right`` defaults to ``k_axial``).
+    k_bearing : float — axial stiffness of each support bearing set [N/m].
+    k_nut : float — screw-ball-nut axial stiffness [N/m].
+    damping_ratio : float — damping ratio of the first elastic mode (Rayleigh, ``beta K``).
+    guide_friction, nut_friction : float — Dahl Coulomb levels of guide and nut [N]
+        (nut: linear equivalent of its torque, ``T / R``).
+    presliding_length : float — Dahl transition length of both sites [m].
+
+    Examples
+    --------
+    >>> from frictionkit.plants.ballscrew import ElasticBallScrew
+    >>> from frictionkit.presets import zhu_fujimoto as zf
+    >>> p = ElasticBallScrew(**zf.plant_kwargs())
+    >>> bool(100 < p.modes()[0] / (2 * 3.141592653589793) < 400)   # first mode [Hz]
+    True
+    """
+
+    J_m: float
+    B_m: float
+    J_b: float
+    B_b: float
+    M_b: float
+    M_t: float
+    C_t: float
+    L_p: float
+    K_tau: float
+    k_coupling: float
+    k_torsion: float
+    k_axial: float
+    k_axial_right: float | None = None
+    k_bearing: float
+    k_nut: float
+    damping_ratio: float = 0.02
+    guide_friction: float = 0.0
+    nut_friction: float = 0.0
+    presliding_length: float = 10e-6
+
+    def __post_init__(self) -> None:
+        o = "ElasticBallScrew"
+        if self.k_axial_right is None:
+            object.__setattr__(self, "k_axial_right", self.k_axial)
+        for name in ("J_m", "J_b", "M_b", "M_t", "L_p", "K_tau", "k_coupling", "k_torsion",
+                     "k_axial", "k_axial_right", "k_bearing", "k_nut", "presliding_length"):
+            object.__setattr__(self, name, val.positive(o, name, getattr(self, name)))
+        for name in ("B_m", "B_b", "C_t", "damping_ratio", "guide_friction", "nut_friction"):
+            object.__setattr__(self, name, val.nonnegative(o, name, getattr(self, name)))
+        if self.damping_ratio >= 1.0:
+            raise ParameterError(f"{o}.damping_ratio = {self.damping_ratio!r}: must be < 1")
+
+    @property
+    def R(self) -> float:
+        """Screw ratio ``L_p / 2 pi`` [m/rad]."""
+        return self.L_p / (2.0 * math.pi)
+
+    @property
+    def k_o(self) -> float:
+        """Series torsional stiffness motor -> nut [N·m/rad]."""
+        return 1.0 / (1.0 / self.k_coupling + 1.0 / self.k_torsion)
+
+    def _mk(self):
+        R = self.R
+        n = 6
+        M = np.diag([self.J_m, self.J_b, self.M_b / 3, self.M_b / 3, self.M_b / 3, self.M_t])
+        K = np.zeros((n, n))
+
+        def spring(k, g):
+            g = np.asarray(g, dtype=float)
+            K[:, :] += k * np.outer(g, g)
+
+        spring(self.k_o, [1, -1, 0, 0, 0, 0])
+        spring(self.k_bearing, [0, 0, 1, 0, 0, 0])
+        spring(self.k_bearing, [0, 0, 0, 0, 1, 0])
+        spring(self.k_axial, [0, 0, 1, -1, 0, 0])
+        spring(self.k_axial_right, [0, 0, 0, -1, 1, 0])
+        g_n = np.array([0, R, 0, 1, 0, -1], dtype=float)
+        spring(self.k_nut, g_n)
+        return M, K, g_n
+
+    def modes(self) -> np.ndarray:
+        """Undamped natural angular frequencies of the chain [rad/s], ascending (rigid mode dropped)."""
+        from scipy.linalg import eigh
+
+        M, K, _ = self._mk()
+        lam = eigh(K, M, eigvals_only=True)
+        lam = np.sort(lam)
+        return np.sqrt(np.clip(lam[1:], 0.0, None))
+
+    def linear_chain(self) -> LinearChain:
+        R = self.R
+        M, K, g_n = self._mk()
+        w1 = self.modes()[0]
+        beta = 2.0 * self.damping_ratio / w1
+        D = np.diag([self.B_m, self.B_b, 0.0, 0.0, 0.0, self.C_t]) + beta * K
+        Fc, sig = _dahl_arrays([self.guide_friction, self.nut_friction], self.presliding_length)
+        C = np.zeros((2, 6))
+        C[0, 5] = 1.0  # guide: table velocity
+        C[1, 1] = R  # nut: screw rotation (linear equivalent)
+        e = np.eye(6)
+        return LinearChain(
+            M=M, D=D, K=K, b=self.K_tau * e[0], C=C, Fc=Fc, sigma0=sig,
+            motor=e[0].copy(), table=e[5].copy(),
+            drive_force_q=self.k_nut * g_n,
+            drive_force_v=beta * self.k_nut * g_n,
+            names=("theta_m", "theta_s", "x_l", "x_m", "x_r", "x_t"),
+        )
+
+    @property
+    def total_friction_torque(self) -> float:
+        """Motor-side equivalent of both Coulomb levels [N·m]."""
+        return (self.guide_friction + self.nut_friction) * self.R

@@ -1,0 +1,175 @@
+"""Seed 001 preset: Zhu & Fujimoto, ball-screw-driven stage in the zero-speed region.
+
+Every value names where it comes from. Three kinds of entry:
+
+* **paper** — printed in seed 001 (table, equation, figure or section given);
+* **correction** — a printed value we read differently, with the reason;
+* **assumption** — the paper is silent; a catalogue or textbook value chosen *before*
+  running any reproduction (never tuned until a finding appeared).
+
+All values are SI. Linear-equivalent friction levels use the screw ratio
+``R = L_p / (2 pi)`` [m/rad] to convert motor torques [N·m] to forces at the nut [N].
+
+Corrections to the paper
+------------------------
+* ``B_m`` (Table 1) is printed 1.1772 N·m·s/rad. With it the motor alone would need
+  ~97 N·m of viscous torque at the 157 mm/s peak speed of the §5 reference, 12x the
+  whole-axis viscosity B = 0.1 N·m·s/rad identified in eq. 1 (Fig. 2). Read as
+  1.1772e-3 N·m·s/rad (exponent lost, like ``J_m``'s ``10^-3``), the Table 1 viscosities
+  add up to ``B_m + B_b + C_t R^2 = 0.088`` N·m·s/rad, consistent with B = 0.1.
+* ``sigma = 2`` in §5.3 (eq. 5) is printed without a unit; ``x/sigma`` is dimensionless
+  and ``x`` is a displacement, so we read 2 µm (same reading as ``models/rolling.py``).
+* eq. 7 prints the friction force, not its compensation (sign flipped; see
+  ``models/rolling.py``).
+* ``F0`` is printed in N·m: a motor-side torque (Fig. 13: 2.431; §5.3: 2.65).
+
+Known inconsistency, kept as printed
+------------------------------------
+Table 1 gives a motor-side inertia ``J_m + J_b + M_t R^2 = 4.3e-3`` kg·m², while the
+identified nominal inertia of eq. 1 is ``J = 0.01`` kg·m². We build the elastic plant from
+Table 1 and design the controller on the nominal eq. 1 model, as the paper does; the
+disturbance observer absorbs the mismatch.
+"""
+
+from __future__ import annotations
+
+import math
+
+# --------------------------------------------------------------------------- paper
+#: Table 1 — motor inertia [kg·m²].
+J_m = 2.3e-3
+#: Table 1 as printed [N·m·s/rad]; see :data:`B_m` for the value used.
+B_m_PRINTED = 1.1772
+#: Correction of Table 1 ``B_m`` (see module docstring) [N·m·s/rad].
+B_m = 1.1772e-3
+#: Table 1 — ball-screw length [m].
+L_b = 1.169
+#: Table 1 — ball-screw mass [kg].
+M_b = 9.3526
+#: Table 1 — ball-screw inertia [kg·m²].
+J_b = 1.0052e-3
+#: Table 1 — ball-screw viscosity [N·m·s/rad].
+B_b = 5.0e-2
+#: Table 1 — lead [m/rev].
+L_p = 1.2e-2
+#: Table 1 — table mass [kg].
+M_t = 273.0
+#: Table 1 — linear-guide viscosity [N·s/m].
+C_t = 1.0e4
+#: Screw ratio (rotation to translation) ``R = L_p / 2 pi`` [m/rad] (§3.3).
+R = L_p / (2.0 * math.pi)
+
+#: Eq. 1 — torque constant [N·m/A].
+K_tau = 0.715
+#: Eq. 1 — identified nominal inertia [kg·m²].
+J_n = 0.01
+#: Eq. 1 — identified nominal viscosity [N·m·s/rad].
+B_n = 0.1
+
+#: §2.1 — absolute encoder, pulses per revolution.
+ENCODER_COUNTS = 2**20
+#: §2.1 — linear-scale resolution [m].
+SCALE_RESOLUTION = 100e-9
+
+#: §2.2 — control period of PID, DOB and friction compensation [s].
+T_CONTROL = 0.5e-3
+#: §2.2 — PTC (reference) frame period [s].
+T_PTC = 1.0e-3
+#: §2.2 — closed-loop bandwidth of the pole-placement PID [Hz].
+BANDWIDTH_HZ = 20.0
+#: §2.2 — DOB first-order low-pass cut-off [Hz].
+DOB_CUTOFF_HZ = 80.0
+
+#: Fig. 13 — measured rolling-friction level (motor torque) [N·m].
+F0_MEASURED = 2.431
+#: §5.3 — F0 used by all three compensators [N·m].
+F0_COMPENSATION = 2.65
+#: Fig. 13 / §5.3 — pre-sliding length of the sinc law [m].
+XS = 10e-6
+#: §5.3 — sigmoid transition length (correction: unit µm, see docstring) [m].
+SIGMA = 2e-6
+#: §5 — reference ``25 (1 - cos 2 pi t)`` mm: amplitude [m] and period [s].
+REF_AMPLITUDE = 25e-3
+REF_PERIOD = 1.0
+
+#: Table 3 — maximum tracking error during the reverse motion [µm].
+TABLE3_UM = {"sinc": 4.24, "coulomb": 5.44, "sigmoid": 1.65}
+
+# ---------------------------------------------------------------------- assumptions
+#: Assumption — Young's modulus of bearing steel [Pa] (textbook, 206 GPa).
+E_STEEL = 206e9
+#: Assumption — shear modulus of steel [Pa] (textbook, 79.3 GPa).
+G_STEEL = 79.3e9
+#: Derived — equivalent solid-shaft diameter of the screw from Table 1,
+#: ``J_b = M_b d^2 / 8`` -> ``d = sqrt(8 J_b / M_b)`` = 29.3 mm (root-diameter-like).
+SCREW_DIAMETER = math.sqrt(8.0 * J_b / M_b)
+#: Assumption — nut at mid-stroke: fraction of ``L_b`` from the motor-side bearing.
+NUT_POSITION = 0.5
+#: Assumption — disc/bellows coupling torsional stiffness [N·m/rad]; catalogue range for
+#: couplings rated 20-60 N·m is 1e4-3e4 N·m/rad, lower end taken.
+K_COUPLING = 1.5e4
+#: Derived from the assumptions above — screw torsional stiffness motor -> nut,
+#: ``G (pi d^4 / 32) / (NUT_POSITION L_b)`` [N·m/rad].
+K_SCREW_TORSION = G_STEEL * (math.pi * SCREW_DIAMETER**4 / 32.0) / (NUT_POSITION * L_b)
+#: Derived — axial stiffness of the screw between the left bearing and the nut,
+#: ``E (pi d^2 / 4) / (NUT_POSITION L_b)`` [N/m]; the right part likewise.
+K_SCREW_AXIAL_LEFT = E_STEEL * (math.pi * SCREW_DIAMETER**2 / 4.0) / (NUT_POSITION * L_b)
+K_SCREW_AXIAL_RIGHT = E_STEEL * (math.pi * SCREW_DIAMETER**2 / 4.0) / ((1.0 - NUT_POSITION) * L_b)
+#: Assumption — axial stiffness of each support-bearing set [N/m]: preloaded
+#: angular-contact pair for a 30 mm screw end (catalogue ~750 N/µm, DF pair).
+K_BEARING = 7.5e8
+#: Assumption — screw-ball-nut axial stiffness [N/m]: preloaded double nut, 32 mm
+#: diameter, 12 mm lead (catalogue 700-1100 N/µm at 10 % Ca preload; 800 N/µm taken).
+K_NUT = 8.0e8
+#: Assumption — structural damping ratio of the first elastic mode (steel feed drives
+#: 1-5 %); stiffness-proportional (Rayleigh) damping on every spring.
+DAMPING_RATIO = 0.02
+#: Assumption — Coulomb level of the linear guide [N]: four preloaded size-35 blocks,
+#: friction coefficient 0.003 on ~20 kN preload + 2.7 kN weight (68 N) + seal drag
+#: (~5 N per block) ≈ 90 N, rounded to 100 N.
+GUIDE_FRICTION = 100.0
+#: Assumption — the rest of the measured rolling friction (Fig. 13, 2.431 N·m) sits at
+#: the nut (preload drag, incl. support bearings), as a torque opposing screw rotation
+#: [N·m].
+NUT_FRICTION_TORQUE = F0_MEASURED - GUIDE_FRICTION * R
+#: Assumption — each friction site is a Dahl element whose transition from ``-Fc`` to
+#: ``0.9 Fc`` spans the measured pre-sliding length ``XS`` (Figs. 12-13):
+#: ``sigma0 = ln(20) Fc / XS``.
+PRESLIDING_LENGTH = XS
+#: Assumption — current limit [A]: ~1.5 kW servo with Kτ = 0.715 N·m/A, 3x peak.
+I_MAX = 30.0
+#: Assumption — white measurement noise before quantisation: encoder [counts] and
+#: linear scale [m] (interpolation noise of a 100 nm scale, ~20 nm rms).
+ENCODER_NOISE_COUNTS = 0.5
+SCALE_NOISE = 20e-9
+#: Assumption — PID derivative low-pass at 10x the closed-loop bandwidth [Hz].
+DERIVATIVE_CUTOFF_HZ = 200.0
+#: Assumption — plant sub-steps per control period (50 µs): the stiff linear part is
+#: discretised exactly, the sub-step only sets how often the friction states update.
+N_SUBSTEPS = 10
+
+#: The assumed stiffnesses varied ±30 % in the robustness tests (names of
+#: :class:`frictionkit.plants.ballscrew.ElasticBallScrew` fields).
+ASSUMED_STIFFNESSES = ("k_coupling", "k_torsion", "k_axial", "k_bearing", "k_nut")
+
+#: Reproduction choices (not in the paper): window of "the reverse motion" around a
+#: reversal [s] and the ``l_d`` evaluation window ``T_p`` [s].
+REVERSAL_WINDOW = (-0.05, 0.10)
+LD_WINDOW = 10e-3
+#: Fig. 10 cases: cruise speed [m/s] and deceleration [m/s²] of slow and fast motions.
+#: Fast = the §5 reference's peak deceleration 100 pi^2 mm/s^2; slow = 1/20 of it.
+LD_SPEED = 50e-3
+LD_FAST_DECEL = 100.0 * math.pi**2 * 1e-3
+LD_SLOW_DECEL = LD_FAST_DECEL / 20.0
+
+
+def plant_kwargs() -> dict:
+    """Keyword arguments of :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` for this stage."""
+    return dict(
+        J_m=J_m, B_m=B_m, J_b=J_b, B_b=B_b, M_b=M_b, M_t=M_t, C_t=C_t, L_p=L_p, K_tau=K_tau,
+        k_coupling=K_COUPLING, k_torsion=K_SCREW_TORSION,
+        k_axial=K_SCREW_AXIAL_LEFT, k_axial_right=K_SCREW_AXIAL_RIGHT,
+        k_bearing=K_BEARING, k_nut=K_NUT, damping_ratio=DAMPING_RATIO,
+        guide_friction=GUIDE_FRICTION, nut_friction=NUT_FRICTION_TORQUE / R,
+        presliding_length=PRESLIDING_LENGTH,
+    )

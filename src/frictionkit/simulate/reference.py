@@ -341,9 +341,9 @@ def reference_force_driven(
         nfev += int(sol.nfev)
         if sol.status == -1:
             raise _fail(owner, sol, t0)
-        n_new = sol.t.size
+        n_new = len(sol.t)  # a list, not an array, when no t_eval point was reached
         if n_new:
-            out[filled:filled + n_new] = sol.y.T
+            out[filled:filled + n_new] = np.asarray(sol.y).T
             filled += n_new
         if sol.status == 0:
             break

@@ -7,7 +7,8 @@ conversions happen in the loaders (see :mod:`frictionkit.data.loaders`).
 
 Validation happens once, at construction, and every message names the file,
 the column and the row of the offending sample when the recording came from a
-file (``provenance["file"]`` and ``provenance["columns"]``).
+file (``provenance["file"]`` and ``provenance["columns"]``). Rows are 0-based sample
+indices of the recording (for a CSV file with one header line, file line = row + 2).
 """
 
 from __future__ import annotations
@@ -168,7 +169,7 @@ class Recording:
             i = int(np.flatnonzero(dt <= 0.0)[0]) + 1
             what = "repeats the previous time stamp" if dt[i - 1] == 0.0 else "goes backwards"
             raise DataError(
-                f"{_where(prov, 't')}, row {i}: time {t[i]!r} {what} ({t[i - 1]!r} at row {i - 1}); "
+                f"{_where(prov, 't')}, row {i}: time {float(t[i])!r} {what} ({float(t[i - 1])!r} at row {i - 1}); "
                 "time stamps must be strictly increasing"
             )
         object.__setattr__(self, "t", t)

@@ -18,6 +18,7 @@ from .models import (
     sinc_compensation,
 )
 from .plants import Mass
+from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
 
 __version__ = "0.1.0"
 
@@ -31,6 +32,11 @@ __all__ = [
     "IdentificationError",
     "LuGre",
     "Mass",
+    "BatchResult",
+    "SimOptions",
+    "SimulationResult",
+    "simulate",
+    "simulate_batch",
     "ParameterError",
     "SimulationError",
     "Stribeck",

@@ -1,0 +1,26 @@
+"""Plots of simulation results (matplotlib imported inside the functions)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def plot_result(res, ax=None):
+    """Hysteresis (F over x, in µm) and F over time. Returns the two axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
+    ax = np.atleast_1d(ax)
+    ax[0].plot((res.x - res.x[0]) * 1e6, res.F, lw=1.0)
+    ax[0].set_xlabel("displacement [µm]")
+    ax[0].set_ylabel("friction force [N]")
+    ax[0].set_title("force–displacement")
+    if ax.size > 1:
+        ax[1].plot(res.t, res.F, lw=1.0)
+        ax[1].set_xlabel("time [s]")
+        ax[1].set_ylabel("friction force [N]")
+        ax[1].set_title("force over time")
+    for a in ax:
+        a.grid(True, alpha=0.3)
+    return ax

@@ -80,7 +80,8 @@ class PerfectTrackingControl:
         ----------
         theta_ref, omega_ref : array_like
             Reference angle [rad] and angular velocity [rad/s] sampled at ``T_frame / n``
-            (frames are every ``n``-th sample, starting at sample 0).
+            (frames are every ``n``-th sample, starting at sample 0; samples after the last
+            complete frame repeat that frame's inputs).
 
         Returns
         -------
@@ -98,12 +99,17 @@ class PerfectTrackingControl:
         An = np.linalg.matrix_power(A, n)
         Bl = np.column_stack([np.linalg.matrix_power(A, n - 1 - m) @ Bv for m in range(n)])
         Bl_inv = np.linalg.inv(Bl)
-        n_frames = -(-N // n)  # frames needed to cover every sample
-        idx = np.minimum(np.arange(n_frames + 1) * n, N - 1)
+        K = (N - 1) // n  # complete frames: target sample (k+1) n <= N - 1
+        if K < 1:
+            raise DataError(f"theta_ref has {N} samples: need at least {n + 1} (one PTC frame)")
+        idx = np.arange(K + 1) * n
         xd = np.stack([th[idx], om[idx]], axis=1)
-        # past the last sample the final reference state is held (``idx`` is clipped)
-        U = (xd[1:] - xd[:-1] @ An.T) @ Bl_inv.T  # (n_frames, n)
-        u = U.reshape(-1)[:N].copy()
+        U = (xd[1:] - xd[:-1] @ An.T) @ Bl_inv.T  # (K, n)
+        u = np.empty(N)
+        u[: K * n] = U.reshape(-1)
+        # samples after the last complete frame repeat that frame's inputs
+        tail = N - K * n
+        u[K * n:] = np.resize(U[-1], tail)
         # nominal response: A is upper triangular [[1, a12], [0, a22]]
         from scipy.signal import lfilter
 

@@ -28,7 +28,7 @@ STATUS_OK = 0
 STATUS_NONFINITE = 1
 
 # Layout of the ``ctrl`` parameter vector.
-C_KP, C_KI, C_KD, C_TAUD, C_T, C_DOB, C_AQ, C_KTAU, C_JN, C_BN, C_IMAX, C_FBTABLE, C_R, C_QENC, C_QSCALE = range(15)
+C_KP, C_KI, C_KD, C_TAUD, C_T, C_DOB, C_AQ, C_KTAU, C_JN, C_BN, C_IMAX, C_FBMODE, C_R, C_QENC, C_QSCALE = range(15)
 N_CTRL = 15
 
 
@@ -62,7 +62,7 @@ def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
     Jn = ctrl[C_JN]
     Bn = ctrl[C_BN]
     imax = ctrl[C_IMAX]
-    fb_table = ctrl[C_FBTABLE] > 0.5
+    fb_mode = int(ctrl[C_FBMODE] + 0.5)
     R = ctrl[C_R]
     qenc = ctrl[C_QENC]
     qscale = ctrl[C_QSCALE]
@@ -100,12 +100,15 @@ def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
             out_fric[j, k] = F[j]
 
         # ---- PID (backward Euler, filtered derivative, conditional integration)
-        y = xt_m / R if fb_table else thm_m
+        # feedback mode: 0 motor encoder, 1 linear scale, 2 dual (P, I on the scale,
+        # D on the motor encoder: collocated damping of the elastic chain)
+        y = xt_m / R if fb_mode >= 1 else thm_m
         e = theta_d[k] - y
+        ed = theta_d[k] - thm_m if fb_mode == 2 else e
         if k == 0:
-            e_prev = e
+            e_prev = ed
             thm_prev = thm_m
-        dterm = (taud * dterm + kd * (e - e_prev)) / (taud + T)
+        dterm = (taud * dterm + kd * (ed - e_prev)) / (taud + T)
         u_c = kp * e + integ + dterm
 
         # ---- disturbance observer on motor velocity (inverse nominal model + 1st-order LPF)
@@ -125,7 +128,7 @@ def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
         if not sat:
             integ += ki * T * e
         i_dob_prev = i_cmd - u_f[k]
-        e_prev = e
+        e_prev = ed
         thm_prev = thm_m
         om_prev = om
         out_i[k] = i_cmd

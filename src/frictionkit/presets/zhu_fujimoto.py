@@ -173,3 +173,10 @@ def plant_kwargs() -> dict:
         guide_friction=GUIDE_FRICTION, nut_friction=NUT_FRICTION_TORQUE / R,
         presliding_length=PRESLIDING_LENGTH,
     )
+
+#: Assumption — which sensor feeds the PID (§2.2 does not say). P and I act on the
+#: linear-scale position (the stage is what must track), D on the motor encoder
+#: ("dual" feedback, usual in machine tools). Chosen for stability, not for a finding: a
+#: PID with all three terms on the scale (full-closed) limit-cycles at the current limit on
+#: this chain (non-collocated first mode ~166 Hz), checked with friction switched off.
+FEEDBACK = "dual"

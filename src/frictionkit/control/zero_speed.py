@@ -1,0 +1,230 @@
+"""Zero-speed region analysis after seed 001 §3 and Table 2.
+
+* :func:`find_crossings` — zero-speed points of a reference (reverse or not).
+* :func:`classify_crossings` — slow/fast: does the drive force on the table
+  ``F_bn = M_t a + f_g + C_t v`` (eq. 2) change sign *before* zero speed? Fast deceleration
+  -> deformation Pattern II at zero speed, slow -> Pattern I (§3.2, Figs. 8-9).
+* :func:`deformation_ratio` — ``l_d = Δx_t / Δθ_m`` over a window ``T_p`` (eqs. 3-4).
+* :func:`select_compensators` — Table 2: which compensation each crossing needs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as val
+from ..errors import DataError
+
+#: Seed 001 Table 2: motion type -> (deformation patterns, compensation law).
+#: Laws: ``sinc`` = compensation after the zero-speed point (eq. 6, refs. 8, 11-14),
+#: ``sigmoid`` = compensation before the zero-speed point (eq. 5, this paper),
+#: ``hold`` = after-zero compensation of a non-reverse motion (ref. 12: friction keeps
+#: its direction), ``None`` = the reference must be redesigned.
+TABLE2 = {
+    "slow_reverse": ("Pattern I -> Pattern II", "sinc"),
+    "fast_reverse": ("Pattern II -> Pattern II", "sigmoid"),
+    "slow_non_reverse": ("Pattern I -> Pattern I", "hold"),
+    "fast_non_reverse": ("Pattern II -> Pattern I", None),
+}
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """One zero-speed point of a reference.
+
+    Attributes
+    ----------
+    index : int — sample nearest to the zero-speed instant.
+    t0 : float — zero-speed instant [s] (interpolated).
+    x0 : float — reference position there [m].
+    before, after : int — direction of motion (+1/-1) before and after.
+    reverse : bool — ``after != before``.
+    fast : bool or None — drive force reversed before zero speed (None until classified).
+    drive_force : float — predicted ``F_bn`` just before zero speed [N] (nan until classified).
+    """
+
+    index: int
+    t0: float
+    x0: float
+    before: int
+    after: int
+    fast: bool | None = None
+    drive_force: float = float("nan")
+
+    @property
+    def reverse(self) -> bool:
+        return self.after != self.before
+
+    @property
+    def kind(self) -> str:
+        """``slow_reverse``, ``fast_reverse``, ``slow_non_reverse``, ``fast_non_reverse`` or ``unclassified``."""
+        if self.fast is None:
+            return "unclassified"
+        return ("fast_" if self.fast else "slow_") + ("reverse" if self.reverse else "non_reverse")
+
+
+def find_crossings(t, v, x=None, *, v_tol: float = 1e-12) -> list[Crossing]:
+    """Zero-speed points of a sampled velocity ``v`` [m/s] (starts and stops at rest excluded).
+
+    A crossing is a sign change of ``v`` or a run of samples with ``|v| <= v_tol`` between
+    two moving samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit.control.zero_speed import find_crossings
+    >>> t = np.linspace(0, 1, 11); v = np.array([0, 1, 1, .5, -.5, -1, -1, 0, -1, -1, 0.])
+    >>> [(c.index, c.before, c.after) for c in find_crossings(t, v)]
+    [(4, 1, -1), (7, -1, -1)]
+    """
+    t = val.signal("t", t)
+    v = val.signal("v", v)
+    if v.size != t.size:
+        raise DataError(f"v has {v.size} samples: must match t ({t.size})")
+    xa = None if x is None else val.signal("x", x)
+    s = np.where(np.abs(v) <= v_tol, 0, np.sign(v)).astype(int)
+    nz = np.flatnonzero(s != 0)
+    out = []
+    for i, j in zip(nz[:-1], nz[1:]):
+        if j == i + 1 and s[i] == s[j]:
+            continue
+        if j == i + 1:  # sign change between two samples
+            f = v[i] / (v[i] - v[j])
+            t0 = t[i] + f * (t[j] - t[i])
+            k = i if f < 0.5 else j
+            x0 = np.nan if xa is None else xa[i] + f * (xa[j] - xa[i])
+        else:
+            k = (i + j) // 2
+            t0 = t[k] if (j - i) % 2 == 0 else 0.5 * (t[k] + t[k + 1])
+            x0 = np.nan if xa is None else xa[k]
+        out.append(Crossing(index=int(k), t0=float(t0), x0=float(x0), before=int(s[i]), after=int(s[j])))
+    return out
+
+
+def classify_crossings(reference, *, table_mass: float, guide_friction: float,
+                       guide_viscosity: float = 0.0, window: float = 10e-3) -> list[Crossing]:
+    """Find and classify the zero-speed points of ``reference`` (seed 001 §3.2).
+
+    The drive force needed on the table is predicted from eq. 2 with the reference motion,
+    ``F_bn = M_t a + f_g sgn(v) + C_t v``; a crossing is *fast* if, within ``window`` [s]
+    before zero speed, ``F_bn`` opposes the motion (the stage is braked by the screw before
+    it stops: Pattern II), otherwise *slow* (Pattern I).
+
+    Examples
+    --------
+    >>> from frictionkit.control.trajectories import cosine_reference
+    >>> from frictionkit.control.zero_speed import classify_crossings
+    >>> cs = classify_crossings(cosine_reference(duration=1.2), table_mass=273.0, guide_friction=100.0)
+    >>> [(round(c.t0, 3), c.kind) for c in cs]
+    [(0.5, 'fast_reverse'), (1.0, 'fast_reverse')]
+    """
+    M = val.positive("classify_crossings", "table_mass", table_mass)
+    Fg = val.nonnegative("classify_crossings", "guide_friction", guide_friction)
+    Ct = val.nonnegative("classify_crossings", "guide_viscosity", guide_viscosity)
+    W = val.positive("classify_crossings", "window", window)
+    t, v, a = reference.t, reference.v, reference.a
+    out = []
+    for c in find_crossings(t, v, reference.x):
+        sel = (t >= c.t0 - W) & (t < c.t0) & (np.sign(v) == c.before)
+        if not sel.any():
+            sel = np.zeros(t.size, bool)
+            sel[max(c.index - 1, 0)] = True
+        F = M * a[sel] + Fg * c.before + Ct * v[sel]
+        fast = bool(np.any(c.before * F < 0.0))
+        out.append(Crossing(index=c.index, t0=c.t0, x0=c.x0, before=c.before, after=c.after,
+                            fast=fast, drive_force=float(F[-1])))
+    return out
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The Table 2 choice for one crossing: ``law`` (``sinc``/``sigmoid``/``hold``) and a flag."""
+
+    crossing: Crossing
+    law: str
+    needs_new_reference: bool
+
+
+def select_compensators(crossings, *, fallback: str = "hold") -> list[Selection]:
+    """Seed 001 Table 2 as a rule: slow reverse -> ``sinc``, fast reverse -> ``sigmoid``,
+    slow non-reverse -> ``hold``; fast non-reverse is flagged ``needs_new_reference`` and gets
+    ``fallback``.
+    """
+    out = []
+    for c in crossings:
+        if c.fast is None:
+            raise DataError(f"crossing at t0 = {c.t0!r} s is not classified: use classify_crossings first")
+        law = TABLE2[c.kind][1]
+        out.append(Selection(crossing=c, law=fallback if law is None else law, needs_new_reference=law is None))
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class DeformationRatio:
+    """``l_d`` (eq. 4) per window end ``t`` [s]; ``ld`` is NaN where ``|R Δθ_m| < min_displacement``."""
+
+    t: np.ndarray
+    ld: np.ndarray
+    R: float
+    Tp: float
+
+    @property
+    def ratio(self) -> np.ndarray:
+        """``l_d / R`` (1 for a rigid drive)."""
+        return self.ld / self.R
+
+
+def deformation_ratio(t, x_t, theta_m, *, R: float, Tp: float, min_displacement: float = 10e-6) -> DeformationRatio:
+    """Seed 001 eqs. 3-4: ``l_d = Δx_t / Δθ_m`` over windows of length ``Tp`` [s].
+
+    Parameters
+    ----------
+    t : array_like — uniform sample times [s].
+    x_t : array_like — table position [m] (linear scale).
+    theta_m : array_like — motor angle [rad] (encoder).
+    R : float — screw ratio [m/rad]; ``l_d = R`` without deformation.
+    Tp : float — window [s].
+    min_displacement : float — windows whose motor displacement ``|R Δθ_m|`` is below this
+        [m] are not evaluated (NaN): there ``l_d`` is dominated by the position resolution
+        (seed 001 §3.3, slow cases).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit.control.zero_speed import deformation_ratio
+    >>> t = np.arange(0, 0.1, 1e-3); th = 10 * t; R = 2e-3
+    >>> d = deformation_ratio(t, R * th, th, R=R, Tp=5e-3, min_displacement=1e-6)
+    >>> bool(np.allclose(d.ratio[~np.isnan(d.ratio)], 1.0))
+    True
+    """
+    t = val.signal("t", t)
+    x_t = val.signal("x_t", x_t)
+    th = val.signal("theta_m", theta_m)
+    if not (t.size == x_t.size == th.size):
+        raise DataError(f"t, x_t, theta_m have {t.size}, {x_t.size}, {th.size} samples: must match")
+    R = val.positive("deformation_ratio", "R", R)
+    Tp = val.positive("deformation_ratio", "Tp", Tp)
+    dmin = val.nonnegative("deformation_ratio", "min_displacement", min_displacement)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        raise DataError("t: must be strictly increasing")
+    m = max(int(round(Tp / np.median(dt))), 1)
+    if m >= t.size:
+        raise DataError(f"Tp = {Tp!r} s spans {m} samples: the record has only {t.size}")
+    dx = x_t[m:] - x_t[:-m]
+    dth = th[m:] - th[:-m]
+    ok = np.abs(R * dth) >= max(dmin, 1e-300)
+    ld = np.full(dx.size, np.nan)
+    ld[ok] = dx[ok] / dth[ok]
+    return DeformationRatio(t=t[m:], ld=ld, R=R, Tp=Tp)
+
+
+def min_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float) -> float:
+    """``min(l_d)/R`` over windows lying inside the deceleration ``[t_start, t_zero]``
+    (window start ``>= t_start``, window end ``<= t_zero``), NaN windows skipped."""
+    sel = (d.t - d.Tp >= t_start - 1e-12) & (d.t <= t_zero + 1e-12) & ~np.isnan(d.ld)
+    if not sel.any():
+        raise DataError(f"no evaluable l_d window inside [{t_start!r}, {t_zero!r}] s")
+    return float(np.min(d.ratio[sel]))

@@ -1,0 +1,190 @@
+"""Reproduction of seed 001 (Zhu & Fujimoto) on the simulated elastic stage.
+
+* :func:`table3` — the §5 reference ``25 (1 - cos 2 pi t)`` mm with the sinc, Coulomb and
+  sigmoid compensators: maximum tracking error during the reverse motion (Table 3, Fig. 15).
+* :func:`fig10` — ``l_d / R`` through slow/fast, reverse/non-reverse zero-speed motions.
+* :func:`selector` — Table 2 selector vs each fixed compensator on a mixed trajectory.
+* :func:`run` — all three, the JSON-ready summary used by ``frictionkit reproduce zhu-fujimoto``.
+
+The plant is :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` built from
+:mod:`frictionkit.presets.zhu_fujimoto` (paper values + recorded assumptions).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..control.compensators import RollingCompensator
+from ..control.dob import DisturbanceObserver
+from ..control.loop import ClosedLoopResult, Sensors, TwoDofController, simulate_closed_loop
+from ..control.pid import PID
+from ..control.ptc import PerfectTrackingControl
+from ..control.trajectories import Reference, cosine_reference, mixed_reference, zero_speed_reference
+from ..control.zero_speed import (
+    classify_crossings,
+    deformation_ratio,
+    find_crossings,
+    min_ratio_before_zero,
+    select_compensators,
+)
+from ..errors import ParameterError, SimulationError
+from ..plants.ballscrew import ElasticBallScrew
+from ..presets import zhu_fujimoto as zf
+
+LAWS3 = ("sinc", "coulomb", "sigmoid")
+LD_CASES = ("slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse")
+
+
+def paper_plant(**changes) -> ElasticBallScrew:
+    """The elastic stage of the preset; keyword ``changes`` replace fields."""
+    return dataclasses.replace(ElasticBallScrew(**zf.plant_kwargs()), **changes)
+
+
+def scaled_plant(name: str, factor: float) -> ElasticBallScrew:
+    """The paper plant with one assumed stiffness (``zf.ASSUMED_STIFFNESSES``) scaled by ``factor``."""
+    if name not in zf.ASSUMED_STIFFNESSES:
+        raise ParameterError(f"name = {name!r}: must be one of {zf.ASSUMED_STIFFNESSES}")
+    p = paper_plant()
+    if name == "k_axial":
+        return dataclasses.replace(p, k_axial=p.k_axial * factor, k_axial_right=p.k_axial_right * factor)
+    return dataclasses.replace(p, **{name: getattr(p, name) * factor})
+
+
+def paper_controller() -> TwoDofController:
+    """§2.2: PTC (1 ms, n = 2) + 20 Hz pole-placement PID + 80 Hz DOB, all on eq. 1 nominal."""
+    nom = dict(K_tau=zf.K_tau, J=zf.J_n, B=zf.B_n)
+    return TwoDofController(
+        ptc=PerfectTrackingControl(**nom, T_frame=zf.T_PTC, n=2),
+        pid=PID.pole_placement(**nom, bandwidth_hz=zf.BANDWIDTH_HZ, T=zf.T_CONTROL,
+                               derivative_cutoff_hz=zf.DERIVATIVE_CUTOFF_HZ),
+        dob=DisturbanceObserver(**nom, cutoff_hz=zf.DOB_CUTOFF_HZ, T=zf.T_CONTROL),
+        R=zf.R, i_max=zf.I_MAX, feedback=zf.FEEDBACK,
+    )
+
+
+def paper_sensors() -> Sensors:
+    return Sensors(encoder_counts=zf.ENCODER_COUNTS, scale_resolution=zf.SCALE_RESOLUTION,
+                   encoder_noise_counts=zf.ENCODER_NOISE_COUNTS, scale_noise=zf.SCALE_NOISE)
+
+
+def paper_compensator() -> RollingCompensator:
+    return RollingCompensator(F0=zf.F0_COMPENSATION, xs=zf.XS, sigma=zf.SIGMA)
+
+
+def _classify(ref: Reference, plant: ElasticBallScrew):
+    return classify_crossings(ref, table_mass=plant.M_t, guide_friction=plant.guide_friction,
+                              guide_viscosity=plant.C_t)
+
+
+def _run(plant, ref, u_f, seed) -> ClosedLoopResult:
+    res = simulate_closed_loop(plant, paper_controller(), ref, compensation=u_f, sensors=paper_sensors(),
+                               seed=seed, n_substeps=zf.N_SUBSTEPS)
+    if not res.success:
+        raise SimulationError(res.message)
+    return res
+
+
+def reversal_errors(res: ClosedLoopResult, crossings, window=zf.REVERSAL_WINDOW) -> np.ndarray:
+    """Max ``|r - x_t,meas|`` [m] in ``[t0 + window[0], t0 + window[1]]`` for each reversal."""
+    out = []
+    for c in crossings:
+        if not c.reverse:
+            continue
+        sel = (res.t >= c.t0 + window[0]) & (res.t <= c.t0 + window[1])
+        out.append(np.max(np.abs(res.error[sel])))
+    return np.array(out)
+
+
+@dataclass(frozen=True, eq=False)
+class Table3Result:
+    """Max tracking error [µm] during the reverse motion per law, and the runs behind it."""
+
+    max_error_um: dict
+    runs: dict = field(repr=False)
+    crossings: list = field(repr=False)
+
+
+def table3(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool = False) -> Table3Result:
+    """Seed 001 Table 3 / Fig. 15 on the simulated stage.
+
+    The §5 reference runs through its reversals at 0.5 s (+ -> -) and 1.0 s (- -> +); quick
+    mode stops after the first (0.65 s). Each law's value is the max over the reversals.
+    """
+    plant = paper_plant() if plant is None else plant
+    ref = cosine_reference(amplitude=zf.REF_AMPLITUDE, period=zf.REF_PERIOD,
+                           duration=0.65 if quick else 1.15, T=zf.T_CONTROL)
+    cs = _classify(ref, plant)
+    comp = paper_compensator()
+    runs, err = {}, {}
+    for law in LAWS3:
+        res = _run(plant, ref, comp.signal(ref, law, cs), seed)
+        runs[law] = res
+        err[law] = float(reversal_errors(res, cs).max() * 1e6)
+    return Table3Result(max_error_um=err, runs=runs, crossings=cs)
+
+
+@dataclass(frozen=True, eq=False)
+class Fig10Result:
+    """``min(l_d)/R`` over the deceleration per case, and the runs/ratios behind it."""
+
+    min_ratio: dict
+    runs: dict = field(repr=False)
+    ratios: dict = field(repr=False)
+    crossings: dict = field(repr=False)
+    decel_start: dict = field(repr=False)
+
+
+def fig10(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool = False) -> Fig10Result:
+    """Seed 001 Fig. 10: ``l_d`` through the four zero-speed cases (sinc/hold compensation
+    after zero speed, as in the paper's experiments)."""
+    plant = paper_plant() if plant is None else plant
+    comp = paper_compensator()
+    ratios, runs, mins, css, starts = {}, {}, {}, {}, {}
+    for case in LD_CASES:
+        fast = case.startswith("fast")
+        decel = zf.LD_FAST_DECEL if fast else zf.LD_SLOW_DECEL
+        ref = zero_speed_reference(reverse=not case.endswith("non_reverse"), speed=zf.LD_SPEED, decel=decel,
+                                   accel=zf.LD_FAST_DECEL, t_cruise=0.1 if quick else 0.3,
+                                   t_after=0.05, T=zf.T_CONTROL)
+        cs = _classify(ref, plant)
+        res = _run(plant, ref, comp.signal(ref, "sinc", cs), seed)
+        d = deformation_ratio(res.t, res.x_t_meas, res.theta_m_meas, R=plant.R, Tp=zf.LD_WINDOW)
+        c = cs[0]
+        t_start = c.t0 - zf.LD_SPEED / decel
+        runs[case], ratios[case], css[case], starts[case] = res, d, cs, t_start
+        mins[case] = min_ratio_before_zero(d, t_start=t_start, t_zero=c.t0)
+    return Fig10Result(min_ratio=mins, runs=runs, ratios=ratios, crossings=css, decel_start=starts)
+
+
+@dataclass(frozen=True, eq=False)
+class SelectorResult:
+    """Max reversal error [µm] of the Table 2 selector and of each fixed law on a mixed run."""
+
+    selected: list
+    mixed_max_error_um: float
+    fixed_max_error_um: dict
+    per_crossing_um: dict = field(repr=False)
+
+    @property
+    def best_fixed_max_error_um(self) -> float:
+        return float(min(self.fixed_max_error_um.values()))
+
+
+def selector(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool = False) -> SelectorResult:
+    """Table 2 selector vs sinc/Coulomb/sigmoid everywhere on slow+fast reversals."""
+    plant = paper_plant() if plant is None else plant
+    ref = mixed_reference(speed=zf.LD_SPEED, slow_decel=zf.LD_SLOW_DECEL, fast_decel=zf.LD_FAST_DECEL,
+                          t_cruise=0.1, pattern="sf" if quick else "sfsf", T=zf.T_CONTROL)
+    cs = _classify(ref, plant)
+    sel = select_compensators(cs)
+    comp = paper_compensator()
+    per = {}
+    res = _run(plant, ref, comp.signal(ref, [s.law for s in sel], cs), seed)
+    per["selector"] = reversal_errors(res, cs) * 1e6
+    for law in LAWS3:
+        per[law] = reversal_errors(_run(plant, ref, comp.signal(ref, law, cs), seed), cs) * 1e6
+    return SelectorResult(selected=sel, mixed_max_error_um=float(per["selector"].max()),
+                          fixed_max_error_um={k: float(per[k].max()) for k in LAWS3}, per_crossing_um=per)

@@ -68,8 +68,9 @@ class Crossing:
 def find_crossings(t, v, x=None, *, v_tol: float = 1e-12) -> list[Crossing]:
     """Zero-speed points of a sampled velocity ``v`` [m/s] (starts and stops at rest excluded).
 
-    A crossing is a sign change of ``v`` or a run of samples with ``|v| <= v_tol`` between
-    two moving samples.
+    A crossing is a sign change of ``v``, a run of samples with ``|v| <= v_tol`` between
+    two moving samples, or a *touch*: a local minimum of ``|v|`` no larger than the velocity
+    change of an adjacent sample step (zero speed reached between samples, same direction).
 
     Examples
     --------
@@ -100,6 +101,16 @@ def find_crossings(t, v, x=None, *, v_tol: float = 1e-12) -> list[Crossing]:
             t0 = t[k] if (j - i) % 2 == 0 else 0.5 * (t[k] + t[k + 1])
             x0 = np.nan if xa is None else xa[k]
         out.append(Crossing(index=int(k), t0=float(t0), x0=float(x0), before=int(s[i]), after=int(s[j])))
+    # touches: |v| has a local minimum that is within one sample step of zero
+    av = np.abs(v)
+    step = np.abs(np.diff(v))
+    k = np.arange(1, v.size - 1)
+    touch = ((s[k - 1] == s[k]) & (s[k] == s[k + 1]) & (s[k] != 0) & (av[k] <= av[k - 1]) & (av[k] < av[k + 1])
+             & (av[k] <= np.maximum(step[k - 1], step[k])))
+    for kk in k[touch]:
+        x0 = np.nan if xa is None else xa[kk]
+        out.append(Crossing(index=int(kk), t0=float(t[kk]), x0=float(x0), before=int(s[kk]), after=int(s[kk])))
+    out.sort(key=lambda c: c.index)
     return out
 
 

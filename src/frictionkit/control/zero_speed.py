@@ -232,10 +232,19 @@ def deformation_ratio(t, x_t, theta_m, *, R: float, Tp: float, min_displacement:
     return DeformationRatio(t=t[m:], ld=ld, R=R, Tp=Tp)
 
 
-def min_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float) -> float:
-    """``min(l_d)/R`` over windows lying inside the deceleration ``[t_start, t_zero]``
-    (window start ``>= t_start``, window end ``<= t_zero``), NaN windows skipped."""
+def _decel_windows(d: DeformationRatio, t_start: float, t_zero: float) -> np.ndarray:
     sel = (d.t - d.Tp >= t_start - 1e-12) & (d.t <= t_zero + 1e-12) & ~np.isnan(d.ld)
     if not sel.any():
         raise DataError(f"no evaluable l_d window inside [{t_start!r}, {t_zero!r}] s")
-    return float(np.min(d.ratio[sel]))
+    return d.ratio[sel]
+
+
+def min_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float) -> float:
+    """``min(l_d)/R`` over windows lying inside the deceleration ``[t_start, t_zero]``
+    (window start ``>= t_start``, window end ``<= t_zero``), NaN windows skipped."""
+    return float(np.min(_decel_windows(d, t_start, t_zero)))
+
+
+def max_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float) -> float:
+    """``max(l_d)/R`` over the same windows as :func:`min_ratio_before_zero`."""
+    return float(np.max(_decel_windows(d, t_start, t_zero)))

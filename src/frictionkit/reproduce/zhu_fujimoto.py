@@ -27,6 +27,7 @@ from ..control.zero_speed import (
     classify_crossings,
     deformation_ratio,
     find_crossings,
+    max_ratio_before_zero,
     min_ratio_before_zero,
     select_compensators,
 )
@@ -128,9 +129,10 @@ def table3(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool 
 
 @dataclass(frozen=True, eq=False)
 class Fig10Result:
-    """``min(l_d)/R`` over the deceleration per case, and the runs/ratios behind it."""
+    """``min(l_d)/R`` and ``max(l_d)/R`` over the deceleration per case, and the runs behind them."""
 
     min_ratio: dict
+    max_ratio: dict
     runs: dict = field(repr=False)
     ratios: dict = field(repr=False)
     crossings: dict = field(repr=False)
@@ -142,7 +144,7 @@ def fig10(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool =
     after zero speed, as in the paper's experiments)."""
     plant = paper_plant() if plant is None else plant
     comp = paper_compensator()
-    ratios, runs, mins, css, starts = {}, {}, {}, {}, {}
+    ratios, runs, mins, maxs, css, starts = {}, {}, {}, {}, {}, {}
     for case in LD_CASES:
         fast = case.startswith("fast")
         decel = zf.LD_FAST_DECEL if fast else zf.LD_SLOW_DECEL
@@ -156,7 +158,8 @@ def fig10(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool =
         t_start = c.t0 - zf.LD_SPEED / decel
         runs[case], ratios[case], css[case], starts[case] = res, d, cs, t_start
         mins[case] = min_ratio_before_zero(d, t_start=t_start, t_zero=c.t0)
-    return Fig10Result(min_ratio=mins, runs=runs, ratios=ratios, crossings=css, decel_start=starts)
+        maxs[case] = max_ratio_before_zero(d, t_start=t_start, t_zero=c.t0)
+    return Fig10Result(min_ratio=mins, max_ratio=maxs, runs=runs, ratios=ratios, crossings=css, decel_start=starts)
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,3 +191,68 @@ def selector(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: boo
         per[law] = reversal_errors(_run(plant, ref, comp.signal(ref, law, cs), seed), cs) * 1e6
     return SelectorResult(selected=sel, mixed_max_error_um=float(per["selector"].max()),
                           fixed_max_error_um={k: float(per[k].max()) for k in LAWS3}, per_crossing_um=per)
+
+
+#: Paper values the findings are compared with (Table 3 [µm]).
+TABLE3_PAPER_UM = dict(zf.TABLE3_UM)
+
+
+@dataclass(frozen=True, eq=False)
+class ReproductionResult:
+    """Everything :func:`run` computed; :meth:`summary` is the JSON document."""
+
+    table3: Table3Result
+    fig10: Fig10Result
+    selector: SelectorResult
+    quick: bool
+    seed: int
+
+    def summary(self) -> dict:
+        return {
+            "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
+            "quick": self.quick,
+            "seed": self.seed,
+            "table3": {k: {"max_error_um": v, "paper_um": TABLE3_PAPER_UM[k]} for k, v in self.table3.max_error_um.items()},
+            "ld": {k: {"min_ratio_before_zero": self.fig10.min_ratio[k],
+                       "max_ratio_before_zero": self.fig10.max_ratio[k]} for k in LD_CASES},
+            "selector": {
+                "laws": [s.law for s in self.selector.selected],
+                "kinds": [s.crossing.kind for s in self.selector.selected],
+                "mixed_max_error_um": self.selector.mixed_max_error_um,
+                "best_fixed_max_error_um": self.selector.best_fixed_max_error_um,
+                "fixed_max_error_um": self.selector.fixed_max_error_um,
+            },
+        }
+
+
+def run(*, quick: bool = False, seed: int = 0, plant: ElasticBallScrew | None = None,
+        progress=None) -> ReproductionResult:
+    """Table 3, Fig. 10 and the Table 2 selector. ``progress(label)`` is called before each part."""
+    step = progress or (lambda label: None)
+    step("Table 3 / Fig. 15: sinc, Coulomb, sigmoid")
+    t3 = table3(plant=plant, seed=seed, quick=quick)
+    step("Fig. 10: l_d in four zero-speed cases")
+    f10 = fig10(plant=plant, seed=seed, quick=quick)
+    step("Table 2 selector on a mixed trajectory")
+    sel = selector(plant=plant, seed=seed, quick=quick)
+    return ReproductionResult(table3=t3, fig10=f10, selector=sel, quick=quick, seed=seed)
+
+
+def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3)):
+    """``(label, seed, plant)`` for each noise seed (paper plant) and each assumed stiffness
+    scaled by each factor (seed 0)."""
+    out = [(f"seed={s}", s, paper_plant()) for s in seeds]
+    for name in zf.ASSUMED_STIFFNESSES:
+        for f in factors:
+            out.append((f"{name}x{f:g}", 0, scaled_plant(name, f)))
+    return out
+
+
+def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), progress=None) -> dict:
+    """:func:`run` summary per variant of :func:`robustness_variants` (label -> summary)."""
+    out = {}
+    for label, seed, plant in robustness_variants(seeds, factors):
+        if progress is not None:
+            progress(label)
+        out[label] = run(quick=quick, seed=seed, plant=plant).summary()
+    return out

@@ -1,0 +1,80 @@
+"""``frictionkit reproduce ...``: run a paper's virtual experiments, write JSON and a plot."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+from . import app
+
+reproduce_app = typer.Typer(help="Reproduce the source papers' findings in simulation.", no_args_is_help=True)
+app.add_typer(reproduce_app, name="reproduce")
+
+
+@reproduce_app.command("zhu-fujimoto")
+def zhu_fujimoto(
+    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
+    quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
+    seed: int = typer.Option(0, "--seed", help="Measurement-noise seed."),
+    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG."),
+) -> None:
+    """Seed 001: Table 3 (sinc/Coulomb/sigmoid), Fig. 10 (l_d) and the Table 2 selector."""
+    from rich.console import Console
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.table import Table
+
+    from ..reproduce import zhu_fujimoto as zf_rep
+
+    console = Console(stderr=True)
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
+        task = bar.add_task("zhu-fujimoto", total=3 + int(plot))
+        started = [False]
+
+        def step(label: str) -> None:
+            if started[0]:
+                bar.advance(task)
+            started[0] = True
+            bar.update(task, description=label)
+
+        result = zf_rep.run(quick=quick, seed=seed, progress=step)
+        bar.advance(task)
+        summary = result.summary()
+        json_out.parent.mkdir(parents=True, exist_ok=True)
+        if plot:
+            bar.update(task, description="plot")
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            from ..plotting.ballscrew import reproduction_figure
+
+            fig, _ = reproduction_figure(result)
+            png = json_out.with_suffix(".png")
+            fig.savefig(png, dpi=110)
+            plt.close(fig)
+            summary["plot"] = png.name
+            bar.advance(task)
+    json_out.write_text(json.dumps(summary, indent=2))
+
+    tab = Table(title="Table 3: max tracking error during the reverse motion [µm]")
+    tab.add_column("law")
+    tab.add_column("simulated", justify="right")
+    tab.add_column("paper", justify="right")
+    for law, v in summary["table3"].items():
+        tab.add_row(law, f"{v['max_error_um']:.2f}", f"{v['paper_um']:.2f}")
+    out = Console()
+    out.print(tab)
+    ld = Table(title="Fig. 10: l_d / R over the deceleration")
+    ld.add_column("case")
+    ld.add_column("min", justify="right")
+    ld.add_column("max", justify="right")
+    for case, v in summary["ld"].items():
+        ld.add_row(case, f"{v['min_ratio_before_zero']:.4f}", f"{v['max_ratio_before_zero']:.4f}")
+    out.print(ld)
+    s = summary["selector"]
+    out.print(f"selector: {s['laws']} -> max {s['mixed_max_error_um']:.2f} µm; "
+              f"best fixed {s['best_fixed_max_error_um']:.2f} µm")
+    out.print(f"wrote {json_out}")

@@ -94,7 +94,9 @@ def find_plateaus(
     rel_tol : float
         Allowed relative change of the velocity across one window (default 2 %).
     abs_tol : float, optional
-        Absolute floor of the tolerance [m/s]; default 0.1 % of ``max |v|``.
+        Absolute floor of the tolerance [m/s]; default the larger of 0.01 % of
+        ``max |v|`` and four standard deviations of the windowed change caused by
+        noise (noise estimated robustly from the median absolute first difference).
     min_speed : float, optional
         Plateaus slower than this are ignored [m/s]; default 1 % of ``max |v|``.
     min_duration : float
@@ -128,7 +130,12 @@ def find_plateaus(
     vmax = float(np.max(np.abs(x)))
     if vmax == 0.0:
         return []
-    abs_tol = 1e-3 * vmax if abs_tol is None else val.nonnegative("find_plateaus", "abs_tol", abs_tol)
+    if abs_tol is None:
+        # noise floor: robust std of v from first differences, carried through the moving average
+        sigma_v = 1.4826 * float(np.median(np.abs(np.diff(x)))) / np.sqrt(2.0)
+        abs_tol = max(1e-4 * vmax, 4.0 * np.sqrt(2.0) * sigma_v / np.sqrt(window))
+    else:
+        abs_tol = val.nonnegative("find_plateaus", "abs_tol", abs_tol)
     min_speed = 0.01 * vmax if min_speed is None else val.nonnegative("find_plateaus", "min_speed", min_speed)
     m = uniform_filter1d(x, window, mode="nearest") if window > 1 else x
     h = max(window // 2, 1)

@@ -131,7 +131,7 @@ def _fit_direction(
     for p0 in _starts(st, us, ys):
         p0 = np.clip(p0, lo, np.where(np.isfinite(hi), hi * (1 - 1e-9), hi))
         r = least_squares(resid, p0, bounds=(lo, hi), loss=loss, f_scale=fs, x_scale="jac",
-                          method="trf", max_nfev=2000 * len(p0))
+                          method="trf", max_nfev=200 * len(p0))
         if best is None or r.cost < best.cost:
             best = r
     # scale factors back to physical units
@@ -159,15 +159,38 @@ def _fit_direction(
             "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J}
 
 
-def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str) -> list[str]:
+def _phi(st: _Structure, vals: np.ndarray, u: np.ndarray, delta: float | None) -> np.ndarray:
+    """Stribeck shape function at speeds ``u`` for physical parameter values."""
+    r = u / vals[2]
+    if st.name == "lorentzian":
+        return 1.0 / (1.0 + r * r)
+    d = vals[3] if delta is None else delta
+    with np.errstate(over="ignore", under="ignore"):
+        return np.exp(-(r**d))
+
+
+def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str, delta: float | None) -> list[str]:
     out = []
     vals, se = fit["values"], np.sqrt(np.clip(np.diag(fit["cov"]), 0, None))
+    lo, hi = _bounds(st)
+    x = fit["res"].x
     if fit["rank_ratio"] < RANK_TOL:
+        _, _, vt = np.linalg.svd(fit["jac"])
+        weak = [n for n, c in zip(st.params, vt[-1]) if abs(c) > 0.3]
         out.append(f"{label}: Jacobian is rank deficient (singular value ratio {fit['rank_ratio']:.2g}); "
-                   "some parameters are not identifiable from these data")
-    active = fit["res"].active_mask
+                   f"{', '.join(weak)} not identifiable from these data")
+    if st.name != "coulomb_viscous":
+        phi = _phi(st, vals, u, delta)
+        k = int(np.sum((phi > 0.05) & (phi < 0.95)))
+        span = float(np.ptp(phi)) if phi.size else 0.0
+        if k < 2 or span < 0.5:
+            out.append(f"{label}: vs not identifiable: the data cover {100 * span:.0f} % of the Stribeck "
+                       f"transition and {k} point(s) lie inside it (0.05 < phi < 0.95) for the fitted "
+                       f"vs = {vals[2]:.4g}; add plateaus near vs or fit coulomb_viscous")
     for i, n in enumerate(st.params):
-        if active[i] != 0:
+        near = fit["res"].active_mask[i] != 0 or abs(x[i] - lo[i]) <= 1e-6 * max(1.0, abs(lo[i])) or (
+            np.isfinite(hi[i]) and abs(hi[i] - x[i]) <= 1e-6 * abs(hi[i]))
+        if near:
             out.append(f"{label}: {n} = {vals[i]:.6g} is at its bound; its standard error is not meaningful")
             continue
         rse = se[i] / abs(vals[i]) if vals[i] != 0 else np.inf
@@ -208,7 +231,7 @@ def _as_points(v, F, sigma) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, 
         bad = ~np.isfinite(a)
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
-            raise DataError(f"fit_static_map: {nm}[{i}] = {a[i]!r}: must be finite")
+            raise DataError(f"fit_static_map: {nm}[{i}] = {float(a[i])!r}: must be finite")
     return va, Fa, sigma, None
 
 
@@ -327,7 +350,7 @@ def fit_static_map(
         chosen = min(fits, key=lambda m: fits[m][1][criterion])
         st, fit = fits[chosen]
         st_vals = dict(zip(st.params, fit["values"].tolist()))
-        flags = _flags(st, fit, u, label)
+        flags = _flags(st, fit, u, label, delta)
         try:
             law = _law(st, st_vals, delta)
         except ParameterError as exc:

@@ -111,7 +111,7 @@ def _twin(plant, current, T=0.5e-3):
     for i in current:
         xt.append(ch.table @ y[: n2 // 2])
         th.append(ch.motor @ y[: n2 // 2])
-        y = solve_ivp(rhs, (0, T), y, args=(i,), method="Radau", rtol=1e-9, atol=1e-13).y[:, -1]
+        y = solve_ivp(rhs, (0, T), y, args=(i,), method="Radau", rtol=1e-8, atol=1e-12).y[:, -1]
     return np.array(xt), np.array(th)
 
 
@@ -124,15 +124,15 @@ def test_kernel_matches_solve_ivp_twin_with_friction():
     assert status == K.STATUS_OK
     scale = np.abs(xt2).max()
     assert scale > 50e-6
-    # tolerance: 1 % of the travel (Dahl sites advance with the sub-step's initial velocity)
-    assert np.abs(xt - xt2).max() < 0.01 * scale
-    assert np.abs(th - th2).max() < 0.01 * np.abs(th2).max()
+    # tolerance: 1e-4 of the travel (measured 3e-6; Dahl sites use the sub-step's initial velocity)
+    assert np.abs(xt - xt2).max() < 1e-4 * scale
+    assert np.abs(th - th2).max() < 1e-4 * np.abs(th2).max()
 
 
 def test_kernel_exact_for_linear_chain():
     plant = paper_plant(guide_friction=0.0, nut_friction=0.0)
-    t = np.arange(100) * 0.5e-3
-    current = 5.0 * np.sin(2 * np.pi * 40 * t)
+    t = np.arange(40) * 0.5e-3
+    current = 5.0 * np.sin(2 * np.pi * 100 * t)
     _, xt, _ = _open_loop(plant, current, nsub=1)
     xt2, _ = _twin(plant, current)
     assert np.abs(xt - xt2).max() < 1e-6 * np.abs(xt2).max()

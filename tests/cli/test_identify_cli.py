@@ -103,3 +103,17 @@ def test_static_needs_velocity_or_position(tmp_path):
     res = runner.invoke(app, ["identify", "static", str(p), "--time", "t", "--force", "F"])
     assert res.exit_code == 1
     assert _stderr(res).strip() == "error: give --velocity or --position"
+
+
+@needs_data
+def test_subprocess_error_has_one_stderr_line_and_nonzero_status():
+    import subprocess
+    import sys
+
+    code = "import frictionkit.cli.identify; from frictionkit.cli import app; app()"
+    proc = subprocess.run([sys.executable, "-c", code, "identify", "rigid-body", str(EMPS), "--time", "t_s",
+                           "--position", "qm_m", "--force", "torque"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 1
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "column 'torque' (given for force) not found" in lines[0]
+    assert proc.stdout == ""

@@ -76,9 +76,7 @@ def _open_loop(plant, current, T=0.5e-3, nsub=10):
     """Run the kernel with all gains zero: the current is the feed-forward array."""
     ch = plant.linear_chain()
     n = ch.M.shape[0]
-    Phi, Gam = ch.discretize(T / nsub)
-    Cv = np.zeros((ch.C.shape[0], 2 * n))
-    Cv[:, n:] = ch.C
+    PhiN, GN, CvP, CvG = ch.lifted(T, nsub)
     N = current.size
     ctrl = np.zeros(K.N_CTRL)
     ctrl[K.C_T], ctrl[K.C_KTAU], ctrl[K.C_IMAX], ctrl[K.C_R] = T, 1.0, 1e9, plant.R
@@ -86,7 +84,7 @@ def _open_loop(plant, current, T=0.5e-3, nsub=10):
     fric = np.zeros((ch.Fc.size, N))
     X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
     z = np.zeros(N)
-    status, k = K.closed_loop(Phi, Gam, nsub, T / nsub, Cv, ch.Fc, ch.sigma0, F, X,
+    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, F, X,
                               np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
                               np.zeros(2 * n), z, current, z, z, z, ctrl, *outs, fric)
     return status, outs[0], outs[1]

@@ -192,10 +192,8 @@ def simulate_closed_loop(plant, controller: TwoDofController, reference: Referen
     K_tau = controller.ptc.K_tau
     chain = plant.linear_chain()
     h = T / nsub
-    Phi, Gam = chain.discretize(h)
+    PhiN, GN, CvP, CvG = chain.lifted(T, nsub)
     n = chain.M.shape[0]
-    Cv = np.zeros((chain.C.shape[0], 2 * n))
-    Cv[:, n:] = chain.C
     c_mot = np.concatenate((chain.motor, np.zeros(n)))
     c_tab = np.concatenate((chain.table, np.zeros(n)))
     c_frc = np.concatenate((chain.drive_force_q, chain.drive_force_v))
@@ -207,7 +205,7 @@ def simulate_closed_loop(plant, controller: TwoDofController, reference: Referen
     out = {k: np.full(N, np.nan) for k in ("xt", "thm", "xtm", "thmm", "i", "fbn")}
     fric = np.full((chain.Fc.size, N), np.nan)
     status, k_end = _k.closed_loop(
-        Phi, Gam, nsub, h, Cv, chain.Fc.astype(float), chain.sigma0.astype(float), F, X,
+        PhiN, GN, CvP, CvG, h, chain.Fc.astype(float), chain.sigma0.astype(float), F, X,
         c_mot, c_tab, c_frc, theta_d, u_ff, uf / K_tau, noise_enc, noise_scale,
         controller.ctrl_vector(sensors),
         out["xt"], out["thm"], out["xtm"], out["thmm"], out["i"], out["fbn"], fric)

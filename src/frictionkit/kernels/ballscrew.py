@@ -7,8 +7,10 @@ wrapper in :mod:`frictionkit.control.loop` validates).
 Integration scheme
 ------------------
 Over one sub-step ``h`` the linear part ``dX/dt = A X + B w`` is advanced *exactly* with
-the precomputed zero-order-hold pair ``Phi = exp(A h)``, ``Gam = int_0^h exp(A s) ds B``,
-so stiff springs cost nothing in stability. The friction forces ``w[1:]`` are held over the
+the zero-order-hold pair ``Phi = exp(A h)``, ``Gam = int_0^h exp(A s) ds B``, so stiff
+springs cost nothing in stability. The kernel receives these in lifted form (see
+:meth:`frictionkit.plants.ballscrew.LinearChain.lifted`) so one control period costs one
+pass over the state instead of ``n_sub``. The friction forces ``w[1:]`` are held over the
 sub-step; each Dahl state is advanced by its exact solution for the sub-step's velocity,
 ``F+ = s Fc + (F - s Fc) exp(-sigma0 |v| h / Fc)`` (``s = sgn v``), which keeps
 ``|F| <= Fc`` for any ``h``.
@@ -40,7 +42,7 @@ def _quantise(x, q):
 
 
 @njit
-def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
+def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, F, X,
                 c_mot, c_tab, c_frc,
                 theta_d, u_ff, u_f, noise_enc, noise_scale, ctrl,
                 out_xt, out_thm, out_xt_meas, out_thm_meas, out_i, out_fbn, out_fric):
@@ -67,9 +69,9 @@ def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
     qenc = ctrl[C_QENC]
     qscale = ctrl[C_QSCALE]
 
-    w = np.zeros(1 + nf)
-    for j in range(nf):
-        w[1 + j] = F[j]
+    n_sub = GN.shape[0]
+    nw = 1 + nf
+    W = np.zeros((n_sub, nw))
     Xn = np.empty(n2)
 
     integ = 0.0
@@ -133,31 +135,38 @@ def closed_loop(Phi, Gam, n_sub, h, Cv, Fc, sig0, F, X,
         om_prev = om
         out_i[k] = i_cmd
 
-        # ---- plant: n_sub exact linear sub-steps, Dahl sites advanced exactly
-        w[0] = i_cmd
+        # ---- plant: n_sub exact linear sub-steps, Dahl sites advanced exactly.
+        # Lifted form: site velocities at sub-step s come from X(0) and the inputs already
+        # held, v(s) = CvP[s] X(0) + sum_{r<s} CvG[s, r] w(r); then
+        # X(n_sub) = PhiN X(0) + sum_s GN[s] w(s) — the same numbers as stepping
+        # X <- Phi X + Gam w n_sub times, at a fraction of the cost.
         for s in range(n_sub):
+            W[s, 0] = i_cmd
             for j in range(nf):
                 if Fc[j] > 0.0:
                     v = 0.0
                     for a in range(n2):
-                        v += Cv[j, a] * X[a]
+                        v += CvP[s, j, a] * X[a]
+                    for r in range(s):
+                        for b in range(nw):
+                            v += CvG[s, r, j, b] * W[r, b]
                     if v > 0.0:
                         F[j] = Fc[j] + (F[j] - Fc[j]) * math.exp(-sig0[j] * v * h / Fc[j])
                     elif v < 0.0:
                         F[j] = -Fc[j] + (F[j] + Fc[j]) * math.exp(sig0[j] * v * h / Fc[j])
-                w[1 + j] = F[j]
-            for a in range(n2):
-                acc = 0.0
-                for b in range(n2):
-                    acc += Phi[a, b] * X[b]
-                for b in range(1 + nf):
-                    acc += Gam[a, b] * w[b]
-                Xn[a] = acc
-            ok = True
-            for a in range(n2):
-                X[a] = Xn[a]
-                if not math.isfinite(Xn[a]):
-                    ok = False
-            if not ok:
+                W[s, 1 + j] = F[j]
+        for a in range(n2):
+            acc = 0.0
+            for b in range(n2):
+                acc += PhiN[a, b] * X[b]
+            for s in range(n_sub):
+                for b in range(nw):
+                    acc += GN[s, a, b] * W[s, b]
+            Xn[a] = acc
+        for a in range(n2):
+            X[a] = Xn[a]
+        # non-finite states end the run (checked once per control period)
+        for a in range(n2):
+            if not math.isfinite(X[a]):
                 return STATUS_NONFINITE, k + 1
     return STATUS_OK, N

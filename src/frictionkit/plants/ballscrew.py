@@ -100,6 +100,30 @@ class LinearChain:
         E = expm(aug)
         return np.ascontiguousarray(E[:n2, :n2]), np.ascontiguousarray(E[:n2, n2:])
 
+    def lifted(self, T: float, n_sub: int):
+        """Sub-stepping over one period ``T`` in lifted form, for the kernel.
+
+        With ``(Phi, Gam) = discretize(T / n_sub)``, ``Cv`` the site-velocity rows on ``X``:
+        ``PhiN = Phi^n``, ``GN[s] = Phi^(n-1-s) Gam``, ``CvP[s] = Cv Phi^s``,
+        ``CvG[s, r] = Cv Phi^(s-1-r) Gam`` (``r < s``, zero otherwise).
+        """
+        Phi, Gam = self.discretize(T / n_sub)
+        n = self.M.shape[0]
+        nf = self.C.shape[0]
+        Cv = np.zeros((nf, 2 * n))
+        Cv[:, n:] = self.C
+        P = [np.eye(2 * n)]
+        for _ in range(n_sub):
+            P.append(P[-1] @ Phi)
+        GN = np.stack([P[n_sub - 1 - s] @ Gam for s in range(n_sub)])
+        CvP = np.stack([Cv @ P[s] for s in range(n_sub)])
+        CvG = np.zeros((n_sub, n_sub, nf, Gam.shape[1]))
+        for s in range(n_sub):
+            for r in range(s):
+                CvG[s, r] = Cv @ P[s - 1 - r] @ Gam
+        c = np.ascontiguousarray
+        return c(P[n_sub]), c(GN), c(CvP), c(CvG)
+
 
 def _dahl_arrays(levels, length):
     Fc = np.array(levels, dtype=float)

@@ -1,0 +1,26 @@
+"""``frictionkit reproduce zhu-fujimoto --quick --json OUT`` writes the documented JSON and a PNG."""
+
+import json
+
+from typer.testing import CliRunner
+
+from frictionkit.cli import app
+import frictionkit.cli.reproduce  # noqa: F401  (registers the command group)
+
+
+def test_reproduce_zhu_fujimoto_quick(tmp_path):
+    out = tmp_path / "zf.json"
+    res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--json", str(out)])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(out.read_text())
+    assert set(doc["table3"]) == {"sinc", "coulomb", "sigmoid"}
+    assert all(v["max_error_um"] > 0 for v in doc["table3"].values())
+    assert set(doc["ld"]) == {"slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse"}
+    assert all(0.5 < v["min_ratio_before_zero"] < 1.5 for v in doc["ld"].values())
+    assert {"mixed_max_error_um", "best_fixed_max_error_um"} <= set(doc["selector"])
+    assert (tmp_path / "zf.png").stat().st_size > 10_000
+
+
+def test_reproduce_requires_json():
+    res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick"])
+    assert res.exit_code != 0

@@ -170,3 +170,20 @@ def test_bad_inputs():
         fit_static_map([0.1, 0.2, 0.3], [1, 1, 1], model="stribeck9")
     with pytest.raises(ParameterError, match=r"direction = 'up'"):
         fit_static_map([0.1, 0.2, 0.3], [1, 1, 1], direction="up")
+
+
+def test_stribeck_model_from_mixed_structures():
+    from frictionkit.identify import stribeck_model
+
+    u = np.geomspace(0.003, 0.2, 16)
+    strib = Stribeck(Fc=1.0, Fs=2.0, vs=0.01, sigma2=3.0)
+    v = np.r_[u, -u]
+    F = np.r_[strib.steady_state(u), -(0.7 + 1.5 * u)]
+    res = fit_static_map(v, F)
+    assert res.parts["negative"].model_name == "coulomb_viscous"
+    law = stribeck_model(res)
+    assert isinstance(law.positive, Stribeck) and isinstance(law.negative, Stribeck)
+    assert law.negative.Fs == law.negative.Fc == pytest.approx(0.7, rel=1e-6)
+    assert np.allclose(law.steady_state(v), F, atol=1e-6)
+    with pytest.raises(IdentificationError, match="needs a fit with direction='both'"):
+        stribeck_model(fit_static_map(u, strib.steady_state(u), direction="positive"))

@@ -315,8 +315,26 @@ def load_recording(
                   name=name or p.stem, extra_prov=extra)
 
 
-def load_csv(path: str | Path, **kwargs: Any) -> Recording:
-    """:func:`load_recording` for CSV files (same keywords); refuses other suffixes.
+def load_csv(
+    path: str | Path,
+    *,
+    time: str,
+    position: str | None = None,
+    velocity: str | None = None,
+    force: str | None = None,
+    current: str | None = None,
+    current_gain: float | None = None,
+    command: str | None = None,
+    reference: str | None = None,
+    scales: Mapping[str, float] | None = None,
+    units: Mapping[str, str] | None = None,
+    where: Mapping[str, Any] | None = None,
+    name: str | None = None,
+    delimiter: str | None = None,
+) -> Recording:
+    """Load a :class:`Recording` from a CSV file (``.csv``, ``.txt``, ``.tsv``).
+
+    Same keywords as :func:`load_recording`; refuses other file types.
 
     Examples
     --------
@@ -327,7 +345,10 @@ def load_csv(path: str | Path, **kwargs: Any) -> Recording:
     p = Path(path)
     if SUFFIXES.get(p.suffix.lower()) != "csv":
         raise DataError(f"file '{p}': load_csv needs a .csv/.txt/.tsv file, got '{p.suffix}'")
-    return load_recording(p, **kwargs)
+    return load_recording(p, time=time, position=position, velocity=velocity, force=force,
+                          current=current, current_gain=current_gain, command=command,
+                          reference=reference, scales=scales, units=units, where=where,
+                          name=name, delimiter=delimiter)
 
 
 def load_groups(

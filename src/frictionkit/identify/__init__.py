@@ -3,7 +3,7 @@
 from .result import IdentificationResult, parameter_statistics
 from .rigid_body import RigidBody, fit_rigid_body, rigid_body_regressors
 from .static_map import MODELS as STATIC_MODELS
-from .static_map import fit_static_map, fit_static_records
+from .static_map import fit_static_map, fit_static_records, stribeck_model
 
 __all__ = [
     "STATIC_MODELS",
@@ -14,4 +14,5 @@ __all__ = [
     "fit_static_records",
     "parameter_statistics",
     "rigid_body_regressors",
+    "stribeck_model",
 ]

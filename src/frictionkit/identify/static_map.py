@@ -153,8 +153,11 @@ def _fit_direction(
     values = best.x * scale
     rss = float(np.sum(raw**2))
     k = p
-    aic = n * np.log(max(rss, 1e-300) / n) + 2 * k
-    bic = n * np.log(max(rss, 1e-300) / n) + k * np.log(n)
+    # Residuals below 1e-9 of the force scale are rounding noise: floor them, so that
+    # exact fits tie and the penalty picks the simplest structure.
+    rss_eff = max(rss, n * (1e-9 * Fsc) ** 2)
+    aic = n * np.log(rss_eff / n) + 2 * k
+    bic = n * np.log(rss_eff / n) + k * np.log(n)
     return {"res": best, "values": values, "cov": cov, "dof": dof, "raw": raw, "rss": rss,
             "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J}
 
@@ -459,6 +462,29 @@ def _as_stribeck(law):
     return Stribeck(Fc=law.Fc, Fs=law.Fc, vs=1.0, sigma2=law.sigma2)
 
 
+def stribeck_model(result: IdentificationResult) -> Directional:
+    """``Directional(positive=Stribeck(...), negative=Stribeck(...))`` from a two-direction fit.
+
+    Coulomb-viscous parts become flat Stribeck curves (``Fs = Fc``), so the result
+    can feed any model that needs a Stribeck static map (LuGre, GMS).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit.identify import fit_static_map, stribeck_model
+    >>> v = np.r_[np.linspace(0.01, 0.2, 8), -np.linspace(0.01, 0.2, 8)]
+    >>> law = stribeck_model(fit_static_map(v, np.sign(v) + 2 * v, model="coulomb_viscous"))
+    >>> round(law.positive.Fs, 6), round(law.negative.sigma2, 6)
+    (1.0, 2.0)
+    """
+    if set(result.parts) != {"positive", "negative"}:
+        raise IdentificationError("stribeck_model: needs a fit with direction='both'")
+    laws = [result.parts[k].model for k in ("positive", "negative")]
+    if any(m is None for m in laws):
+        raise IdentificationError("stribeck_model: a direction has no valid model; see result.warnings")
+    return Directional(positive=_as_stribeck(laws[0]), negative=_as_stribeck(laws[1]))
+
+
 def fit_static_records(records, *, trim: float = 0.0, **kwargs) -> IdentificationResult:
     """Average each record whole (one steady-state point per record) and fit the map.
 
@@ -485,4 +511,4 @@ def fit_static_records(records, *, trim: float = 0.0, **kwargs) -> Identificatio
     return fit_static_map(steady_state_points(records, trim=trim), **kwargs)
 
 
-__all__: Sequence[str] = ("MODELS", "fit_static_map", "fit_static_records")
+__all__: Sequence[str] = ("MODELS", "fit_static_map", "fit_static_records", "stribeck_model")

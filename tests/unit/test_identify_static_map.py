@@ -187,3 +187,19 @@ def test_stribeck_model_from_mixed_structures():
     assert np.allclose(law.steady_state(v), F, atol=1e-6)
     with pytest.raises(IdentificationError, match="needs a fit with direction='both'"):
         stribeck_model(fit_static_map(u, strib.steady_state(u), direction="positive"))
+
+
+@pytest.mark.parametrize("model,delta", [("exponential", None), ("exponential", 2.0), ("lorentzian", None),
+                                         ("coulomb_viscous", None)])
+def test_analytic_jacobian_matches_finite_differences(model, delta):
+    from frictionkit.identify import static_map as sm
+
+    st = sm._structure(model, delta)
+    p = np.array({5: [0.5, 0.8, 0.2, 1.7, 0.3], 4: [0.5, 0.8, 0.2, 0.3], 2: [0.5, 0.3]}[len(st.params)])
+    u = np.geomspace(0.01, 1.0, 9)
+    h = 1e-6
+    num = np.column_stack([
+        (sm._curve(st, p + h * e, u, delta) - sm._curve(st, p - h * e, u, delta)) / (2 * h)
+        for e in np.eye(p.size)
+    ])
+    assert np.allclose(sm._jacobian(st, p, u, delta), num, atol=1e-7)

@@ -74,6 +74,30 @@ def _curve(st: _Structure, p: np.ndarray, u: np.ndarray, delta: float | None) ->
     return Fc + (Fs - Fc) * phi + p[-1] * u
 
 
+def _jacobian(st: _Structure, p: np.ndarray, u: np.ndarray, delta: float | None) -> np.ndarray:
+    """Analytic derivatives of :func:`_curve` with respect to the parameters (columns)."""
+    if st.name == "coulomb_viscous":
+        return np.column_stack([np.ones_like(u), u])
+    Fc, Fs, vs = p[0], p[1], p[2]
+    r = u / vs
+    cols = {}
+    if st.name == "lorentzian":
+        phi = 1.0 / (1.0 + r * r)
+        dphi_dvs = 2.0 * r * r / (vs * (1.0 + r * r) ** 2)
+    else:
+        d = p[3] if delta is None else delta
+        with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+            rd = r**d
+            phi = np.exp(-rd)
+            dphi_dvs = phi * d * rd / vs
+            cols["delta"] = np.nan_to_num(-(Fs - Fc) * phi * rd * np.log(r))
+    cols["Fc"] = 1.0 - phi
+    cols["Fs"] = phi
+    cols["vs"] = (Fs - Fc) * dphi_dvs
+    cols["sigma2"] = u
+    return np.column_stack([cols[n] for n in st.params])
+
+
 def _bounds(st: _Structure) -> tuple[np.ndarray, np.ndarray]:
     lo = {"Fc": 0.0, "Fs": 0.0, "vs": 1e-6, "delta": 0.1, "sigma2": 0.0}
     hi = {"Fc": np.inf, "Fs": np.inf, "vs": 1e3, "delta": 10.0, "sigma2": np.inf}
@@ -126,11 +150,14 @@ def _fit_direction(
     def resid(p):
         return (_curve(st, p, us, delta) - ys) * w
 
+    def jac(p):
+        return _jacobian(st, p, us, delta) * w[:, None]
+
     fs = 1.0 if f_scale is None else float(f_scale) / Fsc
     best = None
     for p0 in _starts(st, us, ys):
         p0 = np.clip(p0, lo, np.where(np.isfinite(hi), hi * (1 - 1e-9), hi))
-        r = least_squares(resid, p0, bounds=(lo, hi), loss=loss, f_scale=fs, x_scale="jac",
+        r = least_squares(resid, p0, jac=jac, bounds=(lo, hi), loss=loss, f_scale=fs, x_scale="jac",
                           method="trf", max_nfev=200 * len(p0))
         if best is None or r.cost < best.cost:
             best = r

@@ -203,3 +203,17 @@ def test_analytic_jacobian_matches_finite_differences(model, delta):
         for e in np.eye(p.size)
     ])
     assert np.allclose(sm._jacobian(st, p, u, delta), num, atol=1e-7)
+
+
+def test_sigma_weights_match_weighted_least_squares():
+    rng = np.random.default_rng(9)
+    u = np.linspace(0.02, 0.4, 14)
+    sig = np.linspace(0.001, 0.02, u.size)
+    y = 1.0 + 2.5 * u + sig * rng.standard_normal(u.size)
+    res = fit_static_map(u, y, model="coulomb_viscous", direction="positive", sigma=sig)
+    W = np.diag(1 / sig**2)
+    X = np.column_stack([np.ones_like(u), u])
+    beta = np.linalg.solve(X.T @ W @ X, X.T @ W @ y)
+    assert res.values == pytest.approx(beta, rel=1e-6)
+    with pytest.raises(DataError, match=r"sigma: need one finite, positive standard deviation per point"):
+        fit_static_map(u, y, sigma=np.zeros(u.size))

@@ -7,9 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from frictionkit.control.loop import Sensors, TwoDofController, simulate_closed_loop
-from frictionkit.control.pid import PID
-from frictionkit.control.ptc import PerfectTrackingControl
+from frictionkit.control.loop import Sensors, simulate_closed_loop
 from frictionkit.control.trajectories import cosine_reference
 from frictionkit.errors import ParameterError, SimulationError
 from frictionkit.kernels import ballscrew as K

@@ -8,7 +8,7 @@ import pytest
 
 from frictionkit.control.compensators import RollingCompensator
 from frictionkit.control.dob import DisturbanceObserver
-from frictionkit.control.loop import TwoDofController, simulate_closed_loop
+from frictionkit.control.loop import simulate_closed_loop
 from frictionkit.control.pid import PID
 from frictionkit.control.ptc import PerfectTrackingControl
 from frictionkit.control.trajectories import (

@@ -26,7 +26,6 @@ from ..control.trajectories import Reference, cosine_reference, mixed_reference,
 from ..control.zero_speed import (
     classify_crossings,
     deformation_ratio,
-    find_crossings,
     max_ratio_before_zero,
     min_ratio_before_zero,
     select_compensators,

@@ -14,7 +14,6 @@ from frictionkit.cli import app
 DATA = Path(__file__).resolve().parents[2].parent / "shared" / "data"
 EMPS = DATA / "emps" / "DATA_EMPS.csv"
 SCREW = DATA / "tro2021_screw_drives" / "steady_state_records.csv"
-needs_data = pytest.mark.skipif(not EMPS.exists(), reason="shared data not available")
 runner = CliRunner()
 
 EMPS_ARGS = ["--time", "t_s", "--position", "qm_m", "--force", "vir_V", "--force-scale", "35.15065188248547"]
@@ -27,7 +26,6 @@ def _stderr(res) -> str:
         return res.output
 
 
-@needs_data
 def test_rigid_body_emps_json(tmp_path):
     out = tmp_path / "fit.json"
     png = tmp_path / "fit.png"
@@ -48,7 +46,6 @@ def test_rigid_body_emps_json(tmp_path):
     assert "M" in res.stdout and "relative error" in res.stdout
 
 
-@needs_data
 def test_rigid_body_emps_asymmetric_json(tmp_path):
     out = tmp_path / "asym.json"
     res = runner.invoke(app, ["identify", "rigid-body", str(EMPS), *EMPS_ARGS, "--asymmetric", "--json", str(out)])
@@ -59,7 +56,6 @@ def test_rigid_body_emps_asymmetric_json(tmp_path):
     assert abs(d["parameters"]["Fv_neg"]["value"] - 240.4236) <= 3 * 1.2346
 
 
-@needs_data
 def test_missing_column_is_one_line_error():
     res = runner.invoke(app, ["identify", "rigid-body", str(EMPS), "--time", "t_s", "--position", "qm",
                               "--force", "vir_V"])
@@ -81,7 +77,6 @@ def test_unknown_file_type_and_missing_file(tmp_path):
     assert res.exit_code == 1 and "not found" in _stderr(res)
 
 
-@needs_data
 def test_static_screw_drive_grouped(tmp_path):
     out = tmp_path / "static.json"
     res = runner.invoke(app, ["identify", "static", str(SCREW), "--time", "t_s",
@@ -105,7 +100,6 @@ def test_static_needs_velocity_or_position(tmp_path):
     assert _stderr(res).strip() == "error: give --velocity or --position"
 
 
-@needs_data
 def test_subprocess_error_has_one_stderr_line_and_nonzero_status():
     import subprocess
     import sys

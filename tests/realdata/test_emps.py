@@ -23,8 +23,8 @@ ASYM = {"M": (95.1540, 0.0827), "Fv_pos": (166.7061, 1.2326), "Fc_pos": (20.1440
 
 
 @pytest.fixture(scope="module")
-def emps(data_dir):
-    path = data_dir / "emps" / "DATA_EMPS.csv"
+def emps(shared_data):
+    path = shared_data / "emps" / "DATA_EMPS.csv"
     before = hashlib.sha256(path.read_bytes()).hexdigest()
     rec = load_recording(path, time="t_s", position="qm_m", force="vir_V", reference="qg_m",
                          scales={"force": GTAU})
@@ -41,8 +41,8 @@ def test_recording_matches_readme(emps):
     assert emps.F.max() / GTAU == pytest.approx(4.14, abs=0.01)
 
 
-def test_constants_file_agrees_with_gain(data_dir):
-    c = json.loads((data_dir / "emps" / "emps_constants.json").read_text())
+def test_constants_file_agrees_with_gain(shared_data):
+    c = json.loads((shared_data / "emps" / "emps_constants.json").read_text())
     assert c["gtau_N_per_V"] == GTAU
     assert c["reference_idim_ls_symmetric"]["M_kg"] == SYM["M"][0]
 

@@ -14,16 +14,16 @@ from frictionkit.identify import fit_static_map
 from frictionkit.units import RPM
 
 
-def _records(data_dir, drive):
-    return load_groups(data_dir / "tro2021_screw_drives" / "steady_state_records.csv",
+def _records(shared_data, drive):
+    return load_groups(shared_data / "tro2021_screw_drives" / "steady_state_records.csv",
                        group="source_file", where={"drive_id": drive}, time="t_s",
                        velocity="motor_velocity_rad_per_s", force="motor_torque_N_m",
                        units={"v": "rad/s", "F": "N·m"})
 
 
 @pytest.fixture(scope="module")
-def points(data_dir):
-    return {d: steady_state_points(_records(data_dir, d)) for d in (1, 2, 3)}
+def points(shared_data):
+    return {d: steady_state_points(_records(shared_data, d)) for d in (1, 2, 3)}
 
 
 @pytest.fixture(scope="module")
@@ -32,8 +32,8 @@ def fits(points):
 
 
 @pytest.mark.parametrize("drive", [1, 2, 3])
-def test_whole_record_means_reproduce_the_map(data_dir, points, drive):
-    ref = pd.read_csv(data_dir / "tro2021_screw_drives" / "steady_state_map.csv")
+def test_whole_record_means_reproduce_the_map(shared_data, points, drive):
+    ref = pd.read_csv(shared_data / "tro2021_screw_drives" / "steady_state_map.csv")
     ref = ref[ref.drive_id == drive].set_index("source_file")
     pts = points[drive]
     assert sorted(pts.labels) == sorted(ref.index)

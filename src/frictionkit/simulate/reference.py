@@ -42,7 +42,7 @@ from scipy.integrate import solve_ivp
 
 from .. import _validate as val
 from ..errors import ParameterError, SimulationError
-from ..models.pack import kind_of, pack_gms, pack_lugre
+from ..models.pack import PackedGMS, kind_of, pack_gms, pack_lugre
 
 __all__ = ["reference_force_driven", "reference_motion_driven"]
 
@@ -146,6 +146,12 @@ class _GMSMode:
             sgn = 1 if v > 0.0 else -1
         r = 0 if sgn > 0 else 1
         return self.p.xi[r, i] * _smag(self.p.static[r], v, self.floor) - sgn * Fi
+
+
+def _margin(p, floor: float, i: int, d: int, v: float, Fi: float) -> float:
+    """Breakaway margin ``xi_i |s(v)| - d F_i`` of element ``i`` for motion in direction ``d``."""
+    r = 0 if d > 0 else 1
+    return p.xi[r, i] * _smag(p.static[r], v, floor) - d * Fi
 
 
 def _gms_initial_breakaway(mode: _GMSMode, v: float, F: np.ndarray, tol: float) -> np.ndarray:
@@ -277,8 +283,12 @@ def reference_force_driven(
         )
 
     # ----------------------------------------------------------------- GMS
-    p = pack_gms(model)
-    M = p.k.shape[1]
+    p_full = pack_gms(model)
+    # An element with zero weight in both directions carries no force at all (it slips as
+    # soon as it is loaded and relaxes to 0): leave it out rather than chatter over it.
+    keep = (p_full.xi > 0.0).any(axis=0)
+    p = PackedGMS(p_full.static, p_full.k[:, keep], p_full.xi[:, keep], p_full.C)
+    M = int(keep.sum())
     floor = _floor(p.static)
     S_ref = float(np.max(p.static[:, :2]))
     tol = 1e-10 * S_ref
@@ -290,23 +300,33 @@ def reference_force_driven(
     slip = np.zeros(M, dtype=bool)
     d = 0
     nfev = n_break = n_rev = stalls = 0
+    log: list[tuple[float, str, int]] = []
 
     while t0 < T:
         mode = _GMSMode(p, floor, slip, d)
-        # Elements already at their threshold break away before integrating.
+        # Elements already at (or past) their threshold in the direction of motion break
+        # away before integrating. At rest, that direction is the sign of the acceleration
+        # (or, if it is zero, of the force slope) about to set the mass moving.
         v0 = y[1]
-        if not mode.d and v0 != 0.0:
-            due = _gms_initial_breakaway(mode, v0, y[2:], tol)
+        if mode.d:
+            d_go = mode.d
+        elif v0 != 0.0:
+            d_go = 1 if v0 > 0.0 else -1
+        else:
+            a0 = u_at(t0) - y[2:].sum()
+            if a0 == 0.0:
+                a0 = du[min(max(int(t0 / dt), 0), N - 2)]
+            d_go = 0 if a0 == 0.0 else (1 if a0 > 0.0 else -1)
+        if d_go:
+            due = np.array(
+                [not slip[i] and _margin(p, floor, i, d_go, v0, y[2 + i]) <= tol for i in range(M)],
+                dtype=bool,
+            )
             if due.any():
                 slip = slip | due
-                d = 1 if v0 > 0.0 else -1
+                d = d_go
                 n_break += int(due.sum())
-                mode = _GMSMode(p, floor, slip, d)
-        elif mode.d:
-            due = _gms_initial_breakaway(mode, v0, y[2:], tol)
-            if due.any():
-                slip = slip | due
-                n_break += int(due.sum())
+                log += [(t0, "breakaway", int(j)) for j in np.flatnonzero(due)]
                 mode = _GMSMode(p, floor, slip, d)
 
         def rhs(tt, yy, mode=mode):
@@ -316,18 +336,21 @@ def reference_force_driven(
             Ft = Fi.sum() + p.static[r, 4] * v
             return np.concatenate(([v, (u_at(tt) - Ft) / mval], mode.dF(v, Fi)))
 
+        # Event functions. At t0 each returns its value at the exact initial state: the
+        # dense output of some methods (LSODA) does not reproduce y0 exactly at t0, and a
+        # margin that jumps at v = 0 would otherwise confuse the root finder.
         events = []
         stick_idx = np.flatnonzero(mode.stick)
         for i in stick_idx:
-            def ev(tt, yy, i=i, mode=mode):
-                return mode.margin(i, yy[1], yy[2 + i])
+            def ev(tt, yy, i=i, mode=mode, t0=t0, g0=mode.margin(i, y[1], y[2 + i])):
+                return g0 if tt == t0 else mode.margin(i, yy[1], yy[2 + i])
 
             ev.terminal = True
             ev.direction = -1
             events.append(ev)
         if mode.d:
-            def ev_rev(tt, yy, dd=mode.d):
-                return dd * yy[1]
+            def ev_rev(tt, yy, dd=mode.d, t0=t0, g0=mode.d * y[1]):
+                return g0 if tt == t0 else dd * yy[1]
 
             ev_rev.terminal = True
             ev_rev.direction = -1
@@ -370,6 +393,7 @@ def reference_force_driven(
             slip = np.zeros(M, dtype=bool)
             d = 0
             n_rev += 1
+            log.append((t_e, "reversal", -1))
         else:
             broke = np.zeros(M, dtype=bool)
             for n_i, i in enumerate(stick_idx):
@@ -385,6 +409,7 @@ def reference_force_driven(
                     d = 1 if a >= 0.0 else -1
             slip = slip | broke
             n_break += int(broke.sum())
+            log += [(t_e, "breakaway", int(j)) for j in np.flatnonzero(broke)]
         t0 = t_e
         if n_break + n_rev > max_events:
             raise SimulationError(
@@ -394,12 +419,15 @@ def reference_force_driven(
 
     if filled < N:  # the last event fell exactly on the final sample
         out[filled:] = y
-    x, v, Fi = out[:, 0], out[:, 1], out[:, 2:]
+    x, v = out[:, 0], out[:, 1]
+    Fi = np.zeros((N, keep.size))
+    Fi[:, keep] = out[:, 2:]
     sig2 = np.where(v < 0.0, p.static[1, 4], p.static[0, 4])
     F = Fi.sum(axis=1) + sig2 * v
     return dict(
         t=t, x=x, v=v, F=F, states=Fi, nfev=nfev, wall_s=time.perf_counter() - tic,
         n_events=n_break + n_rev, n_breakaway=n_break, n_reversal=n_rev,
+        event_log=[(te, kind_, int(np.flatnonzero(keep)[j]) if j >= 0 else -1) for te, kind_, j in log],
     )
 
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pytest
 from typer.testing import CliRunner
 
 import frictionkit.cli.identify  # noqa: F401  (registers the ``identify`` group)

@@ -257,6 +257,9 @@ class IdentificationResult:
             ci = f"[{self.ci95[i, 0]:.6g}, {self.ci95[i, 1]:.6g}]"
             lines.append(f"{n:<12}{self.values[i]:>14.6g}{self.stderr[i]:>12.3g}{ci:>30}  {self.units[i]}")
         lines.append(f"RMS residual {self.rms:.6g}, relative error {self.relative_error_percent:.4g} %")
+        for k, part in self.parts.items():
+            lines.append(f"  {k}: {part.model_name}, n = {part.n_obs}, RMS residual {part.rms:.6g}, "
+                         f"relative error {part.relative_error_percent:.4g} %")
         lines.extend(f"warning: {w}" for w in self.warnings)
         return "\n".join(lines)
 

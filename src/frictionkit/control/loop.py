@@ -1,10 +1,11 @@
 """Closed-loop simulation of a ball-screw stage with the seed 001 controller (Fig. 3).
 
 ``i = u_ptc + PID(theta_d - y) + d_hat / K_tau + u_f / K_tau``, saturated at ``i_max``, every
-``T`` = 0.5 ms; the plant is advanced by :mod:`frictionkit.kernels.ballscrew`. ``y`` is the
-table position from the linear scale divided by ``R`` (full-closed loop, ``feedback =
-"table"``) or the motor encoder angle (``feedback = "motor"``); the DOB always uses the
-motor encoder.
+``T`` = 0.5 ms; the plant is advanced by :mod:`frictionkit.kernels.ballscrew`. The PID
+acts on the table position from the linear scale divided by ``R`` (``feedback = "table"``),
+on the motor encoder angle (``"motor"``), or on the scale for P and I and the encoder for D
+(``"dual"``, the seed 001 preset: collocated damping of the elastic chain). The DOB always
+uses the motor encoder; it sees the current without ``u_f``.
 """
 
 from __future__ import annotations
@@ -65,7 +66,8 @@ class TwoDofController:
     dob : DisturbanceObserver or None
     R : float — screw ratio used to express table positions as motor angles [m/rad].
     i_max : float — current limit [A].
-    feedback : str — ``"table"`` (linear scale) or ``"motor"`` (encoder).
+    feedback : str — ``"table"`` (linear scale), ``"motor"`` (encoder) or ``"dual"`` (P, I on
+        the scale, D on the encoder).
     """
 
     ptc: PerfectTrackingControl

@@ -336,34 +336,73 @@ def reference_force_driven(
             Ft = Fi.sum() + p.static[r, 4] * v
             return np.concatenate(([v, (u_at(tt) - Ft) / mval], mode.dF(v, Fi)))
 
-        # Event functions. At t0 each returns its value at the exact initial state: the
-        # dense output of some methods (LSODA) does not reproduce y0 exactly at t0, and a
+        # Event functions. At ta each returns its value at the exact initial state: the
+        # dense output of some methods (LSODA) does not reproduce ya exactly at ta, and a
         # margin that jumps at v = 0 would otherwise confuse the root finder.
-        events = []
         stick_idx = np.flatnonzero(mode.stick)
-        for i in stick_idx:
-            def ev(tt, yy, i=i, mode=mode, t0=t0, g0=mode.margin(i, y[1], y[2 + i])):
-                return g0 if tt == t0 else mode.margin(i, yy[1], yy[2 + i])
 
-            ev.terminal = True
-            ev.direction = -1
-            events.append(ev)
-        if mode.d:
-            def ev_rev(tt, yy, dd=mode.d, t0=t0, g0=mode.d * y[1]):
-                return g0 if tt == t0 else dd * yy[1]
+        def make_events(ta, ya, mode=mode, stick_idx=stick_idx):
+            evs = []
+            for i in stick_idx:
+                def ev(tt, yy, i=i, ta=ta, g0=mode.margin(i, ya[1], ya[2 + i])):
+                    return g0 if tt == ta else mode.margin(i, yy[1], yy[2 + i])
 
-            ev_rev.terminal = True
-            ev_rev.direction = -1
-            events.append(ev_rev)
+                ev.terminal = True
+                ev.direction = -1
+                evs.append(ev)
+            if mode.d:
+                def ev_rev(tt, yy, dd=mode.d, ta=ta, g0=mode.d * ya[1]):
+                    return g0 if tt == ta else dd * yy[1]
 
-        t_eval = t[filled:]
-        sol = solve_ivp(
-            rhs, (t0, T), y, method=method, t_eval=t_eval, events=events or None,
-            rtol=rtol, atol=atol, max_step=max_step,
-        )
+                ev_rev.terminal = True
+                ev_rev.direction = -1
+                evs.append(ev_rev)
+            return evs
+
+        def run(ta, ya, tb, k_first, step=None, rhs=rhs, make_events=make_events):
+            """Integrate from (ta, ya) towards tb; samples k >= k_first up to tb are reported."""
+            k_last = int(np.searchsorted(t, tb, side="right"))
+            kw = {"max_step": max_step}
+            if step is not None:
+                kw = {"max_step": min(step, max_step), "first_step": step}
+            return solve_ivp(
+                rhs, (ta, tb), ya, method=method, t_eval=t[k_first:k_last],
+                events=make_events(ta, ya), rtol=rtol, atol=atol, dense_output=True, **kw,
+            )
+
+        sol = run(t0, y, T, filled)
         nfev += int(sol.nfev)
         if sol.status == -1:
             raise _fail(owner, sol, t0)
+        if sol.status == 1 and len(sol.sol.ts) >= 2:
+            # Refine: redo the last step, in which the event was found, with steps 64 times
+            # shorter, so that the event time and the state there do not carry the error of
+            # the method's (lower-order) dense output over one long step.
+            t_ev = max(te[-1] for te in sol.t_events if te.size)
+            t_old = float(sol.sol.ts[-2])
+            h = t_ev - t_old
+            if h > 1e-12 * max(1.0, t_ev):
+                y_old = y if t_old == t0 else np.asarray(sol.sol(t_old), dtype=float)
+                n_coarse = len(sol.t)
+                k_old = max(int(np.searchsorted(t, t_old, side="right")), 1)
+                if n_coarse:
+                    out[filled:filled + n_coarse] = np.asarray(sol.y).T
+                filled = min(filled + n_coarse, k_old)
+                t_end = min(t_ev + h, T)
+                sol = run(t_old, y_old, t_end, filled, step=h / 64.0)
+                nfev += int(sol.nfev)
+                if sol.status == -1:
+                    raise _fail(owner, sol, t_old)
+                t0 = t_old
+                if sol.status == 0 and t_end < T:
+                    # No event after all (the coarse dense output invented it): carry on.
+                    n_new = len(sol.t)
+                    if n_new:
+                        out[filled:filled + n_new] = np.asarray(sol.y).T
+                        filled += n_new
+                    y = np.asarray(sol.sol(t_end), dtype=float)
+                    t0 = t_end
+                    continue
         n_new = len(sol.t)  # a list, not an array, when no t_eval point was reached
         if n_new:
             out[filled:filled + n_new] = np.asarray(sol.y).T

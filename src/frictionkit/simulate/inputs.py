@@ -60,3 +60,34 @@ def nested_loop_position(*, major: float = 20e-6, minor: float = 4e-6, dt: float
         n = max(int(round(abs(b - a) / step)), 1)
         pts.append(np.linspace(a, b, n + 1)[1:])
     return np.concatenate(pts)
+
+
+def example_law():
+    """The example Stribeck law of the issue tracker and README: Fc 1 N, Fs 1.5 N, vs 1 mm/s, sigma2 0.4 N·s/m."""
+    from ..models import Stribeck
+
+    return Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
+
+
+def example_gms(M: int, C: float = 20.0):
+    """A GMS model with ``M`` elements over :func:`example_law` for tests and benchmarks.
+
+    Stiffnesses spaced logarithmically over 1e4 … 1e6 N/m, weights proportional to
+    ``1/(i+1)`` and normalised to sum 1 (stiff elements carry less, as in seed 000
+    Table 4).
+    """
+    from ..models import GMS
+
+    if M == 3:
+        return GMS(example_law(), k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=C)
+    i = np.arange(M)
+    k = 1e4 * 100.0 ** (i / max(M - 1, 1))
+    w = 1.0 / (M - i)
+    return GMS(example_law(), k=k, xi=w / w.sum(), C=C)
+
+
+def example_lugre():
+    """LuGre over :func:`example_law`: sigma0 1e5 N/m, sigma1 63.2 N·s/m (0.1 of critical on 1 kg)."""
+    from ..models import LuGre
+
+    return LuGre(example_law(), sigma0=1e5, sigma1=63.2)

@@ -248,3 +248,41 @@ def test_mass_object_accepted():
     b = reference_force_driven(lugre(), 2.0, np.full(11, 0.1), 1e-3)
     np.testing.assert_array_equal(a["x"], b["x"])
     assert set(a) >= {"t", "x", "v", "F", "nfev", "wall_s"}
+
+
+def test_rk45_and_lsoda_agree_when_fs_below_fc():
+    # Fs < Fc: elements re-stuck at a reversal may already be past their threshold at v = 0+,
+    # and reversals follow each other quickly; event times must not carry dense-output error.
+    model = fk.GMS(fk.Stribeck(Fc=1.5, Fs=1.0, vs=1e-3, sigma2=0.4), k=K, xi=XI, C=20.0)
+    u, dt = _stick_slip_input()
+    a = reference_force_driven(model, 1.0, u, dt, method="LSODA")
+    b = reference_force_driven(model, 1.0, u, dt, method="RK45")
+    assert [e[1:] for e in a["event_log"]] == [e[1:] for e in b["event_log"]]
+    assert a["n_reversal"] >= 3
+    np.testing.assert_allclose([e[0] for e in b["event_log"]], [e[0] for e in a["event_log"]], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(b["x"], a["x"], rtol=0, atol=1e-7 * np.abs(a["x"]).max())
+
+
+def test_zero_weight_element_carries_no_force():
+    model = fk.GMS(LAW, k=K, xi=[0.5, 0.0, 0.5], C=20.0)
+    u, dt = _stick_slip_input(T=0.5, fs=1000.0)
+    out = reference_force_driven(model, 1.0, u, dt)
+    assert np.all(out["states"][:, 1] == 0.0)
+    ref = reference_force_driven(fk.GMS(LAW, k=K[[0, 2]], xi=[0.5, 0.5], C=20.0), 1.0, u, dt)
+    np.testing.assert_array_equal(out["x"], ref["x"])
+
+
+def test_directional_gms_force_driven_uses_negative_row():
+    pos = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
+    neg = fk.Stribeck(Fc=0.7, Fs=0.9, vs=2e-3, sigma2=0.25)
+    model = fk.Directional(
+        positive=fk.GMS(pos, k=K, xi=XI, C=20.0), negative=fk.GMS(neg, k=2 * K, xi=XI, C=30.0)
+    )
+    u = -2.0
+    v_star = brentq(lambda v: float(neg.steady_state(v)) - u, -20.0, -1e-3)
+    out = reference_force_driven(model, 0.004, np.full(601, u), 1e-3)  # m / sigma2 = 16 ms
+    assert out["v"][-1] == pytest.approx(v_star, rel=1e-8)
+    # pre-sliding stiffness of the negative row before the first breakaway
+    first = out["event_log"][0][0]
+    early = out["t"] < first
+    np.testing.assert_allclose(out["F"][early], 2 * K.sum() * out["x"][early] + 0.25 * out["v"][early], rtol=1e-8, atol=1e-15)

@@ -365,16 +365,22 @@ def reference_force_driven(
             kw = {"max_step": max_step}
             if step is not None:
                 kw = {"max_step": min(step, max_step), "first_step": step}
-            return solve_ivp(
-                rhs, (ta, tb), ya, method=method, t_eval=t[k_first:k_last],
-                events=make_events(ta, ya), rtol=rtol, atol=atol, dense_output=True, **kw,
-            )
+            args = (rhs, (ta, tb), ya)
+            kw.update(method=method, t_eval=t[k_first:k_last], rtol=rtol, atol=atol)
+            try:
+                return solve_ivp(*args, events=make_events(ta, ya), dense_output=True, **kw)
+            except ValueError as exc:
+                # scipy cannot build the dense output when the event falls exactly on the
+                # start of a step (repeated node); redo this piece without it (no refinement).
+                if "strictly increasing" not in str(exc):
+                    raise
+                return solve_ivp(*args, events=make_events(ta, ya), dense_output=False, **kw)
 
         sol = run(t0, y, T, filled)
         nfev += int(sol.nfev)
         if sol.status == -1:
             raise _fail(owner, sol, t0)
-        if sol.status == 1 and len(sol.sol.ts) >= 2:
+        if sol.status == 1 and sol.sol is not None and len(sol.sol.ts) >= 2:
             # Refine: redo the last step, in which the event was found, with steps 64 times
             # shorter, so that the event time and the state there do not carry the error of
             # the method's (lower-order) dense output over one long step.

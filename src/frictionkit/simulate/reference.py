@@ -28,7 +28,19 @@ row 0 for ``v >= 0``, row 1 for ``v < 0``.
   its direction of slip (reversed *or zero*).
 
 ``|s(v)|`` is floored at ``1e-9 max(Fc, Fs)`` so that a law with ``Fs = 0`` does not
-divide by zero at rest.
+divide by zero at rest (such a GMS is very stiff near ``v = 0``: use LSODA, not RK45).
+
+Accuracy of the switching (force-driven GMS)
+--------------------------------------------
+``solve_ivp`` locates an event on the method's dense output, which for RK45 is one
+order lower than the step itself; over a long step that error (~1e-6 s in event
+time) would be carried into the next piece. The step holding an event is therefore
+redone from its start with steps 64 times shorter before the event is accepted.
+Events are detected from the sign of the event function at step ends, so a grazing
+reversal (``v`` dipping below zero and back within one step) can be missed by a
+method taking long steps; tighten ``rtol``/``max_step`` when that matters. Element
+forces at a switching are continuous; only the reversal sets ``v`` to exactly 0
+(the value the root finder located to within round-off).
 """
 
 from __future__ import annotations
@@ -216,7 +228,9 @@ def reference_force_driven(
         the samples (LuGre ``sigma0 z + sigma1 dz/dt + sigma2 v``, GMS
         ``sum F_i + sigma2 v``); ``states`` (N, 1) ``z`` or (N, M) ``F_i``;
         ``nfev`` right-hand-side evaluations; ``wall_s`` wall time [s];
-        ``n_events``, ``n_breakaway``, ``n_reversal`` (GMS switching events; 0 for LuGre).
+        ``n_events``, ``n_breakaway``, ``n_reversal`` (GMS switching events; 0 for LuGre);
+        for GMS also ``event_log``, a list of ``(t, "breakaway" | "reversal", element)``
+        (element ``-1`` for a reversal).
 
     Raises
     ------

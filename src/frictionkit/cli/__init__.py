@@ -17,9 +17,8 @@ app = typer.Typer(
 
 
 def _register() -> None:
-    from . import demo  # noqa: F401  (each module adds its commands to ``app``)
-
-    for name in ("identify", "reproduce"):
+    """Import the command modules; each adds its commands to ``app``."""
+    for name in ("demo", "identify", "reproduce"):
         try:
             __import__(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # command group not built yet

@@ -405,11 +405,19 @@ def reference_force_driven(
                 y_old = y if t_old == t0 else np.asarray(sol.sol(t_old), dtype=float)
                 n_coarse = len(sol.t)
                 k_old = max(int(np.searchsorted(t, t_old, side="right")), 1)
+                filled_before, sol_coarse = filled, sol
                 if n_coarse:
                     out[filled:filled + n_coarse] = np.asarray(sol.y).T
                 filled = min(filled + n_coarse, k_old)
                 t_end = min(t_ev + h, T)
-                sol = run(t_old, y_old, t_end, filled, step=h / 64.0)
+                try:
+                    sol = run(t_old, y_old, t_end, filled, step=h / 64.0)
+                except ValueError as exc:
+                    # scipy's event root finder can see no sign change on the refined
+                    # step when the coarse event sat on a step boundary: keep the coarse piece.
+                    if "different signs" not in str(exc):
+                        raise
+                    sol, filled, t_old = sol_coarse, filled_before, t0
                 nfev += int(sol.nfev)
                 if sol.status == -1:
                     raise _fail(owner, sol, t_old)

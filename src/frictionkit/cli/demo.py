@@ -1,0 +1,22 @@
+"""``frictionkit demo``: the main job of ``make demo``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from . import app
+
+
+@app.command("demo")
+def demo(out: Path = typer.Option(Path("out/demo"), "--out", help="Folder for the report, plots and summary.")) -> None:
+    """Simulate every friction law, identify on the shared real data, reproduce, and write a report."""
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    from ..report.demo import run_demo
+
+    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn()) as bar:
+        task = bar.add_task("demo", total=None)
+        result = run_demo(out, progress=lambda label: bar.update(task, description=label))
+    typer.echo(f"wrote {result['report']} ({len(result['files'])} figures) and {out / 'summary.txt'}")

@@ -145,3 +145,143 @@ def static(
         res.save_json(json_out)
     if plot is not None:
         _save_plot(res, plot)
+
+
+def _floats_list(text: Optional[str], what: str) -> Optional[list[float]]:
+    from ..errors import ParameterError
+
+    if text is None:
+        return None
+    try:
+        return [float(s) for s in text.replace(";", ",").split(",") if s.strip()]
+    except ValueError:
+        raise ParameterError(f"{what} = {text!r}: expected comma-separated numbers") from None
+
+
+def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[float], vs: float,
+                delta: float, sigma2: float):
+    """Static map from a ``identify static`` JSON result or from --Fc/--Fs/--vs/--delta/--sigma2."""
+    from ..errors import ParameterError
+    from ..identify import IdentificationResult, stribeck_model
+    from ..models import Stribeck
+
+    if static_json is not None:
+        res = IdentificationResult.load_json(static_json)
+        if res.kind != "static_map":
+            raise ParameterError(f"--static-json {static_json}: not a static-map result (kind {res.kind!r})")
+        return stribeck_model(res)
+    if Fc is None:
+        return None
+    return Stribeck(Fc=Fc, Fs=Fs if Fs is not None else Fc, vs=vs, delta=delta, sigma2=sigma2)
+
+
+@identify_app.command("output-error")
+@_one_line_errors
+def output_error(
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    time: str = typer.Option(..., "--time", help="Time column [s]."),
+    position: Optional[str] = typer.Option(None, "--position", help="Position column (compared with --compare x)."),
+    velocity: Optional[str] = typer.Option(None, "--velocity", help="Velocity column (compared by default)."),
+    force: str = typer.Option(..., "--force", help="Input force column."),
+    force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N."),
+    position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m."),
+    velocity_scale: float = typer.Option(1.0, "--velocity-scale", help="Factor to m/s."),
+    model: str = typer.Option("lugre", "--model", help="lugre or gms."),
+    static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
+    Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
+    Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
+    vs: float = typer.Option(1e-3, "--vs", help="Stribeck velocity [m/s]."),
+    delta: float = typer.Option(2.0, "--delta", help="Stribeck exponent."),
+    sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
+    mass: float = typer.Option(..., "--mass", help="Moving mass [kg] (start value with --free m)."),
+    sigma0: Optional[float] = typer.Option(None, "--sigma0", help="LuGre start sigma0 [N/m] (default: initial_guess_lugre on the position)."),
+    sigma1: Optional[float] = typer.Option(None, "--sigma1", help="LuGre start sigma1 [N·s/m] (default: critical damping)."),
+    k: Optional[str] = typer.Option(None, "--k", help="GMS start stiffnesses, comma separated [N/m]."),
+    xi: Optional[str] = typer.Option(None, "--xi", help="GMS start weights, comma separated."),
+    C: float = typer.Option(20.0, "--C", help="GMS attraction constant [N/s]."),
+    free: str = typer.Option("", "--free", help="Comma-separated parameters to fit (default sigma0,sigma1 or k)."),
+    compare: Optional[str] = typer.Option(None, "--compare", help="v or x (default: v if --velocity else x)."),
+    starts: int = typer.Option(1, "--starts", help="Number of start points (screened in one batch)."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated output as PNG."),
+) -> None:
+    """Output-error fit of LuGre or GMS parameters by simulation (seed 002 eq. 12)."""
+    from ..data import load_recording
+    from ..errors import DataError, ParameterError
+    from ..identify.output_error import fit_output_error, initial_guess_lugre
+    from ..models import GMS, LuGre
+
+    if position is None and velocity is None:
+        raise DataError("give --position or --velocity")
+    compare = compare or ("v" if velocity is not None else "x")
+    law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
+    if law is None:
+        raise ParameterError("give the static map: --static-json STATIC.json or --Fc (with --Fs, --vs, --sigma2)")
+    rec = load_recording(recording, time=time, position=position, velocity=velocity, force=force,
+                         scales={"force": force_scale, "position": position_scale, "velocity": velocity_scale})
+    if model == "lugre":
+        if sigma0 is None:
+            if rec.x is None:
+                raise DataError("--sigma0 is needed without --position (the initial guess uses the position)")
+            g = initial_guess_lugre(rec, mass=mass, sigma2=float(law.static_rows()[:, 4].mean()))
+            sigma0 = g["sigma0"]
+            if sigma1 is None:
+                sigma1 = g["sigma1"]
+            typer.echo(f"initial guess: sigma0 {sigma0:.6g} N/m, sigma1 {sigma1:.6g} N·s/m ({g['branches']} branches)")
+        mdl = LuGre(law, sigma0=sigma0, sigma1=sigma1 if sigma1 is not None else 0.0)
+        names = tuple(s.strip() for s in free.split(",") if s.strip()) or ("sigma0", "sigma1")
+    elif model == "gms":
+        kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
+        if kk is None or xx is None:
+            raise ParameterError("--model gms needs start values --k and --xi (e.g. from 'identify presliding')")
+        mdl = GMS(law, k=kk, xi=xx, C=C)
+        names = tuple(s.strip() for s in free.split(",") if s.strip()) or ("k",)
+    else:
+        raise ParameterError(f"--model {model!r}: must be lugre or gms")
+    res = fit_output_error(rec, mdl, free=names, plant_mass=mass, compare=compare, starts=starts)
+    typer.echo(res.summary())
+    typer.echo(f"{res.diagnostics['nfev']} evaluations, status {res.diagnostics['status']}: {res.message}")
+    if json_out is not None:
+        res.save_json(json_out, include_data=False)
+    if plot is not None:
+        _save_plot(res, plot)
+
+
+@identify_app.command("presliding")
+@_one_line_errors
+def presliding(
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    time: str = typer.Option(..., "--time", help="Time column [s]."),
+    position: str = typer.Option(..., "--position", help="Position column."),
+    force: str = typer.Option(..., "--force", help="Friction force column."),
+    force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N."),
+    position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m."),
+    elements: int = typer.Option(..., "--elements", help="Number M of GMS elements."),
+    static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
+    Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
+    Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
+    vs: float = typer.Option(1e-3, "--vs", help="Stribeck velocity [m/s]."),
+    delta: float = typer.Option(2.0, "--delta", help="Stribeck exponent."),
+    sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
+    branch: str = typer.Option("auto", "--branch", help="auto, virgin or reversal."),
+    C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
+    no_refine: bool = typer.Option(False, "--no-refine", help="Skip the simulation-error refinement."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force as PNG."),
+) -> None:
+    """GMS pre-sliding k_i, xi_i from a force-displacement branch (seed 000 eq. 19)."""
+    from ..data import load_recording
+    from ..identify.presliding import fit_presliding
+
+    law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
+    rec = load_recording(recording, time=time, position=position, force=force,
+                         scales={"force": force_scale, "position": position_scale})
+    res = fit_presliding(rec, elements=elements, static=law, branch=branch, C=C, refine=not no_refine)
+    typer.echo(res.summary())
+    d = res.diagnostics
+    typer.echo(f"total stiffness {d['total_stiffness']:.6g} N/m, breakpoints "
+               + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" m, C {d['C']:.4g} N/s")
+    if json_out is not None:
+        res.save_json(json_out, include_data=False)
+    if plot is not None:
+        _save_plot(res, plot)

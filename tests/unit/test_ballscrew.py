@@ -82,7 +82,7 @@ def _open_loop(plant, current, T=0.5e-3, nsub=10):
     fric = np.zeros((ch.Fc.size, N))
     X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
     z = np.zeros(N)
-    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, F, X,
+    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), F, X,
                               np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
                               np.zeros(2 * n), z, current, z, z, z, ctrl, *outs, fric)
     return status, outs[0], outs[1]

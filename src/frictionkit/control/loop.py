@@ -149,6 +149,13 @@ class ClosedLoopResult:
         return self.r - self.x_t
 
 
+def _flank_arrays(chain):
+    if hasattr(chain, "flank_arrays"):
+        return chain.flank_arrays()
+    z = np.zeros(chain.Fc.size)
+    return z, z, z, z
+
+
 def simulate_closed_loop(plant, controller: TwoDofController, reference: Reference, *,
                          compensation=None, sensors: Sensors | None = None, seed: int | None = 0,
                          n_substeps: int = 10, raise_on_failure: bool = False) -> ClosedLoopResult:
@@ -207,7 +214,8 @@ def simulate_closed_loop(plant, controller: TwoDofController, reference: Referen
     out = {k: np.full(N, np.nan) for k in ("xt", "thm", "xtm", "thmm", "i", "fbn")}
     fric = np.full((chain.Fc.size, N), np.nan)
     status, k_end = _k.closed_loop(
-        PhiN, GN, CvP, CvG, h, chain.Fc.astype(float), chain.sigma0.astype(float), F, X,
+        PhiN, GN, CvP, CvG, h, chain.Fc.astype(float), chain.sigma0.astype(float),
+        *(np.ascontiguousarray(a, dtype=float) for a in _flank_arrays(chain)), F, X,
         c_mot, c_tab, c_frc, theta_d, u_ff, uf / K_tau, noise_enc, noise_scale,
         controller.ctrl_vector(sensors),
         out["xt"], out["thm"], out["xtm"], out["thmm"], out["i"], out["fbn"], fric)

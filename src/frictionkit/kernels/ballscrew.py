@@ -15,6 +15,16 @@ sub-step; each Dahl state is advanced by its exact solution for the sub-step's v
 ``F+ = s Fc + (F - s Fc) exp(-sigma0 |v| h / Fc)`` (``s = sgn v``), which keeps
 ``|F| <= Fc`` for any ``h``.
 
+Flank sites (``fl_sign[j] = +1/-1``, nut model ``"flank"`` of
+:class:`frictionkit.plants.ballscrew.ElasticBallScrew`): the Coulomb level follows the ball
+load of one groove flank, ``Fc_j = fl_mu[j] N_j`` with
+``N_j = max(P + s F_bn / 2, s F_bn, 0)`` (``P = fl_P[j]``, ``s = fl_sign[j]``) and ``F_bn``
+the drive force through the nut at the start of the sub-step (row ``nf`` of the lifted
+velocity rows). When ``N_j`` falls, the state is scaled by ``N_new / N_old`` (the shrinking
+contacts lose their tangential traction); when it rises the state is kept (new contact area
+carries no traction yet). The Dahl update then uses the fixed rate ``fl_lam[j] = ln 20 / x_s``
+(``sigma0 / Fc`` does not depend on the level).
+
 Status codes: 0 ok, 1 non-finite state (run stopped at ``k_end``).
 """
 
@@ -42,7 +52,7 @@ def _quantise(x, q):
 
 
 @njit
-def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, F, X,
+def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F, X,
                 c_mot, c_tab, c_frc,
                 theta_d, u_ff, u_f, noise_enc, noise_scale, ctrl,
                 out_xt, out_thm, out_xt_meas, out_thm_meas, out_i, out_fbn, out_fric):
@@ -73,6 +83,12 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, F, X,
     nw = 1 + nf
     W = np.zeros((n_sub, nw))
     Xn = np.empty(n2)
+    has_flank = False
+    lev_prev = np.zeros(nf)
+    for j in range(nf):
+        if fl_sign[j] != 0.0:
+            has_flank = True
+            lev_prev[j] = fl_mu[j] * fl_P[j]
 
     integ = 0.0
     dterm = 0.0
@@ -142,8 +158,39 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, F, X,
         # X <- Phi X + Gam w n_sub times, at a fraction of the cost.
         for s in range(n_sub):
             W[s, 0] = i_cmd
+            fb = 0.0
+            if has_flank:  # drive force through the nut at the start of the sub-step
+                for a in range(n2):
+                    fb += CvP[s, nf, a] * X[a]
+                for r in range(s):
+                    for b in range(nw):
+                        fb += CvG[s, r, nf, b] * W[r, b]
             for j in range(nf):
-                if Fc[j] > 0.0:
+                if fl_sign[j] != 0.0:
+                    sf = fl_sign[j] * fb
+                    load = fl_P[j] + 0.5 * sf
+                    if sf > load:
+                        load = sf
+                    if load < 0.0:
+                        load = 0.0
+                    lev = fl_mu[j] * load
+                    if lev < lev_prev[j]:
+                        F[j] = F[j] * (lev / lev_prev[j]) if lev_prev[j] > 0.0 else 0.0
+                    lev_prev[j] = lev
+                    v = 0.0
+                    for a in range(n2):
+                        v += CvP[s, j, a] * X[a]
+                    for r in range(s):
+                        for b in range(nw):
+                            v += CvG[s, r, j, b] * W[r, b]
+                    if lev > 0.0:
+                        if v > 0.0:
+                            F[j] = lev + (F[j] - lev) * math.exp(-fl_lam[j] * v * h)
+                        elif v < 0.0:
+                            F[j] = -lev + (F[j] + lev) * math.exp(fl_lam[j] * v * h)
+                    else:
+                        F[j] = 0.0
+                elif Fc[j] > 0.0:
                     v = 0.0
                     for a in range(n2):
                         v += CvP[s, j, a] * X[a]

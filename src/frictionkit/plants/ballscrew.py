@@ -21,6 +21,29 @@ Friction sites (Dahl, rate form): the guide ``f_g`` acting on ``x_t`` and the nu
 ``f_n`` opposing screw rotation (linear-equivalent force on ``R theta_s``; its reaction is
 a torque carried by the guide). Stiffness-proportional damping ``beta K`` with ``beta`` set
 so the first elastic mode has ``damping_ratio``.
+
+Nut friction models (``nut_model``)
+-----------------------------------
+``"sliding"`` (default, the original model): one Dahl site of constant level
+``nut_friction``, driven by the screw rotation only — its state knows nothing of ``F_bn``.
+
+``"flank"`` — seed 001 §3.1-3.2, Figs. 6, 8, 9: the balls are load-carrying contacts on two
+groove flanks; which flank carries the load follows the sign of the drive force ``F_bn``
+(Pattern I: the flank pushing the table forward; Pattern II: the other one). For a nut
+preloaded with ``P = nut_preload`` (double nut / oversize balls, each flank set pressed with
+``P`` at ``F_bn = 0``), the linearised equal-stiffness split gives the flank loads
+``N_+ = max(P + F_bn/2, F_bn, 0)`` and ``N_- = max(P - F_bn/2, -F_bn, 0)`` (one flank set
+unloads beyond ``|F_bn| = 2P``; Hertz contacts give ``2^1.5 P``). Each flank is its own
+pre-rolling (Dahl) site, driven like the nut by the screw rotation, with a level
+proportional to its ball load, ``mu_f N`` (``mu_f = flank_friction_coefficient``, the
+linear-equivalent rolling-friction force per newton of flank load: catalogue preload-drag
+torque law). When a flank unloads its contacts shrink and lose their tangential traction
+(state scaled with the load, Mindlin); contacts that take up load start without traction.
+So the nut's pre-rolling transition is tied to the *load transfer between flanks* — i.e.
+to ``F_bn`` reversing, before zero speed in a fast deceleration — and not only to the
+rolling displacement. The load-independent rest ``nut_friction - 2 mu_f P`` (support
+bearings, seals, recirculation) stays an ordinary Dahl site. The contact stiffness stays the
+linear ``k_nut`` (valid while both flanks are loaded, i.e. ``|F_bn| < 2P``).
 """
 
 from __future__ import annotations
@@ -36,6 +59,9 @@ from ..errors import ParameterError
 #: ``sigma0 = DAHL_SPAN * Fc / presliding_length``: the Dahl curve goes from ``-Fc`` to
 #: ``0.9 Fc`` over ``presliding_length`` (``1 - 2 exp(-u) = 0.9`` -> ``u = ln 20``).
 DAHL_SPAN = math.log(20.0)
+
+#: Nut friction models of :class:`ElasticBallScrew` (see the module docstring).
+NUT_MODELS = ("sliding", "flank")
 
 
 @dataclass(frozen=True)
@@ -59,6 +85,14 @@ class LinearChain:
         Output rows of the drive force on the table ``F_bn`` [N] from ``q`` and ``q'``.
     names : tuple of str
         Coordinate names.
+    flank_sign, flank_mu, flank_preload : ndarray (nf,), optional
+        Load-dependent (groove-flank) sites, nut model ``"flank"``: ``flank_sign[j] = +1``
+        (flank loaded by ``F_bn > 0``) or ``-1``; 0 for an ordinary Dahl site. Such a site's
+        Coulomb level is ``flank_mu[j] * max(P + s F_bn / 2, s F_bn, 0)`` with
+        ``P = flank_preload[j]`` [N], and its Dahl transition spans ``presliding_length``.
+        Default: no flank sites.
+    presliding_length : float
+        Dahl transition length of the flank sites [m] (unused without them).
     """
 
     M: np.ndarray
@@ -73,6 +107,20 @@ class LinearChain:
     drive_force_q: np.ndarray
     drive_force_v: np.ndarray
     names: tuple
+    flank_sign: np.ndarray | None = None
+    flank_mu: np.ndarray | None = None
+    flank_preload: np.ndarray | None = None
+    presliding_length: float = 10e-6
+
+    def flank_arrays(self):
+        """``(sign, mu, P, lam)`` per site for the kernel (zeros without flank sites)."""
+        nf = self.C.shape[0]
+        z = np.zeros(nf)
+        if self.flank_sign is None:
+            return z, z.copy(), z.copy(), z.copy()
+        lam = np.where(np.asarray(self.flank_sign) != 0, DAHL_SPAN / self.presliding_length, 0.0)
+        return (np.asarray(self.flank_sign, float), np.asarray(self.flank_mu, float),
+                np.asarray(self.flank_preload, float), lam)
 
     def state_space(self):
         """Continuous ``(A, B)`` for ``X = [q, q']`` and inputs ``w = [u, F_1 .. F_nf]``."""
@@ -103,21 +151,25 @@ class LinearChain:
     def lifted(self, T: float, n_sub: int):
         """Sub-stepping over one period ``T`` in lifted form, for the kernel.
 
-        With ``(Phi, Gam) = discretize(T / n_sub)``, ``Cv`` the site-velocity rows on ``X``:
+        With ``(Phi, Gam) = discretize(T / n_sub)``, ``Cv`` the site-velocity rows on ``X``
+        followed by one row giving the drive force ``F_bn`` (``drive_force_q``,
+        ``drive_force_v``; used by flank sites):
         ``PhiN = Phi^n``, ``GN[s] = Phi^(n-1-s) Gam``, ``CvP[s] = Cv Phi^s``,
         ``CvG[s, r] = Cv Phi^(s-1-r) Gam`` (``r < s``, zero otherwise).
         """
         Phi, Gam = self.discretize(T / n_sub)
         n = self.M.shape[0]
         nf = self.C.shape[0]
-        Cv = np.zeros((nf, 2 * n))
-        Cv[:, n:] = self.C
+        Cv = np.zeros((nf + 1, 2 * n))
+        Cv[:nf, n:] = self.C
+        Cv[nf, :n] = self.drive_force_q
+        Cv[nf, n:] = self.drive_force_v
         P = [np.eye(2 * n)]
         for _ in range(n_sub):
             P.append(P[-1] @ Phi)
         GN = np.stack([P[n_sub - 1 - s] @ Gam for s in range(n_sub)])
         CvP = np.stack([Cv @ P[s] for s in range(n_sub)])
-        CvG = np.zeros((n_sub, n_sub, nf, Gam.shape[1]))
+        CvG = np.zeros((n_sub, n_sub, nf + 1, Gam.shape[1]))
         for s in range(n_sub):
             for r in range(s):
                 CvG[s, r] = Cv @ P[s - 1 - r] @ Gam
@@ -210,6 +262,11 @@ class ElasticBallScrew:
     guide_friction, nut_friction : float — Dahl Coulomb levels of guide and nut [N]
         (nut: linear equivalent of its torque, ``T / R``).
     presliding_length : float — Dahl transition length of both sites [m].
+    nut_model : str — ``"sliding"`` (one Dahl site driven by screw rotation, default) or
+        ``"flank"`` (flank load-transfer model, see the module docstring).
+    nut_preload : float — per-flank ball preload ``P`` [N] (``"flank"`` only; > 0 there).
+    flank_friction_coefficient : float — ``mu_f``: nut friction [N, linear equivalent] per
+        newton of flank ball load (``"flank"`` only; ``2 mu_f P <= nut_friction``).
 
     Examples
     --------
@@ -239,6 +296,9 @@ class ElasticBallScrew:
     guide_friction: float = 0.0
     nut_friction: float = 0.0
     presliding_length: float = 10e-6
+    nut_model: str = "sliding"
+    nut_preload: float = 0.0
+    flank_friction_coefficient: float = 0.0
 
     def __post_init__(self) -> None:
         o = "ElasticBallScrew"
@@ -251,6 +311,18 @@ class ElasticBallScrew:
             object.__setattr__(self, name, val.nonnegative(o, name, getattr(self, name)))
         if self.damping_ratio >= 1.0:
             raise ParameterError(f"{o}.damping_ratio = {self.damping_ratio!r}: must be < 1")
+        if self.nut_model not in NUT_MODELS:
+            raise ParameterError(f"{o}.nut_model = {self.nut_model!r}: must be one of {NUT_MODELS}")
+        for name in ("nut_preload", "flank_friction_coefficient"):
+            object.__setattr__(self, name, val.nonnegative(o, name, getattr(self, name)))
+        if self.nut_model == "flank":
+            if self.nut_preload <= 0.0:
+                raise ParameterError(f"{o}.nut_preload = {self.nut_preload!r}: must be > 0 with nut_model='flank'")
+            if 2.0 * self.flank_friction_coefficient * self.nut_preload > self.nut_friction * (1 + 1e-12):
+                raise ParameterError(
+                    f"{o}: flank friction at zero load 2 * flank_friction_coefficient * nut_preload = "
+                    f"{2.0 * self.flank_friction_coefficient * self.nut_preload!r} N exceeds "
+                    f"nut_friction = {self.nut_friction!r} N")
 
     @property
     def R(self) -> float:
@@ -296,17 +368,26 @@ class ElasticBallScrew:
         w1 = self.modes()[0]
         beta = 2.0 * self.damping_ratio / w1
         D = np.diag([self.B_m, self.B_b, 0.0, 0.0, 0.0, self.C_t]) + beta * K
-        Fc, sig = _dahl_arrays([self.guide_friction, self.nut_friction], self.presliding_length)
-        C = np.zeros((2, 6))
+        flank = self.nut_model == "flank"
+        fl0 = 2.0 * self.flank_friction_coefficient * self.nut_preload if flank else 0.0
+        levels = [self.guide_friction, max(self.nut_friction - fl0, 0.0)]
+        nf = 4 if flank else 2
+        Fc, sig = _dahl_arrays(levels + [0.0] * (nf - 2), self.presliding_length)
+        C = np.zeros((nf, 6))
         C[0, 5] = 1.0  # guide: table velocity
-        C[1, 1] = R  # nut: screw rotation (linear equivalent)
+        C[1:, 1] = R  # nut (and its flanks): screw rotation (linear equivalent)
+        extra = {}
+        if flank:
+            mu, P = self.flank_friction_coefficient, self.nut_preload
+            extra = dict(flank_sign=np.array([0.0, 0.0, 1.0, -1.0]), flank_mu=np.array([0.0, 0.0, mu, mu]),
+                         flank_preload=np.array([0.0, 0.0, P, P]), presliding_length=self.presliding_length)
         e = np.eye(6)
         return LinearChain(
             M=M, D=D, K=K, b=self.K_tau * e[0], C=C, Fc=Fc, sigma0=sig,
             motor=e[0].copy(), table=e[5].copy(),
             drive_force_q=self.k_nut * g_n,
             drive_force_v=beta * self.k_nut * g_n,
-            names=("theta_m", "theta_s", "x_l", "x_m", "x_r", "x_t"),
+            names=("theta_m", "theta_s", "x_l", "x_m", "x_r", "x_t"), **extra,
         )
 
     @property

@@ -148,6 +148,34 @@ DERIVATIVE_CUTOFF_HZ = 200.0
 #: discretised exactly, the sub-step only sets how often the friction states update.
 N_SUBSTEPS = 10
 
+# ------------------------------------------- nut model "flank" (assumptions, fixed a priori)
+# Chosen from catalogue values before the flank model was first run; consistent with the
+# K_NUT assumption above (32 mm, 12 mm lead preloaded double nut at 10 % Ca).
+#: Assumption — ball-centre (nominal) diameter of the screw [m], as in the K_NUT line.
+BALL_CENTER_DIAMETER = 32e-3
+#: Derived — tangent of the lead angle, ``L_p / (pi d0)`` (= 0.119).
+TAN_LEAD_ANGLE = L_p / (math.pi * BALL_CENTER_DIAMETER)
+#: Assumption — basic dynamic load rating Ca of that double nut [N] (catalogue 30-40 kN for
+#: 32 mm x 12 mm lead, 2.5 turns x 2 circuits per half; 35 kN taken).
+NUT_DYNAMIC_LOAD_RATING = 35e3
+#: Assumption — per-flank ball preload ``P`` [N]: 10 % Ca, the preload the K_NUT catalogue
+#: stiffness refers to.
+NUT_PRELOAD = 0.10 * NUT_DYNAMIC_LOAD_RATING
+#: Catalogue (THK/NSK/HIWIN ball-screw technical data) — preload drag torque of a
+#: preloaded nut ``T_p = K P L_p / (2 pi)`` with ``K = 0.05 / sqrt(tan beta)`` (= 0.145):
+#: linear-equivalent friction ``K P`` at the nut.
+PRELOAD_TORQUE_COEFFICIENT = 0.05 / math.sqrt(TAN_LEAD_ANGLE)
+#: Derived — flank friction coefficient ``mu_f`` [N per N of flank ball load]: the drag
+#: ``K P`` shared by the two flank sets each carrying ``P`` at zero external load,
+#: ``mu_f = K / 2``. Flank friction at ``F_bn = 0``: ``2 mu_f P = K P`` (507 N, 0.97 N·m);
+#: the rest of NUT_FRICTION_TORQUE (support bearings, seals, recirculation) stays
+#: load-independent.
+FLANK_FRICTION_COEFFICIENT = PRELOAD_TORQUE_COEFFICIENT / 2.0
+#: Nut friction models available (see :class:`frictionkit.plants.ballscrew.ElasticBallScrew`);
+#: the preset default stays the original ``"sliding"``.
+NUT_MODELS = ("sliding", "flank")
+NUT_MODEL = "sliding"
+
 #: The assumed stiffnesses varied ±30 % in the robustness tests (names of
 #: :class:`frictionkit.plants.ballscrew.ElasticBallScrew` fields).
 ASSUMED_STIFFNESSES = ("k_coupling", "k_torsion", "k_axial", "k_bearing", "k_nut")
@@ -163,15 +191,27 @@ LD_FAST_DECEL = 100.0 * math.pi**2 * 1e-3
 LD_SLOW_DECEL = LD_FAST_DECEL / 20.0
 
 
-def plant_kwargs() -> dict:
-    """Keyword arguments of :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` for this stage."""
+def plant_kwargs(nut_model: str = NUT_MODEL) -> dict:
+    """Keyword arguments of :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` for this stage.
+
+    ``nut_model = "flank"`` adds the flank load-transfer nut friction (NUT_PRELOAD,
+    FLANK_FRICTION_COEFFICIENT); ``"sliding"`` is the original model.
+    """
+    extra = {}
+    if nut_model == "flank":
+        extra = dict(nut_model="flank", nut_preload=NUT_PRELOAD,
+                     flank_friction_coefficient=FLANK_FRICTION_COEFFICIENT)
+    elif nut_model != "sliding":
+        from ..errors import ParameterError
+
+        raise ParameterError(f"nut_model = {nut_model!r}: must be one of {NUT_MODELS}")
     return dict(
         J_m=J_m, B_m=B_m, J_b=J_b, B_b=B_b, M_b=M_b, M_t=M_t, C_t=C_t, L_p=L_p, K_tau=K_tau,
         k_coupling=K_COUPLING, k_torsion=K_SCREW_TORSION,
         k_axial=K_SCREW_AXIAL_LEFT, k_axial_right=K_SCREW_AXIAL_RIGHT,
         k_bearing=K_BEARING, k_nut=K_NUT, damping_ratio=DAMPING_RATIO,
         guide_friction=GUIDE_FRICTION, nut_friction=NUT_FRICTION_TORQUE / R,
-        presliding_length=PRESLIDING_LENGTH,
+        presliding_length=PRESLIDING_LENGTH, **extra,
     )
 
 #: Assumption — which sensor feeds the PID (§2.2 does not say). P and I act on the

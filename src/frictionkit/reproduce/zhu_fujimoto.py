@@ -54,16 +54,17 @@ LAWS3 = ("sinc", "coulomb", "sigmoid")
 LD_CASES = ("slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse")
 
 
-def paper_plant(**changes) -> ElasticBallScrew:
-    """The elastic stage of the preset; keyword ``changes`` replace fields."""
-    return dataclasses.replace(ElasticBallScrew(**zf.plant_kwargs()), **changes)
+def paper_plant(nut_model: str = zf.NUT_MODEL, **changes) -> ElasticBallScrew:
+    """The elastic stage of the preset with nut friction model ``nut_model``
+    (``"sliding"``/``"flank"``); keyword ``changes`` replace fields."""
+    return dataclasses.replace(ElasticBallScrew(**zf.plant_kwargs(nut_model)), **changes)
 
 
-def scaled_plant(name: str, factor: float) -> ElasticBallScrew:
+def scaled_plant(name: str, factor: float, nut_model: str = zf.NUT_MODEL) -> ElasticBallScrew:
     """The paper plant with one assumed stiffness (``zf.ASSUMED_STIFFNESSES``) scaled by ``factor``."""
     if name not in zf.ASSUMED_STIFFNESSES:
         raise ParameterError(f"name = {name!r}: must be one of {zf.ASSUMED_STIFFNESSES}")
-    p = paper_plant()
+    p = paper_plant(nut_model)
     if name == "k_axial":
         return dataclasses.replace(p, k_axial=p.k_axial * factor, k_axial_right=p.k_axial_right * factor)
     return dataclasses.replace(p, **{name: getattr(p, name) * factor})
@@ -233,12 +234,14 @@ class ReproductionResult:
     selector: SelectorResult
     quick: bool
     seed: int
+    nut_model: str = zf.NUT_MODEL
 
     def summary(self) -> dict:
         return {
             "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
             "quick": self.quick,
             "seed": self.seed,
+            "nut_model": self.nut_model,
             "table3": {k: {"max_error_um": v, "paper_um": TABLE3_PAPER_UM[k]} for k, v in self.table3.max_error_um.items()},
             "ld": {k: {"min_ratio_before_zero": self.fig10.min_ratio[k],
                        "max_ratio_before_zero": self.fig10.max_ratio[k]} for k in LD_CASES},
@@ -253,32 +256,42 @@ class ReproductionResult:
 
 
 def run(*, quick: bool = False, seed: int = 0, plant: ElasticBallScrew | None = None,
-        progress=None) -> ReproductionResult:
-    """Table 3, Fig. 10 and the Table 2 selector. ``progress(label)`` is called before each part."""
+        nut_model: str | None = None, progress=None) -> ReproductionResult:
+    """Table 3, Fig. 10 and the Table 2 selector. ``progress(label)`` is called before each part.
+
+    ``nut_model`` (``"sliding"``/``"flank"``) selects the preset plant's nut friction model
+    when ``plant`` is not given (default ``zf.NUT_MODEL``); with ``plant`` it must match it.
+    """
     step = progress or (lambda label: None)
+    if plant is None:
+        plant = paper_plant(zf.NUT_MODEL if nut_model is None else nut_model)
+    elif nut_model is not None and nut_model != plant.nut_model:
+        raise ParameterError(f"nut_model = {nut_model!r} but plant.nut_model = {plant.nut_model!r}")
     step("Table 3 / Fig. 15: sinc, Coulomb, sigmoid")
     t3 = table3(plant=plant, seed=seed, quick=quick)
     step("Fig. 10: l_d in four zero-speed cases")
     f10 = fig10(plant=plant, seed=seed, quick=quick)
     step("Table 2 selector on a mixed trajectory")
     sel = selector(plant=plant, seed=seed, quick=quick)
-    return ReproductionResult(table3=t3, fig10=f10, selector=sel, quick=quick, seed=seed)
+    return ReproductionResult(table3=t3, fig10=f10, selector=sel, quick=quick, seed=seed,
+                              nut_model=plant.nut_model)
 
 
-def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3)):
+def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL):
     """``(label, seed, plant)`` for each noise seed (paper plant) and each assumed stiffness
     scaled by each factor (seed 0)."""
-    out = [(f"seed={s}", s, paper_plant()) for s in seeds]
+    out = [(f"seed={s}", s, paper_plant(nut_model)) for s in seeds]
     for name in zf.ASSUMED_STIFFNESSES:
         for f in factors:
-            out.append((f"{name}x{f:g}", 0, scaled_plant(name, f)))
+            out.append((f"{name}x{f:g}", 0, scaled_plant(name, f, nut_model)))
     return out
 
 
-def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), progress=None) -> dict:
+def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL,
+               progress=None) -> dict:
     """:func:`run` summary per variant of :func:`robustness_variants` (label -> summary)."""
     out = {}
-    for label, seed, plant in robustness_variants(seeds, factors):
+    for label, seed, plant in robustness_variants(seeds, factors, nut_model):
         if progress is not None:
             progress(label)
         out[label] = run(quick=quick, seed=seed, plant=plant).summary()

@@ -3,6 +3,11 @@
 >>> import frictionkit as fk
 >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
 >>> gms = fk.GMS(law, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
+
+Sub-packages: ``frictionkit.control`` (controllers, compensators, zero-speed
+analysis), ``frictionkit.simulate.reference`` (solve_ivp twins),
+``frictionkit.reproduce`` (paper reproductions). Note that ``fk.simulate`` is the
+function; import the sub-package's modules as ``from frictionkit.simulate.reference import ...``.
 """
 
 from .errors import DataError, FrictionKitError, IdentificationError, ParameterError, SimulationError
@@ -17,7 +22,27 @@ from .models import (
     sigmoid_compensation,
     sinc_compensation,
 )
-from .plants import Mass
+from .data import (
+    Recording,
+    decimate,
+    derivative,
+    find_cycles,
+    find_plateaus,
+    find_reversals,
+    load_csv,
+    load_groups,
+    load_recording,
+    lowpass,
+)
+from .identify import (
+    IdentificationResult,
+    RigidBody,
+    fit_rigid_body,
+    fit_static_map,
+    fit_static_records,
+    stribeck_model,
+)
+from .plants import ElasticBallScrew, Mass, RigidBallScrew
 from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
 
 __version__ = "0.1.0"
@@ -32,6 +57,24 @@ __all__ = [
     "IdentificationError",
     "LuGre",
     "Mass",
+    "ElasticBallScrew",
+    "RigidBallScrew",
+    "Recording",
+    "IdentificationResult",
+    "RigidBody",
+    "decimate",
+    "derivative",
+    "find_cycles",
+    "find_plateaus",
+    "find_reversals",
+    "fit_rigid_body",
+    "fit_static_map",
+    "fit_static_records",
+    "load_csv",
+    "load_groups",
+    "load_recording",
+    "lowpass",
+    "stribeck_model",
     "BatchResult",
     "SimOptions",
     "SimulationResult",

@@ -1,5 +1,6 @@
 """Physical axes driven against friction."""
 
+from .ballscrew import ElasticBallScrew, RigidBallScrew
 from .mass import Mass
 
-__all__ = ["Mass"]
+__all__ = ["ElasticBallScrew", "Mass", "RigidBallScrew"]

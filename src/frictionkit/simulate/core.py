@@ -37,8 +37,12 @@ class SimOptions:
     ----------
     rtol : float
         Relative tolerance [-], > 0.
-    atol_v : float
-        Absolute velocity tolerance [m/s or rad/s], > 0.
+    atol_v : float, optional
+        Absolute velocity tolerance [m/s or rad/s], > 0. Default: ``rtol`` times the
+        velocity scale of pre-sliding oscillations, ``max(Fc, Fs) / sqrt(K m)`` with
+        ``K`` the pre-sliding stiffness (``sigma0`` or ``sum k``) — 4.7e-3 m/s for the
+        README's LuGre example, 1.5e-4 m/s for 1e8 N/m — so stiff contacts get a
+        proportionally finer velocity tolerance.
     atol_F : float
         Absolute friction-state tolerance as a fraction of the largest static
         level ``max(Fc, Fs)`` [-], > 0 (for LuGre it applies to ``sigma0 z``).
@@ -46,20 +50,23 @@ class SimOptions:
         Most sub-steps within one sample interval before the run stops with
         status 2.
 
-    Measured on the 10 s stick–slip run of ``benchmarks/simulate.py`` at
-    dt = 250 µs against a tight ``solve_ivp`` reference, the defaults give
-    max |Δx| well under 1 µm and max |ΔF| under 1 % of Fs.
+    Measured on the stick–slip run of ``tests/kernels/test_parity_solve_ivp.py``
+    (dt = 250 µs) against LSODA at rtol 1e-11, the defaults give max |Δx| of
+    0.24 µm (LuGre), 0.22 µm (GMS-4), 0.36 µm (GMS-16) and max |ΔF| of 1.4e-4,
+    7e-5 and 9e-3 N (Fs = 1.5 N). Tighten them for more; the error falls
+    roughly tenfold per two decades of ``rtol``.
     """
 
-    rtol: float = 1e-6
-    atol_v: float = 1e-8
-    atol_F: float = 1e-6
+    rtol: float = 1e-5
+    atol_v: float | None = None
+    atol_F: float = 1e-5
     max_substeps: int = 100_000
 
     def __post_init__(self) -> None:
         o = "SimOptions"
         val.positive(o, "rtol", self.rtol)
-        val.positive(o, "atol_v", self.atol_v)
+        if self.atol_v is not None:
+            val.positive(o, "atol_v", self.atol_v)
         val.positive(o, "atol_F", self.atol_F)
         if not isinstance(self.max_substeps, (int, np.integer)) or self.max_substeps < 1:
             raise ParameterError(f"{o}.max_substeps = {self.max_substeps!r}: must be an integer >= 1")
@@ -113,6 +120,13 @@ class SimulationResult:
 
 def _f_scale(static: np.ndarray) -> float:
     return float(max(static[:, 0].max(), static[:, 1].max()))
+
+
+def _atol_v(options: SimOptions, F_scale: float, stiffness: float, m: float) -> float:
+    """``options.atol_v`` or ``rtol`` times the pre-sliding velocity scale ``F / sqrt(K m)``."""
+    if options.atol_v is not None:
+        return float(options.atol_v)
+    return options.rtol * F_scale / math.sqrt(stiffness * m)
 
 
 def _pack(model):
@@ -224,10 +238,10 @@ def simulate(
         if kind == "lugre":
             z = np.empty(N)
             z0 = _initial_states(kind, pk, state0)
-            sigma0 = float(pk.dyn[:, 0].min())
+            sigma0 = float(pk.dyn[:, 0].max())
             st, at, nsub = _lugre.lugre_force(
                 u, dt, plant.m, pk.static, pk.dyn, x0, v0, z0,
-                options.rtol, math.inf, options.atol_v, options.atol_F * F_scale / sigma0,
+                options.rtol, math.inf, _atol_v(options, F_scale, sigma0, plant.m), options.atol_F * F_scale / sigma0,
                 int(options.max_substeps), x, v, F, z,
             )
             states = {"z": z}
@@ -238,7 +252,8 @@ def simulate(
             stick = np.empty((N, M), dtype=np.bool_)
             st, at, nsub = _gms.gms_force(
                 u, dt, plant.m, pk.static, pk.k, pk.xi, pk.C, x0, v0, F0, stick0,
-                options.rtol, options.atol_v, options.atol_F * F_scale,
+                options.rtol, _atol_v(options, F_scale, float(pk.k.sum(axis=1).max()), plant.m),
+                options.atol_F * F_scale,
                 int(options.max_substeps), x, v, F, Fel, stick,
             )
             states = {"F_elements": Fel, "stick": stick}
@@ -355,8 +370,9 @@ def simulate_batch(
         dyn = np.stack([p.dyn for p in packs])
         F_scale = float(static[:, :, :2].max())
         atol_z = options.atol_F * F_scale / float(dyn[:, :, 0].max())
+        atol_v = _atol_v(options, F_scale, float(dyn[:, :, 0].max()), float(m.min()))
         _lugre.lugre_force_batch_sse(
-            u, dt, m, static, dyn, options.rtol, math.inf, options.atol_v, atol_z,
+            u, dt, m, static, dyn, options.rtol, math.inf, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status,
         )
     else:
@@ -367,7 +383,9 @@ def simulate_batch(
         F_scale = float(static[:, :, :2].max())
         _gms.gms_force_batch_sse(
             u, dt, m, static, np.stack([p.k for p in packs]), np.stack([p.xi for p in packs]),
-            np.stack([p.C for p in packs]), options.rtol, options.atol_v, options.atol_F * F_scale,
+            np.stack([p.C for p in packs]), options.rtol,
+            _atol_v(options, F_scale, max(float(p.k.sum(axis=1).max()) for p in packs), float(m.min())),
+            options.atol_F * F_scale,
             int(options.max_substeps), y, which, w, sse, status,
         )
     return BatchResult(sse, status, int((w[1:] > 0).sum()))

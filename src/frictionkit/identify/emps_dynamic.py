@@ -188,9 +188,19 @@ def emps_stribeck_fit(rec: Recording, *, delta: float = 2.0) -> dict:
             out[sel] += np.sign(vv) * (Fc + (Fs - Fc) * np.exp(-(np.abs(vv) / vs) ** delta)) + s2 * vv
         return decimate(out, 10)
 
+    def jac(p):
+        M, P, N = unpack(p)
+        cols = [a]
+        for sel, (Fc, Fs, vs, s2) in ((pos, P), (~pos, N)):
+            r = np.abs(v) / vs
+            phi = np.exp(-(r**delta))
+            sg = np.sign(v) * sel
+            cols += [sg * (1 - phi), sg * phi, sg * (Fs - Fc) * phi * delta * r**delta, v * sel]
+        return np.column_stack([decimate(c, 10) for c in cols])
+
     p0 = np.array([asym["M"], asym["Fc_pos"], 1.1 * asym["Fc_pos"], np.log(0.01), asym["Fv_pos"],
                    asym["Fc_neg"], 1.1 * asym["Fc_neg"], np.log(0.01), asym["Fv_neg"]])
-    sol = least_squares(lambda p: pred(p) - y, p0, method="trf", x_scale="jac")
+    sol = least_squares(lambda p: pred(p) - y, p0, jac=jac, method="trf", x_scale="jac")
     M, P, N = unpack(sol.x)
     law = Directional(positive=Stribeck(Fc=P[0], Fs=P[1], vs=P[2], delta=delta, sigma2=P[3]),
                       negative=Stribeck(Fc=N[0], Fs=N[1], vs=N[2], delta=delta, sigma2=N[3]))

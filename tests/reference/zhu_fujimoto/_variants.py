@@ -1,7 +1,9 @@
 """Shared, cached robustness runs for the seed 001 reference tests (quick settings).
 
-13 variants: noise seeds 0, 1, 2 on the preset plant, and every assumed stiffness of
-``presets.zhu_fujimoto.ASSUMED_STIFFNESSES`` scaled by 0.7 and 1.3 (seed 0).
+13 variants per nut friction model (``"sliding"``, the original, and ``"flank"``, the
+load transfer between groove flanks): noise seeds 0, 1, 2 on the preset plant, and every
+assumed stiffness of ``presets.zhu_fujimoto.ASSUMED_STIFFNESSES`` scaled by 0.7 and 1.3
+(seed 0).
 """
 
 from __future__ import annotations
@@ -12,9 +14,12 @@ from frictionkit.presets import zhu_fujimoto as zf
 from frictionkit.reproduce import zhu_fujimoto as rep
 
 
-@functools.lru_cache(maxsize=1)
-def summaries() -> dict:
-    return rep.robustness(quick=True, seeds=(0, 1, 2), factors=(0.7, 1.3))
+NUT_MODELS = zf.NUT_MODELS
+
+
+@functools.lru_cache(maxsize=len(NUT_MODELS))
+def summaries(nut_model: str = "sliding") -> dict:
+    return rep.robustness(quick=True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model=nut_model)
 
 
 def scale_band(min_displacement: float) -> float:

@@ -24,3 +24,19 @@ def test_reproduce_zhu_fujimoto_quick(tmp_path):
 def test_reproduce_requires_json():
     res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick"])
     assert res.exit_code != 0
+
+
+def test_reproduce_zhu_fujimoto_flank_nut_model(tmp_path):
+    out = tmp_path / "zf.json"
+    res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--no-plot", "--nut-model", "flank",
+                                   "--json", str(out)])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(out.read_text())
+    assert doc["nut_model"] == "flank"
+    assert all(v["max_error_um"] > 0 for v in doc["table3"].values())
+
+
+def test_reproduce_rejects_unknown_nut_model(tmp_path):
+    res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--nut-model", "lost",
+                                   "--json", str(tmp_path / "x.json")])
+    assert res.exit_code != 0

@@ -32,9 +32,9 @@ split into the load-independent drag (bearings, seals) and two groove-flank pre-
 sites whose levels follow the flank ball loads, i.e. the sign and size of ``F_bn``; a flank
 that unloads loses its traction (see :class:`~frictionkit.plants.ballscrew.ElasticBallScrew`).
 Parameters from catalogue values fixed before the first run (preset: 10 % Ca preload,
-preload-drag law ``K = 0.05/sqrt(tan beta)``). Result (quick and full, 3 seeds, ±30 % on each
-assumed stiffness, and ±30 % on the preload and the flank coefficient): the same three
-findings fail, with numbers within 0.1 µm (errors) and 0.003 (``l_d/R``) of the sliding
+preload-drag law ``K = 0.05/sqrt(tan beta)``). Result (quick: 3 seeds, ±30 % on each
+assumed stiffness, ±30 % on the preload and on the flank coefficient; full: 3 seeds): the
+same three findings fail, with numbers within 0.1 µm (errors) and 0.003 (``l_d/R``) of the sliding
 model. Why: in these
 decelerations ``F_bn`` reverses ~17 ms (~150 µm) before zero speed (``C_t v`` and
 ``f_g`` vs ``M_t a``), both flanks stay loaded (``|F_bn| < 2P``) so the flank levels keep

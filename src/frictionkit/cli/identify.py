@@ -1,7 +1,9 @@
-"""``frictionkit identify ...``: static maps and rigid-body parameters from recorded files.
+"""``frictionkit identify ...``: static maps, rigid-body, dynamic (output-error) and GMS pre-sliding fits.
 
 Thin wrappers: parse options, load with :mod:`frictionkit.data`, call
-:func:`frictionkit.identify.fit_static_map` / :func:`~frictionkit.identify.fit_rigid_body`,
+:func:`frictionkit.identify.fit_static_map` / :func:`~frictionkit.identify.fit_rigid_body` /
+:func:`frictionkit.identify.output_error.fit_output_error` /
+:func:`frictionkit.identify.presliding.fit_presliding`,
 print a plain-text table and write JSON / PNG on request. Errors print one line on
 stderr and exit with status 1.
 """

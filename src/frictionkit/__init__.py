@@ -37,6 +37,8 @@ from .data import (
 from .identify import (
     IdentificationResult,
     RigidBody,
+    fit_output_error,
+    fit_presliding,
     fit_rigid_body,
     fit_static_map,
     fit_static_records,
@@ -67,6 +69,8 @@ __all__ = [
     "find_cycles",
     "find_plateaus",
     "find_reversals",
+    "fit_output_error",
+    "fit_presliding",
     "fit_rigid_body",
     "fit_static_map",
     "fit_static_records",

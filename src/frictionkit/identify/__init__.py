@@ -1,12 +1,23 @@
 """Identification of friction and rigid-body parameters from recordings."""
 
+from .emps_dynamic import emps_closed_loop, emps_compare, emps_stribeck_fit
+from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
+from .presliding import fit_presliding, piecewise_linear_fit
 from .result import IdentificationResult, parameter_statistics
 from .rigid_body import RigidBody, fit_rigid_body, rigid_body_regressors
 from .static_map import MODELS as STATIC_MODELS
 from .static_map import fit_static_map, fit_static_records, stribeck_model
 
 __all__ = [
+    "OUTPUT_ERROR_OPTIONS",
     "STATIC_MODELS",
+    "emps_closed_loop",
+    "emps_compare",
+    "emps_stribeck_fit",
+    "fit_output_error",
+    "fit_presliding",
+    "initial_guess_lugre",
+    "piecewise_linear_fit",
     "IdentificationResult",
     "RigidBody",
     "fit_rigid_body",

@@ -70,10 +70,12 @@ def parameter_statistics(values, cov, dof: int, *, level: float = 0.95) -> dict[
 
 # --------------------------------------------------------------------------- model (de)serialisation
 def _model_registry() -> dict[str, type]:
+    from ..models.gms import GMS
+    from ..models.lugre import Dahl, LuGre
     from ..models.static import CoulombViscous, Directional, Stribeck
     from .rigid_body import RigidBody
 
-    return {c.__name__: c for c in (Stribeck, CoulombViscous, Directional, RigidBody)}
+    return {c.__name__: c for c in (Stribeck, CoulombViscous, Directional, LuGre, Dahl, GMS, RigidBody)}
 
 
 def model_to_dict(model: Any) -> dict[str, Any] | None:

@@ -9,7 +9,8 @@ def plot_identification(result, ax=None):
     """Draw an :class:`~frictionkit.identify.IdentificationResult`.
 
     Static maps: averaged data points and the fitted steady-state curve for each
-    direction. Rigid body: measured and predicted force against time.
+    direction. Rigid body and pre-sliding: measured and predicted force against
+    time. Output error: measured and simulated velocity (or position) against time.
 
     Parameters
     ----------
@@ -59,7 +60,11 @@ def plot_identification(result, ax=None):
         ax.plot(t, d.get("y", []), "-", lw=0.8, color="C0", label="measured")
         ax.plot(t, d.get("y_pred", []), "-", lw=0.8, color="C1", label="predicted")
         ax.set_xlabel("time [s]")
-        ax.set_ylabel(f"force [{prov.get('units', {}).get('F', 'N')}]")
+        # output-error fits compare a velocity or a position; the others a force
+        compare = prov.get("procedure", {}).get("compare") if result.kind == "output_error" else None
+        quantity = {"v": "velocity", "x": "position"}.get(compare, "force")
+        unit = prov.get("units", {}).get(compare if compare in ("v", "x") else "F", "N")
+        ax.set_ylabel(f"{quantity} [{unit}]")
         ax.set_title(f"{result.model_name}: relative error {result.relative_error_percent:.3g} %")
     ax.legend(loc="best", fontsize="small")
     return ax

@@ -148,6 +148,8 @@ def section_emps(shared: Path) -> _Section | None:
         import matplotlib.pyplot as plt
 
         ax = res.plot()
+        ax.figure.set_size_inches(10, 4)
+        ax.figure.tight_layout()
         sec.figures.append(("emps_idim.png", _png(ax.figure)))
         plt.close(ax.figure)
     except Exception as exc:  # plotting must not hide the numbers
@@ -169,10 +171,11 @@ def section_screw(shared: Path) -> _Section | None:
     for drive in (1, 2, 3):
         recs = load_groups(path, group="source_file", time="t_s", velocity="motor_velocity_rad_per_s",
                            force="motor_torque_N_m", where={"drive_id": drive})
-        res = fit_static_records(recs)
+        res = fit_static_records(recs, units={"v": "rad/s", "F": "N·m"})  # motor side of the drives
         rows.append([str(drive), html.escape(res.summary()).replace("\n", "<br>")])
         ax = res.plot()
-        ax.set_title(f"drive {drive}")
+        ax.set_title(f"TRO2021 drive {drive}: motor torque against motor speed")
+        ax.figure.tight_layout()
         sec.figures.append((f"screw_drive_{drive}.png", _png(ax.figure)))
         plt.close(ax.figure)
     sec.table = rows

@@ -144,6 +144,21 @@ def section_emps(shared: Path) -> _Section | None:
                      f"{pub[key]:.4f}", f"{pub['std'][key]:.4f}"])
     rows.append(["relative error %", f"{res.relative_error_percent:.3f}", "", f"{pub['relative_error_percent_training']:.4f}", ""])
     sec.table = rows
+    # beyond the reference: richer friction in inverse dynamics and closed-loop simulation
+    from ..identify import emps_compare
+
+    rec_cl = load_csv(path, time="t_s", position="qm_m", force="vir_V", reference="qg_m", command="vir_V",
+                      scales={"force": const["gtau_N_per_V"]})
+    cmp_ = emps_compare(rec_cl)
+    labels = {"published": "published rigid body (Coulomb + viscous + offset)",
+              "asymmetric": "published asymmetric variant",
+              "stribeck": "frictionkit: per-direction Stribeck map, fitted with M by inverse dynamics"}
+    sec.text.append("Closed-loop simulation of the benchmark's controller on this record "
+                    "(published reference: velocity 0.229 %, force 5.85 %):")
+    sec.text.append(" · ".join(
+        f"{labels[k]}: velocity {v['velocity_error_percent']:.4f} %, force {v['force_error_percent']:.3f} %"
+        + (f", inverse-model {v['inverse_error_percent']:.3f} %" if "inverse_error_percent" in v else "")
+        for k, v in cmp_.items()))
     try:
         import matplotlib.pyplot as plt
 

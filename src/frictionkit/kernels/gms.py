@@ -83,13 +83,13 @@ def _is_directional(static, k, xi, C):
     return False
 
 
-@njit
+@njit(inline="always")
 def _interval(
-    x, v, F, stick, h_try, u0, u1, dt, m, static, k, xi, C, rtol, atol_v, atol_F, max_sub, sc, cc
+    x, v, F, stick, h_try, u0, u1, dt, m, static, k, xi, C, directional, rtol, atol_v, atol_F, max_sub, sc, cc
 ):
     """Advance one sample interval in place (``F``, ``stick``); returns ``(x, v, h_try, n, status)``.
 
-    ``sc`` is scratch of shape ``(3, M)``; ``cc`` (9,) caches the oscillator
+    ``sc`` is scratch of shape ``(3, M)`` (rows: first and second slip pass); ``cc`` (9,) caches the oscillator
     coefficients ``[K, c, h, E12, E22, q1, r1, q2, r2]`` across calls. Each sub-step solves the mass on the
     springs of the sticking elements exactly (``kernels._oscillator``), with the
     slipping elements' total force as an affine-in-time load: predicted from
@@ -98,13 +98,10 @@ def _interval(
     the error estimate.
     """
     M = F.size
-    Fa = sc[0]
-    Fb = sc[1]
     du = (u1 - u0) / dt
     t = 0.0
     n = 0
     h_ev = EVENT_TOL * dt
-    directional = _is_directional(static, k, xi, C)
     while t < dt:
         h = h_try
         rem = dt - t
@@ -168,9 +165,9 @@ def _interval(
                         tgt = xi[rb, i] * sb
                         val = tgt + (F[i] - tgt) * decay
                         if sweep == 0:
-                            Fa[i] = val
+                            sc[0, i] = val
                         else:
-                            Fb[i] = val
+                            sc[1, i] = val
                         P += val
                 f1 = (du - (P - P0) / h) * im
                 v_prev = vn
@@ -198,7 +195,7 @@ def _interval(
             Rh = 0.0
             for i in range(M):
                 if not stick[i]:
-                    Rh += C[r_n] * (xi[r_n, i] * svn_ - Fb[i] / g_n)
+                    Rh += C[r_n] * (xi[r_n, i] * svn_ - sc[1, i] / g_n)
             q = (h * h / 12.0) * abs(R0 - Rh) * im / (atol_v + rtol * abs(vn))
             if q > e:
                 e = q
@@ -207,7 +204,7 @@ def _interval(
                     t0_ = xi[r_0, i] * s_0
                     tn_ = xi[r_n, i] * s_n
                     trap = 0.5 * (t0_ + (F[i] - t0_) * d_0 + tn_ + (F[i] - tn_) * d_n)
-                    q = max(abs(Fb[i] - Fa[i]), abs(Fb[i] - trap)) / (atol_F + rtol * abs(Fb[i]))
+                    q = max(abs(sc[1, i] - sc[0, i]), abs(sc[1, i] - trap)) / (atol_F + rtol * abs(sc[1, i]))
                     if q > e:
                         e = q
         n += 1
@@ -248,7 +245,7 @@ def _interval(
             if stick[i]:
                 F[i] += k[row, i] * xi_n
             else:
-                F[i] = Fb[i]
+                F[i] = sc[1, i]
         x += xi_n
         v = vn
         t += h
@@ -276,6 +273,7 @@ def gms_force(
     st_ = stick0.copy()
     sc = np.empty((3, M))
     cc = np.full(9, -1.0)
+    directional = _is_directional(static, k, xi, C)
     xs = x0
     vs_ = v0
     h_try = dt
@@ -283,7 +281,7 @@ def gms_force(
     for kk in range(u.size):
         if kk > 0:
             xs, vs_, h_try, n, status = _interval(
-                xs, vs_, Fi, st_, h_try, u[kk - 1], u[kk], dt, m, static, k, xi, C,
+                xs, vs_, Fi, st_, h_try, u[kk - 1], u[kk], dt, m, static, k, xi, C, directional,
                 rtol, atol_v, atol_F, max_sub, sc, cc,
             )
             total += n
@@ -315,6 +313,7 @@ def gms_force_batch_sse(
         st_ = np.ones(M, dtype=np.bool_)
         sc = np.empty((3, M))
         cc = np.full(9, -1.0)
+        directional = _is_directional(static[j], k[j], xi[j], C[j])
         xs = 0.0
         vs_ = 0.0
         h_try = dt
@@ -322,7 +321,7 @@ def gms_force_batch_sse(
         status = OK
         for kk in range(1, u.size):
             xs, vs_, h_try, n, status = _interval(
-                xs, vs_, Fi, st_, h_try, u[kk - 1], u[kk], dt, m[j], static[j], k[j], xi[j], C[j],
+                xs, vs_, Fi, st_, h_try, u[kk - 1], u[kk], dt, m[j], static[j], k[j], xi[j], C[j], directional,
                 rtol, atol_v, atol_F, max_sub, sc, cc,
             )
             if status != OK:

@@ -76,7 +76,7 @@ def _point(v, z, static, dyn):
     )
 
 
-@njit
+@njit(inline="always")
 def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_x, atol_v, atol_z, max_sub):
     """Advance the force-driven state over one sample interval.
 

@@ -363,23 +363,31 @@ def simulate_batch(
     -----
     Accuracy and speed of ``method="fixed"``, measured on the 10 s stick–slip run
     (``inputs.stick_slip_force()``, 4 kHz, ``example_lugre()`` on 1 kg; stroke 0.22 m,
-    peak speed 0.39 m/s, Fs = 1.5 N), max errors over the run against the default
-    adaptive kernel (which is itself within 0.84 µm and 1e-4 N of a tight run):
+    peak speed 0.39 m/s, Fs = 1.5 N): max errors over the run against the default
+    adaptive kernel, which is itself within 0.84 µm and 1.1e-4 N of a tight
+    (rtol 1e-9) run; throughput for 1,000 such sets on 2 cores (benchmark batch,
+    best of 5, on a shared machine: wall / CPU-time equivalent of 2 dedicated cores):
 
-    ==========  ===========  ===========  ==========  =====================
-    sub-steps   max |Δx|     max |Δv|     max |ΔF|    sims/s, 1,000 sets,
-                                                      2 cores (CPU time)
-    ==========  ===========  ===========  ==========  =====================
-    1           15.5 µm      3.6e-5 m/s   1.8e-2 N    ~3,700
-    2 (default) 3.3 µm       8.9e-6 m/s   4.8e-3 N    ~2,000
-    4           1.4 µm       2.2e-6 m/s   1.2e-3 N    ~1,000
-    ==========  ===========  ===========  ==========  =====================
+    ==========  ========  ==========  ==========  =========================
+    sub-steps   max |Δx|  max |Δv|    max |ΔF|    simulations/s
+    ==========  ========  ==========  ==========  =========================
+    1           15.5 µm   3.6e-5 m/s  1.8e-2 N    1,170 wall / 3,000–3,800
+    2 (default) 3.3 µm    8.9e-6 m/s  4.8e-3 N    580 wall / 1,550–2,070
+    4           1.4 µm    2.2e-6 m/s  1.2e-3 N    350 wall / 840–1,030
+    adaptive    —         —           —           80 wall / 250
+    ==========  ========  ==========  ==========  =========================
 
-    (the adaptive method: ~100–300 sims/s on the same workload). The error is
-    second order in the sub-step (÷4 per doubling). Use ``"fixed"`` for screening
-    and sweeps; the default stays ``"adaptive"`` because identification mixes
-    batch costs with :func:`simulate` residuals, and a 0.3 % force bias between
-    the two would stall it. ``benchmarks/simulate.py`` reprints these numbers.
+    The error is second order in the sub-step (÷4 per doubling; 4 sub-steps are
+    as close to the tight run in x as the default adaptive tolerances). Why 2 by
+    default: screening those 1,000 sets (sigma0 5e4–2e5, sigma1 20–100) against a
+    noisy velocity trace, 2 sub-steps rank them like the adaptive method (Spearman
+    0.99997, same best set, 9 of the top 10; SSEs within 0.8 % median), 1 sub-step
+    does not (a different best set, 7 of the top 10; 3.5 %) — use
+    ``batch_substeps=1`` only when speed matters more. Use ``"fixed"`` for
+    screening and parameter sweeps. The default stays
+    ``"adaptive"``: identification (``fit_output_error``) mixes batch costs with
+    :func:`simulate` residuals, and a 0.3 % force bias between the two would
+    steer it; ``benchmarks/simulate.py`` reprints these numbers.
 
     Memory is O(P + N): no traces are kept, so 10,000 runs fit easily.
     """

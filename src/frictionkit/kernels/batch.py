@@ -160,16 +160,31 @@ def _lane_point(B, i, general, sym):
     """Point evaluation at lane ``i``'s state (``lugre._point``); stores zd, F and the Jacobian entries."""
     v = B[_V * CHUNK + i]
     z = B[_Z * CHUNK + i]
-    pos = v >= 0.0
-    Fc = B[_FCP * CHUNK + i] if (sym or pos) else B[_FCN * CHUNK + i]
-    dF = B[_DFP * CHUNK + i] if (sym or pos) else B[_DFN * CHUNK + i]
-    Fs = B[_FSP * CHUNK + i] if (sym or pos) else B[_FSN * CHUNK + i]
-    ivs = B[_IVSP * CHUNK + i] if (sym or pos) else B[_IVSN * CHUNK + i]
-    s2 = B[_S2P * CHUNK + i] if (sym or pos) else B[_S2N * CHUNK + i]
-    s0 = B[_S0P * CHUNK + i] if (sym or pos) else B[_S0N * CHUNK + i]
-    s1 = B[_S1P * CHUNK + i] if (sym or pos) else B[_S1N * CHUNK + i]
-    dl = (B[_DLP * CHUNK + i] if (sym or pos) else B[_DLN * CHUNK + i]) if general else 2.0
-    sh = (B[_SHP * CHUNK + i] if (sym or pos) else B[_SHN * CHUNK + i]) if general else 0.0
+    # both rows loaded unconditionally, then a select (a conditional load would not vectorise)
+    up = sym or v >= 0.0
+    Fc = B[_FCP * CHUNK + i]
+    Fc_n = B[_FCN * CHUNK + i]
+    Fc = Fc if up else Fc_n
+    dF = B[_DFP * CHUNK + i]
+    dF_n = B[_DFN * CHUNK + i]
+    dF = dF if up else dF_n
+    Fs = B[_FSP * CHUNK + i]
+    Fs_n = B[_FSN * CHUNK + i]
+    Fs = Fs if up else Fs_n
+    ivs = B[_IVSP * CHUNK + i]
+    ivs_n = B[_IVSN * CHUNK + i]
+    ivs = ivs if up else ivs_n
+    s2 = B[_S2P * CHUNK + i]
+    s2_n = B[_S2N * CHUNK + i]
+    s2 = s2 if up else s2_n
+    s0 = B[_S0P * CHUNK + i]
+    s0_n = B[_S0N * CHUNK + i]
+    s0 = s0 if up else s0_n
+    s1 = B[_S1P * CHUNK + i]
+    s1_n = B[_S1N * CHUNK + i]
+    s1 = s1 if up else s1_n
+    dl = (B[_DLP * CHUNK + i] if up else B[_DLN * CHUNK + i]) if general else 2.0
+    sh = (B[_SHP * CHUNK + i] if up else B[_SHN * CHUNK + i]) if general else 0.0
     av = abs(v)
     r = av * ivs
     ph, dph, rd = _phi(r, dl, sh, general)
@@ -177,12 +192,15 @@ def _lane_point(B, i, general, sym):
     gr = dF * dph * ivs
     flat = r == 0.0
     cut = (rd > UNDERFLOW) & (sh == 0.0)
-    g = Fs if flat else (Fc if cut else g)
+    # two-way selects in sequence (a three-way merge is left as branches)
+    g = Fc if cut else g
+    g = Fs if flat else g
     gr = 0.0 if (flat | cut) else gr
     ig = 1.0 / g
     a = s0 * av * ig
     zd = v - a * z
-    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+    sg = -1.0 if v < 0.0 else 0.0
+    sg = 1.0 if v > 0.0 else sg
     dzv = 1.0 - s0 * z * sg * ig * (1.0 - av * gr * ig)
     B[_ZD * CHUNK + i] = zd
     B[_F * CHUNK + i] = s0 * z + s1 * zd + s2 * v
@@ -217,22 +235,37 @@ def _lane_step(B, i, h, gh, w, du, general, sym):
     v2 = v + h * k1v
     z2 = z + h * k1z
     # stage 2: friction at (v2, z2) (lugre._force)
-    pos = v2 >= 0.0
-    Fc = B[_FCP * CHUNK + i] if (sym or pos) else B[_FCN * CHUNK + i]
-    dF = B[_DFP * CHUNK + i] if (sym or pos) else B[_DFN * CHUNK + i]
-    Fs = B[_FSP * CHUNK + i] if (sym or pos) else B[_FSN * CHUNK + i]
-    ivs = B[_IVSP * CHUNK + i] if (sym or pos) else B[_IVSN * CHUNK + i]
-    s2 = B[_S2P * CHUNK + i] if (sym or pos) else B[_S2N * CHUNK + i]
-    s0 = B[_S0P * CHUNK + i] if (sym or pos) else B[_S0N * CHUNK + i]
-    s1 = B[_S1P * CHUNK + i] if (sym or pos) else B[_S1N * CHUNK + i]
-    dl = (B[_DLP * CHUNK + i] if (sym or pos) else B[_DLN * CHUNK + i]) if general else 2.0
-    sh = (B[_SHP * CHUNK + i] if (sym or pos) else B[_SHN * CHUNK + i]) if general else 0.0
+    up = sym or v2 >= 0.0
+    Fc = B[_FCP * CHUNK + i]
+    Fc_n = B[_FCN * CHUNK + i]
+    Fc = Fc if up else Fc_n
+    dF = B[_DFP * CHUNK + i]
+    dF_n = B[_DFN * CHUNK + i]
+    dF = dF if up else dF_n
+    Fs = B[_FSP * CHUNK + i]
+    Fs_n = B[_FSN * CHUNK + i]
+    Fs = Fs if up else Fs_n
+    ivs = B[_IVSP * CHUNK + i]
+    ivs_n = B[_IVSN * CHUNK + i]
+    ivs = ivs if up else ivs_n
+    s2 = B[_S2P * CHUNK + i]
+    s2_n = B[_S2N * CHUNK + i]
+    s2 = s2 if up else s2_n
+    s0 = B[_S0P * CHUNK + i]
+    s0_n = B[_S0N * CHUNK + i]
+    s0 = s0 if up else s0_n
+    s1 = B[_S1P * CHUNK + i]
+    s1_n = B[_S1N * CHUNK + i]
+    s1 = s1 if up else s1_n
+    dl = (B[_DLP * CHUNK + i] if up else B[_DLN * CHUNK + i]) if general else 2.0
+    sh = (B[_SHP * CHUNK + i] if up else B[_SHN * CHUNK + i]) if general else 0.0
     av = abs(v2)
     r = av * ivs
     ph, dph, rd = _phi(r, dl, sh, general)
     g = Fc + dF * ph
     expo = sh == 0.0
-    g = Fs if ((r == 0.0) & expo) else (Fc if ((rd > UNDERFLOW) & expo) else g)
+    g = Fc if ((rd > UNDERFLOW) & expo) else g
+    g = Fs if ((r == 0.0) & expo) else g
     zd2 = v2 - s0 * av * z2 / g
     F2 = s0 * z2 + s1 * zd2 + s2 * v2
     r_z = zd2 - 2.0 * k1z

@@ -365,17 +365,21 @@ def simulate_batch(
     (``inputs.stick_slip_force()``, 4 kHz, ``example_lugre()`` on 1 kg; stroke 0.22 m,
     peak speed 0.39 m/s, Fs = 1.5 N): max errors over the run against the default
     adaptive kernel, which is itself within 0.84 µm and 1.1e-4 N of a tight
-    (rtol 1e-9) run; throughput for 1,000 such sets on 2 cores (benchmark batch,
-    best of 5, on a shared machine: wall / CPU-time equivalent of 2 dedicated cores):
+    (rtol 1e-9) run; throughput for 1,000 such sets on 2 cores (``benchmarks/simulate.py``,
+    best of 5 on a machine shared with other jobs, so given as the CPU-time
+    equivalent of 2 dedicated cores, range over several runs):
 
-    ==========  ========  ==========  ==========  =========================
+    ==========  ========  ==========  ==========  ===============
     sub-steps   max |Δx|  max |Δv|    max |ΔF|    simulations/s
-    ==========  ========  ==========  ==========  =========================
-    1           15.5 µm   3.6e-5 m/s  1.8e-2 N    1,170 wall / 3,000–3,800
-    2 (default) 3.3 µm    8.9e-6 m/s  4.8e-3 N    580 wall / 1,550–2,070
-    4           1.4 µm    2.2e-6 m/s  1.2e-3 N    350 wall / 840–1,030
-    adaptive    —         —           —           80 wall / 250
-    ==========  ========  ==========  ==========  =========================
+    ==========  ========  ==========  ==========  ===============
+    1           15.5 µm   3.6e-5 m/s  1.8e-2 N    3,000–3,800
+    2 (default) 3.3 µm    8.9e-6 m/s  4.8e-3 N    1,550–2,070
+    4           1.4 µm    2.2e-6 m/s  1.2e-3 N    840–1,030
+    adaptive    —         —           —           250–390
+    ==========  ========  ==========  ==========  ===============
+
+    Directional sets run as fast; sets with ``delta != 2`` or the Lorentzian
+    shape take a scalar fallback (``pow``), ~300 /s at 1 sub-step.
 
     The error is second order in the sub-step (÷4 per doubling; 4 sub-steps are
     as close to the tight run in x as the default adaptive tolerances). Why 2 by

@@ -123,15 +123,13 @@ def test_equals_scalar_twin(run, n_sub, compare):
 
 
 def test_directional_fast_path_equals_twin(run):
-    """A chunk of only directional delta-2 sets takes MODE_DIR (vectorised selects)."""
+    """Directional and symmetric delta-2 sets mixed in one chunk take MODE_DIR (vectorised selects)."""
     rng = np.random.default_rng(3)
-    models = [
-        fk.Directional(
-            positive=fk.LuGre(_law(Fs=rng.uniform(1.2, 1.8)), sigma0=rng.uniform(5e4, 2e5), sigma1=rng.uniform(20, 100)),
-            negative=fk.LuGre(_law(Fc=0.8, Fs=1.3, vs=2e-3), sigma0=rng.uniform(5e4, 2e5), sigma1=rng.uniform(20, 100)),
-        )
-        for _ in range(9)
-    ]
+    models = []
+    for j in range(9):
+        pos = fk.LuGre(_law(Fs=rng.uniform(1.2, 1.8)), sigma0=rng.uniform(5e4, 2e5), sigma1=rng.uniform(20, 100))
+        neg = fk.LuGre(_law(Fc=0.8, Fs=1.3, vs=2e-3), sigma0=rng.uniform(5e4, 2e5), sigma1=rng.uniform(20, 100))
+        models.append(pos if j % 3 == 0 else fk.Directional(positive=pos, negative=neg))
     static, dyn = _pack(models)
     assert kb.chunk_modes(static, dyn).tolist() == [kb.MODE_DIR]
     m = np.ones(9)

@@ -221,12 +221,25 @@ def _interval(
         # --- switching surfaces crossed inside this trial step?
         theta = 2.0
         reversed_ = (v > 0.0 and vn <= 0.0) or (v < 0.0 and vn >= 0.0)
-        if reversed_ and (any_slip or directional) and v != 0.0:
-            theta = v / (v - vn)
+        if reversed_ and v != 0.0:
+            th_r = v / (v - vn)
+            if th_r * h > h_ev:
+                # A sticking element's force peaks where v = 0 (the displacement
+                # extremum), so a breakaway can fall between the step's ends and go
+                # unseen (grazing). If one could be within reach, first land just
+                # *before* the reversal, where the breakaway test below applies in the
+                # old direction; the next sub-step then crosses v = 0.
+                reach = abs(v) * h
+                for i in range(M):
+                    if stick[i] and xi[row, i] * g0 - sv * F[i] <= k[row, i] * reach:
+                        theta = th_r - h_ev / h
+                        break
+            if theta > 1.0 and (any_slip or directional):
+                theta = th_r
         rown = 0 if vn >= 0.0 else 1
         gn = g_only(static, rown, abs(vn))
         svn = _sgn(vn)
-        if vn != 0.0:
+        if vn != 0.0 and not reversed_:
             for i in range(M):
                 if stick[i]:
                     Fe = F[i] + k[row, i] * xi_n
@@ -237,8 +250,8 @@ def _interval(
                         if th < theta:
                             theta = th
         if theta < 1.0 and (1.0 - theta) * h > h_ev:
-            # land just past the first crossing and try again
-            h_try = theta * h + 0.5 * h_ev
+            # land just past the first crossing (just before a reversal) and try again
+            h_try = max(theta * h + 0.5 * h_ev, 0.5 * h_ev)
             continue
         # accept
         for i in range(M):

@@ -160,6 +160,13 @@ def _initial_states(kind: str, pk, state0):
     return F0, np.ones(M, dtype=np.bool_)
 
 
+def _gms_buffers(pk, state0, N: int):
+    """Initial GMS element forces and stick flags, and the (N, M) output arrays."""
+    F0, stick0 = _initial_states("gms", pk, state0)
+    M = F0.size
+    return F0, stick0, np.empty((N, M)), np.empty((N, M), dtype=np.bool_)
+
+
 def _finish(t, x, v, F, states, status, at, substeps, model) -> SimulationResult:
     failed = None
     if status != 0:
@@ -257,10 +264,7 @@ def simulate(
             )
             states = {"z": z}
         else:
-            F0, stick0 = _initial_states(kind, pk, state0)
-            M = F0.size
-            Fel = np.empty((N, M))
-            stick = np.empty((N, M), dtype=np.bool_)
+            F0, stick0, Fel, stick = _gms_buffers(pk, state0, N)
             st, at, nsub = _gms.gms_force(
                 u, dt, plant.m, pk.static, pk.k, pk.xi, pk.C, x0, v0, F0, stick0,
                 options.rtol, _atol_v(options, F_scale, float(pk.k.sum(axis=1).max()), plant.m),
@@ -286,10 +290,7 @@ def simulate(
         _lugre.lugre_motion(xpos, dt, pk.static, pk.dyn, _initial_states(kind, pk, state0), v, F, z)
         states = {"z": z}
     else:
-        F0, stick0 = _initial_states(kind, pk, state0)
-        M = F0.size
-        Fel = np.empty((N, M))
-        stick = np.empty((N, M), dtype=np.bool_)
+        F0, stick0, Fel, stick = _gms_buffers(pk, state0, N)
         _gms.gms_motion(xpos, dt, pk.static, pk.k, pk.xi, pk.C, F0, stick0, v, F, Fel, stick)
         states = {"F_elements": Fel, "stick": stick}
     if not (np.isfinite(F).all()):

@@ -119,13 +119,20 @@ def test_per_direction_static_gives_directional(record):
 
 
 def test_gms_stiffness_round_trip():
+    """GMS element stiffnesses from the velocity of a stick-slip run (with noise).
+
+    Fitted to the *position* of this record (10 nm counts) the cost surface is rugged:
+    whether a sticking element grazes its breakaway force at a ringing peak after a
+    stop is a discontinuous function of k, and trf stalls 29 % off in sum k. The
+    velocity carries the same information without the accumulated offsets.
+    """
     gms = fk.GMS(LAW, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
     t = np.arange(4001) * DT
     u = 2.0 * np.sin(np.pi * t)
     sim = fk.simulate(gms, plant=fk.Mass(1.0), force=u, dt=DT)
-    x = np.round(sim.x / 1e-8) * 1e-8
+    v = sim.v + 1e-6 * np.random.default_rng(5).standard_normal(t.size)
     start = fk.GMS(LAW, k=[1.4e4, 0.7e5, 1.3e6], xi=[0.5, 0.3, 0.2], C=20.0)
-    res = fit_output_error({"t": t, "F": u, "x": x}, start, plant_mass=1.0, compare="x", free=("k",))
+    res = fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, compare="v", free=("k",))
     assert res.names == ("k1", "k2", "k3")
     assert abs(res.model.presliding_stiffness / 1.11e6 - 1) < 0.10
     assert abs(res["k1"] / 1e4 - 1) < 0.10

@@ -137,7 +137,7 @@ def main() -> None:
         nf = (N - 1) * n + 1
         uf = np.interp(np.arange(nf) / n, np.arange(N), u)
         x, v, F, z = (np.empty(nf) for _ in range(4))
-        lugre_force(uf, DT / n, 1.0, pk.static, pk.dyn, 0.0, 0.0, 0.0, 1e300, 1e300, 1e300, 1e300, 10, x, v, F, z)
+        lugre_force(uf, DT / n, 1.0, pk.static, pk.dyn, 0.0, 0.0, 0.0, 1e300, 1e300, 1e300, 10, x, v, F, z)
         return x[::n], v[::n], F[::n]
 
     def maxerr(a, b):

@@ -74,7 +74,7 @@ def _twin(u, m, static, dyn, n_sub, target, which, weight):
     P = m.size
     sse = np.empty(P)
     st = np.empty(P, dtype=np.int64)
-    kl.lugre_force_batch_sse(uf, DT / n_sub, m, static, dyn, LOOSE, LOOSE, LOOSE, LOOSE, 10, tf, which, wf, sse, st)
+    kl.lugre_force_batch_sse(uf, DT / n_sub, m, static, dyn, LOOSE, LOOSE, LOOSE, 10, tf, which, wf, sse, st)
     return sse, st
 
 

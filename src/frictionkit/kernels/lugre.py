@@ -77,7 +77,7 @@ def _point(v, z, static, dyn):
 
 
 @njit(inline="always")
-def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_x, atol_v, atol_z, max_sub):
+def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_v, atol_z, max_sub):
     """Advance the force-driven state over one sample interval.
 
     Returns ``(x, v, z, F, h_try, n_substeps, status)`` with ``F`` the friction
@@ -135,9 +135,6 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_x, atol_v, 
         q = abs(ez) / (atol_z + rtol * abs(zn))
         if q > e:
             e = q
-        q = abs(0.5 * h * (k1x + k2x) + gh * (ev - e1)) / atol_x
-        if q > e:
-            e = q
         if e <= 1.0 or h <= 1e-7 * dt:
             x = xn
             v = vn
@@ -153,7 +150,7 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_x, atol_v, 
 
 
 @njit
-def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_x, atol_v, atol_z, max_sub, x, v, F, z):
+def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z):
     """Force-driven run over all samples; fills ``x, v, F, z``. Returns ``(status, k, substeps)``."""
     xs, vs_, zs = x0, v0, z0
     x[0] = xs
@@ -164,7 +161,7 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_x, atol_v, atol_z,
     total = 0
     for k in range(u.size - 1):
         xs, vs_, zs, Fs_, h_try, n, st = _interval(
-            xs, vs_, zs, h_try, u[k], u[k + 1], dt, m, static, dyn, rtol, atol_x, atol_v, atol_z, max_sub
+            xs, vs_, zs, h_try, u[k], u[k + 1], dt, m, static, dyn, rtol, atol_v, atol_z, max_sub
         )
         total += n
         x[k + 1] = xs
@@ -178,7 +175,7 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_x, atol_v, atol_z,
 
 @njit(parallel=True)
 def lugre_force_batch_sse(
-    u, dt, m, static, dyn, rtol, atol_x, atol_v, atol_z, max_sub, target, which, weight, out_sse, out_status
+    u, dt, m, static, dyn, rtol, atol_v, atol_z, max_sub, target, which, weight, out_sse, out_status
 ):
     """Simulate P parameter sets on one input; return only the weighted squared error.
 
@@ -196,7 +193,7 @@ def lugre_force_batch_sse(
         for k in range(u.size - 1):
             xs, vs_, zs, Fe, h_try, n, st = _interval(
                 xs, vs_, zs, h_try, u[k], u[k + 1], dt, m[j], static[j], dyn[j],
-                rtol, atol_x, atol_v, atol_z, max_sub,
+                rtol, atol_v, atol_z, max_sub,
             )
             if st != OK:
                 break

@@ -259,7 +259,7 @@ def simulate(
             sigma0 = float(pk.dyn[:, 0].max())
             st, at, nsub = _lugre.lugre_force(
                 u, dt, plant.m, pk.static, pk.dyn, x0, v0, z0,
-                options.rtol, math.inf, _atol_v(options, F_scale, sigma0, plant.m), options.atol_F * F_scale / sigma0,
+                options.rtol, _atol_v(options, F_scale, sigma0, plant.m), options.atol_F * F_scale / sigma0,
                 int(options.max_substeps), x, v, F, z,
             )
             states = {"z": z}
@@ -442,7 +442,7 @@ def simulate_batch(
         atol_z = options.atol_F * F_scale / float(dyn[:, :, 0].max())
         atol_v = _atol_v(options, F_scale, float(dyn[:, :, 0].max()), float(m.min()))
         _lugre.lugre_force_batch_sse(
-            u, dt, m, static, dyn, options.rtol, math.inf, atol_v, atol_z,
+            u, dt, m, static, dyn, options.rtol, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status,
         )
     else:

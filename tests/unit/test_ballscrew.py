@@ -82,7 +82,7 @@ def _open_loop(plant, current, T=0.5e-3, nsub=10):
     fric = np.zeros((ch.Fc.size, N))
     X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
     z = np.zeros(N)
-    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), F, X,
+    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), ch.hertz_array(), F, X,
                               np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
                               np.zeros(2 * n), z, current, z, z, z, ctrl, *outs, fric)
     return status, outs[0], outs[1]
@@ -183,3 +183,11 @@ def test_current_limit_respected():
     ctrl = dataclasses.replace(paper_controller(), i_max=5.0)
     res = simulate_closed_loop(paper_plant(), ctrl, cosine_reference(duration=0.3))
     assert np.abs(res.i).max() <= 5.0 + 1e-12
+
+
+def test_linear_chain_without_contact_row_lifts_with_zero_deflection_row():
+    ch = paper_plant().linear_chain()
+    nf = ch.C.shape[0]
+    _, _, CvP, _ = ch.lifted(0.5e-3, 2)
+    assert CvP.shape[1] == nf + 2 and not CvP[:, nf + 1].any()
+    assert ch.n_friction == nf and ch.hertz_array()[0] == -1.0

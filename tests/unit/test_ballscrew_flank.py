@@ -76,7 +76,7 @@ def _open_loop(plant, current, T=0.5e-3, nsub=10):
     X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
     z = np.zeros(N)
     c_frc = np.concatenate((ch.drive_force_q, ch.drive_force_v))
-    status, _ = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), F, X,
+    status, _ = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), ch.hertz_array(), F, X,
                               np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
                               c_frc, z, current, z, z, z, ctrl, *outs, fric)
     return status, outs[0], outs[5], fric

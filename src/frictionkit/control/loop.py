@@ -118,8 +118,10 @@ class ClosedLoopResult:
     """Time series of one closed-loop run (SI). ``status`` 0 = ok; else ``message`` says why.
 
     Attributes: ``t``, ``r`` (reference), ``x_t`` / ``theta_m`` (true), ``x_t_meas`` /
-    ``theta_m_meas`` (sensors), ``i`` (current), ``drive_force`` (``F_bn``),
-    ``friction`` (sites x samples) [N], ``u_f`` (compensation torque) [N·m].
+    ``theta_m_meas`` (sensors), ``i`` (current), ``drive_force`` (``F_bn``, with the
+    Hertz contact's nonlinear part for nut model ``"hertz"``),
+    ``friction`` (friction sites x samples; the Hertz contact correction is not one) [N],
+    ``u_f`` (compensation torque) [N·m].
     """
 
     t: np.ndarray
@@ -154,6 +156,12 @@ def _flank_arrays(chain):
         return chain.flank_arrays()
     z = np.zeros(chain.Fc.size)
     return z, z, z, z
+
+
+def _hertz_array(chain):
+    if hasattr(chain, "hertz_array"):
+        return chain.hertz_array()
+    return np.array([-1.0, 0.0, 0.0, 0.0])
 
 
 def simulate_closed_loop(plant, controller: TwoDofController, reference: Reference, *,
@@ -215,7 +223,7 @@ def simulate_closed_loop(plant, controller: TwoDofController, reference: Referen
     fric = np.full((chain.Fc.size, N), np.nan)
     status, k_end = _k.closed_loop(
         PhiN, GN, CvP, CvG, h, chain.Fc.astype(float), chain.sigma0.astype(float),
-        *(np.ascontiguousarray(a, dtype=float) for a in _flank_arrays(chain)), F, X,
+        *(np.ascontiguousarray(a, dtype=float) for a in _flank_arrays(chain)), _hertz_array(chain), F, X,
         c_mot, c_tab, c_frc, theta_d, u_ff, uf / K_tau, noise_enc, noise_scale,
         controller.ctrl_vector(sensors),
         out["xt"], out["thm"], out["xtm"], out["thmm"], out["i"], out["fbn"], fric)
@@ -227,5 +235,6 @@ def simulate_closed_loop(plant, controller: TwoDofController, reference: Referen
             raise SimulationError(message)
     return ClosedLoopResult(t=reference.t, r=reference.x, x_t=out["xt"], theta_m=out["thm"],
                             x_t_meas=out["xtm"], theta_m_meas=out["thmm"], i=out["i"],
-                            drive_force=out["fbn"], friction=fric, u_f=uf, status=int(status),
+                            drive_force=out["fbn"], friction=fric[:getattr(chain, "n_friction", chain.Fc.size)],
+                            u_f=uf, status=int(status),
                             message=message)

@@ -25,6 +25,15 @@ contacts lose their tangential traction); when it rises the state is kept (new c
 carries no traction yet). The Dahl update then uses the fixed rate ``fl_lam[j] = ln 20 / x_s``
 (``sigma0 / Fc`` does not depend on the level).
 
+Hertzian contact (``hz = [site, c, d0, k]`` with ``site >= 0``, nut model ``"hertz"``): the
+chain holds the contact's linear part ``k d``; site ``site`` (velocity row = the contact row,
+so its force acts along the contact) carries the correction
+``G(d) = c (d0 + d)_+^1.5 - c (d0 - d)_+^1.5 - k d``, held over each sub-step at the
+predicted mid-sub-step deflection ``d + h d' / 2`` (``d`` from the last lifted row, ``d'`` from
+the site's velocity row, both at the start of the sub-step). The flank sites then take their
+ball loads from the Hertz law, ``N_j = c (d0 + s d)_+^1.5`` at the start of the sub-step,
+instead of the linearised split. The drive-force output adds ``G(d)`` to the linear row.
+
 Status codes: 0 ok, 1 non-finite state (run stopped at ``k_end``).
 """
 
@@ -52,7 +61,17 @@ def _quantise(x, q):
 
 
 @njit
-def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F, X,
+def _hertz(d, c, d0):
+    """Net Hertz force of two preloaded sets at deflection ``d``: ``c (d0+d)_+^1.5 - c (d0-d)_+^1.5``."""
+    a = d0 + d
+    b = d0 - d
+    fa = c * a * math.sqrt(a) if a > 0.0 else 0.0
+    fb = c * b * math.sqrt(b) if b > 0.0 else 0.0
+    return fa - fb
+
+
+@njit
+def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, hz, F, X,
                 c_mot, c_tab, c_frc,
                 theta_d, u_ff, u_f, noise_enc, noise_scale, ctrl,
                 out_xt, out_thm, out_xt_meas, out_thm_meas, out_i, out_fbn, out_fric):
@@ -89,6 +108,11 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F
         if fl_sign[j] != 0.0:
             has_flank = True
             lev_prev[j] = fl_mu[j] * fl_P[j]
+    hz_j = int(hz[0]) if hz[0] >= 0.0 else -1
+    hz_c = hz[1]
+    hz_d0 = hz[2]
+    hz_k = hz[3]
+    rd = nf + 1  # lifted row of the contact deflection
 
     integ = 0.0
     dterm = 0.0
@@ -109,6 +133,11 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F
             fbn += c_frc[a] * X[a]
         thm_m = _quantise(thm + noise_enc[k], qenc)
         xt_m = _quantise(xt + noise_scale[k], qscale)
+        if hz_j >= 0:
+            d = 0.0
+            for a in range(n2):
+                d += CvP[0, rd, a] * X[a]
+            fbn += _hertz(d, hz_c, hz_d0) - hz_k * d
         out_xt[k] = xt
         out_thm[k] = thm
         out_xt_meas[k] = xt_m
@@ -159,7 +188,19 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F
         for s in range(n_sub):
             W[s, 0] = i_cmd
             fb = 0.0
-            if has_flank:  # drive force through the nut at the start of the sub-step
+            dc = 0.0
+            if hz_j >= 0:  # contact deflection and its rate at the start of the sub-step
+                dv = 0.0
+                for a in range(n2):
+                    dc += CvP[s, rd, a] * X[a]
+                    dv += CvP[s, hz_j, a] * X[a]
+                for r in range(s):
+                    for b in range(nw):
+                        dc += CvG[s, r, rd, b] * W[r, b]
+                        dv += CvG[s, r, hz_j, b] * W[r, b]
+                dm = dc + 0.5 * h * dv
+                F[hz_j] = _hertz(dm, hz_c, hz_d0) - hz_k * dm
+            elif has_flank:  # drive force through the nut at the start of the sub-step
                 for a in range(n2):
                     fb += CvP[s, nf, a] * X[a]
                 for r in range(s):
@@ -167,12 +208,16 @@ def closed_loop(PhiN, GN, CvP, CvG, h, Fc, sig0, fl_sign, fl_mu, fl_P, fl_lam, F
                         fb += CvG[s, r, nf, b] * W[r, b]
             for j in range(nf):
                 if fl_sign[j] != 0.0:
-                    sf = fl_sign[j] * fb
-                    load = fl_P[j] + 0.5 * sf
-                    if sf > load:
-                        load = sf
-                    if load < 0.0:
-                        load = 0.0
+                    if hz_j >= 0:  # Hertz ball load of this flank set
+                        a1 = hz_d0 + fl_sign[j] * dc
+                        load = hz_c * a1 * math.sqrt(a1) if a1 > 0.0 else 0.0
+                    else:  # linearised equal-stiffness split of F_bn
+                        sf = fl_sign[j] * fb
+                        load = fl_P[j] + 0.5 * sf
+                        if sf > load:
+                            load = sf
+                        if load < 0.0:
+                            load = 0.0
                     lev = fl_mu[j] * load
                     if lev < lev_prev[j]:
                         F[j] = F[j] * (lev / lev_prev[j]) if lev_prev[j] > 0.0 else 0.0

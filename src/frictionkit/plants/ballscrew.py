@@ -44,6 +44,24 @@ to ``F_bn`` reversing, before zero speed in a fast deceleration — and not only
 rolling displacement. The load-independent rest ``nut_friction - 2 mu_f P`` (support
 bearings, seals, recirculation) stays an ordinary Dahl site. The contact stiffness stays the
 linear ``k_nut`` (valid while both flanks are loaded, i.e. ``|F_bn| < 2P``).
+
+``"hertz"`` — the ``"flank"`` friction sites on a *nonlinear* ball contact. Each flank set
+is a Hertz point-contact law ``F = c delta^1.5`` (``delta >= 0``; zero when unloaded),
+both pressed by the preload ``P = nut_preload`` at the preload deflection ``d0``. The net
+drive force through the balls is
+``F_bn(d) = c (d0 + d)_+^1.5 - c (d0 - d)_+^1.5`` with ``d = R theta_s + x_m - x_t``
+(the contact deflection). ``c`` and ``d0`` follow from two conditions: ``c d0^1.5 = P``
+and the net stiffness at zero external load ``dF_bn/dd(0) = 3 c d0^0.5 = k_nut`` (each set
+``dF/ddelta = k_nut / 2`` at the preload; the catalogue ``k_nut`` is the axial stiffness of
+the preloaded nut, both sets in parallel), so ``d0 = 3 P / k_nut`` and ``c = P / d0^1.5``.
+Beyond ``|F_bn| = 2^1.5 P`` one set unloads: the stiffness drops from ``k_nut`` to that of
+one set and the lost preload deflection appears as lost motion at the flank change.
+The flank friction levels are ``mu_f`` times the Hertz loads ``c (d0 +- d)_+^1.5`` (instead
+of the linearised split). In the chain the contact keeps its linear part ``k_nut d`` (and its
+Rayleigh damping ``beta k_nut d'``); the rest ``F_bn(d) - k_nut d`` is a nonlinear
+generalised force along the contact row, held over each plant sub-step like the friction
+forces (evaluated at the predicted mid-sub-step deflection, see
+:mod:`frictionkit.kernels.ballscrew`).
 """
 
 from __future__ import annotations
@@ -61,7 +79,7 @@ from ..errors import ParameterError
 DAHL_SPAN = math.log(20.0)
 
 #: Nut friction models of :class:`ElasticBallScrew` (see the module docstring).
-NUT_MODELS = ("sliding", "flank")
+NUT_MODELS = ("sliding", "flank", "hertz")
 
 
 @dataclass(frozen=True)
@@ -93,6 +111,15 @@ class LinearChain:
         Default: no flank sites.
     presliding_length : float
         Dahl transition length of the flank sites [m] (unused without them).
+    contact_q : ndarray (n,), optional
+        Nut model ``"hertz"``: the contact-deflection row ``d = contact_q @ q`` [m].
+    contact_site : int
+        Index of the site that carries the nonlinear contact correction
+        ``F_bn(d) - k_nut d`` (its ``C`` row is ``contact_q``: it acts along the contact);
+        -1 without. It is the last site and not a friction site.
+    hertz_c, hertz_d0, hertz_k : float
+        Hertz constant ``c`` [N/m^1.5], preload deflection ``d0`` [m] and the linear
+        stiffness ``k_nut`` kept in ``K`` [N/m] (nut model ``"hertz"``; unused otherwise).
     """
 
     M: np.ndarray
@@ -111,6 +138,20 @@ class LinearChain:
     flank_mu: np.ndarray | None = None
     flank_preload: np.ndarray | None = None
     presliding_length: float = 10e-6
+    contact_q: np.ndarray | None = None
+    contact_site: int = -1
+    hertz_c: float = 0.0
+    hertz_d0: float = 0.0
+    hertz_k: float = 0.0
+
+    @property
+    def n_friction(self) -> int:
+        """Number of friction sites (all sites but the contact correction)."""
+        return self.C.shape[0] - (1 if self.contact_site >= 0 else 0)
+
+    def hertz_array(self) -> np.ndarray:
+        """``[site, c, d0, k]`` for the kernel (``site = -1``: linear contact)."""
+        return np.array([float(self.contact_site), self.hertz_c, self.hertz_d0, self.hertz_k])
 
     def flank_arrays(self):
         """``(sign, mu, P, lam)`` per site for the kernel (zeros without flank sites)."""
@@ -152,24 +193,27 @@ class LinearChain:
         """Sub-stepping over one period ``T`` in lifted form, for the kernel.
 
         With ``(Phi, Gam) = discretize(T / n_sub)``, ``Cv`` the site-velocity rows on ``X``
-        followed by one row giving the drive force ``F_bn`` (``drive_force_q``,
-        ``drive_force_v``; used by flank sites):
+        followed by one row giving the linear drive force ``F_bn`` (``drive_force_q``,
+        ``drive_force_v``; used by flank sites) and one giving the contact deflection
+        ``contact_q @ q`` (zeros without it; used by the ``"hertz"`` contact):
         ``PhiN = Phi^n``, ``GN[s] = Phi^(n-1-s) Gam``, ``CvP[s] = Cv Phi^s``,
         ``CvG[s, r] = Cv Phi^(s-1-r) Gam`` (``r < s``, zero otherwise).
         """
         Phi, Gam = self.discretize(T / n_sub)
         n = self.M.shape[0]
         nf = self.C.shape[0]
-        Cv = np.zeros((nf + 1, 2 * n))
+        Cv = np.zeros((nf + 2, 2 * n))
         Cv[:nf, n:] = self.C
         Cv[nf, :n] = self.drive_force_q
         Cv[nf, n:] = self.drive_force_v
+        if self.contact_q is not None:
+            Cv[nf + 1, :n] = self.contact_q
         P = [np.eye(2 * n)]
         for _ in range(n_sub):
             P.append(P[-1] @ Phi)
         GN = np.stack([P[n_sub - 1 - s] @ Gam for s in range(n_sub)])
         CvP = np.stack([Cv @ P[s] for s in range(n_sub)])
-        CvG = np.zeros((n_sub, n_sub, nf + 1, Gam.shape[1]))
+        CvG = np.zeros((n_sub, n_sub, nf + 2, Gam.shape[1]))
         for s in range(n_sub):
             for r in range(s):
                 CvG[s, r] = Cv @ P[s - 1 - r] @ Gam
@@ -262,11 +306,13 @@ class ElasticBallScrew:
     guide_friction, nut_friction : float — Dahl Coulomb levels of guide and nut [N]
         (nut: linear equivalent of its torque, ``T / R``).
     presliding_length : float — Dahl transition length of both sites [m].
-    nut_model : str — ``"sliding"`` (one Dahl site driven by screw rotation, default) or
-        ``"flank"`` (flank load-transfer model, see the module docstring).
-    nut_preload : float — per-flank ball preload ``P`` [N] (``"flank"`` only; > 0 there).
+    nut_model : str — ``"sliding"`` (one Dahl site driven by screw rotation, default),
+        ``"flank"`` (flank load-transfer friction, linear contact) or ``"hertz"`` (flank
+        friction on a preloaded Hertzian ball contact); see the module docstring.
+    nut_preload : float — per-flank ball preload ``P`` [N] (``"flank"``/``"hertz"`` only;
+        > 0 there).
     flank_friction_coefficient : float — ``mu_f``: nut friction [N, linear equivalent] per
-        newton of flank ball load (``"flank"`` only; ``2 mu_f P <= nut_friction``).
+        newton of flank ball load (``"flank"``/``"hertz"`` only; ``2 mu_f P <= nut_friction``).
 
     Examples
     --------
@@ -315,9 +361,10 @@ class ElasticBallScrew:
             raise ParameterError(f"{o}.nut_model = {self.nut_model!r}: must be one of {NUT_MODELS}")
         for name in ("nut_preload", "flank_friction_coefficient"):
             object.__setattr__(self, name, val.nonnegative(o, name, getattr(self, name)))
-        if self.nut_model == "flank":
+        if self.nut_model in ("flank", "hertz"):
             if self.nut_preload <= 0.0:
-                raise ParameterError(f"{o}.nut_preload = {self.nut_preload!r}: must be > 0 with nut_model='flank'")
+                raise ParameterError(
+                    f"{o}.nut_preload = {self.nut_preload!r}: must be > 0 with nut_model={self.nut_model!r}")
             if 2.0 * self.flank_friction_coefficient * self.nut_preload > self.nut_friction * (1 + 1e-12):
                 raise ParameterError(
                     f"{o}: flank friction at zero load 2 * flank_friction_coefficient * nut_preload = "
@@ -333,6 +380,28 @@ class ElasticBallScrew:
     def k_o(self) -> float:
         """Series torsional stiffness motor -> nut [N·m/rad]."""
         return 1.0 / (1.0 / self.k_coupling + 1.0 / self.k_torsion)
+
+    @property
+    def hertz_constants(self) -> tuple[float, float]:
+        """``(c, d0)`` of the ``"hertz"`` contact: ``c`` [N/m^1.5] and the preload deflection
+        ``d0 = 3 P / k_nut`` [m], from ``c d0^1.5 = P`` and ``dF_bn/dd(0) = 3 c d0^0.5 = k_nut``."""
+        P = self.nut_preload
+        if P <= 0.0:
+            raise ParameterError(f"ElasticBallScrew.nut_preload = {P!r}: must be > 0 for the Hertz contact")
+        d0 = 3.0 * P / self.k_nut
+        return P / d0**1.5, d0
+
+    def contact_force(self, d) -> np.ndarray:
+        """Static drive force through the balls ``F_bn`` [N] at contact deflection ``d`` [m].
+
+        Linear ``k_nut d`` for ``"sliding"``/``"flank"``; for ``"hertz"``
+        ``c (d0 + d)_+^1.5 - c (d0 - d)_+^1.5``.
+        """
+        d = np.asarray(d, dtype=float)
+        if self.nut_model != "hertz":
+            return self.k_nut * d
+        c, d0 = self.hertz_constants
+        return c * (np.maximum(d0 + d, 0.0) ** 1.5 - np.maximum(d0 - d, 0.0) ** 1.5)
 
     def _mk(self):
         R = self.R
@@ -362,25 +431,69 @@ class ElasticBallScrew:
         lam = np.sort(lam)
         return np.sqrt(np.clip(lam[1:], 0.0, None))
 
+    def antiresonances(self) -> np.ndarray:
+        """Undamped anti-resonance angular frequencies [rad/s] of current -> motor angle,
+        ascending: the natural frequencies of the chain with the motor clamped."""
+        from scipy.linalg import eigh
+
+        M, K, _ = self._mk()
+        lam = eigh(K[1:, 1:], M[1:, 1:], eigvals_only=True)
+        return np.sqrt(np.clip(np.sort(lam), 0.0, None))
+
+    def frequency_response(self, f, *, output: str = "motor", presliding: bool = False) -> np.ndarray:
+        """Complex frequency response from motor current [A] at frequencies ``f`` [Hz].
+
+        ``output = "motor"``: motor angle ``theta_m`` [rad/A] (what seed 001 Fig. 2 plots);
+        ``"table"``: table position ``x_t`` [m/A]. The chain is linear with its viscosities
+        and Rayleigh damping; the contact is linearised at zero load (stiffness ``k_nut`` for
+        every nut model). Friction: ``presliding = False`` leaves it out (a large-amplitude
+        measurement, the Coulomb level is a constant force that does not enter the small-signal
+        response); ``True`` linearises each Dahl site about ``F = 0`` as a spring of its
+        pre-sliding stiffness ``sigma0`` along its row (a small-amplitude measurement).
+        """
+        fv = val.vector("ElasticBallScrew.frequency_response", "f", f, rule="positive")
+        if output not in ("motor", "table"):
+            raise ParameterError(f"ElasticBallScrew.frequency_response output = {output!r}: must be 'motor' or 'table'")
+        ch = self.linear_chain()
+        Kf = ch.K.copy()
+        if presliding:
+            sign, mu, P, lam = ch.flank_arrays()
+            stiff = np.where(sign != 0, lam * mu * P, ch.sigma0)
+            for j in range(ch.n_friction):
+                Kf += stiff[j] * np.outer(ch.C[j], ch.C[j])
+        row = ch.motor if output == "motor" else ch.table
+        out = np.empty(fv.size, dtype=complex)
+        for i, fi in enumerate(fv):
+            s = 2j * math.pi * fi
+            out[i] = row @ np.linalg.solve(ch.M * s * s + ch.D * s + Kf, ch.b)
+        return out
+
     def linear_chain(self) -> LinearChain:
         R = self.R
         M, K, g_n = self._mk()
         w1 = self.modes()[0]
         beta = 2.0 * self.damping_ratio / w1
         D = np.diag([self.B_m, self.B_b, 0.0, 0.0, 0.0, self.C_t]) + beta * K
-        flank = self.nut_model == "flank"
+        flank = self.nut_model in ("flank", "hertz")
+        hertz = self.nut_model == "hertz"
         fl0 = 2.0 * self.flank_friction_coefficient * self.nut_preload if flank else 0.0
         levels = [self.guide_friction, max(self.nut_friction - fl0, 0.0)]
-        nf = 4 if flank else 2
+        nf = (4 if flank else 2) + int(hertz)
         Fc, sig = _dahl_arrays(levels + [0.0] * (nf - 2), self.presliding_length)
         C = np.zeros((nf, 6))
         C[0, 5] = 1.0  # guide: table velocity
-        C[1:, 1] = R  # nut (and its flanks): screw rotation (linear equivalent)
+        C[1:5, 1] = R  # nut (and its flanks): screw rotation (linear equivalent)
         extra = {}
         if flank:
             mu, P = self.flank_friction_coefficient, self.nut_preload
-            extra = dict(flank_sign=np.array([0.0, 0.0, 1.0, -1.0]), flank_mu=np.array([0.0, 0.0, mu, mu]),
-                         flank_preload=np.array([0.0, 0.0, P, P]), presliding_length=self.presliding_length)
+            pad = [0.0] * (nf - 4)
+            extra = dict(flank_sign=np.array([0.0, 0.0, 1.0, -1.0] + pad),
+                         flank_mu=np.array([0.0, 0.0, mu, mu] + pad),
+                         flank_preload=np.array([0.0, 0.0, P, P] + pad), presliding_length=self.presliding_length)
+        if hertz:
+            C[4] = g_n  # contact correction acts along the contact (last site)
+            c, d0 = self.hertz_constants
+            extra.update(contact_q=g_n.copy(), contact_site=nf - 1, hertz_c=c, hertz_d0=d0, hertz_k=self.k_nut)
         e = np.eye(6)
         return LinearChain(
             M=M, D=D, K=K, b=self.K_tau * e[0], C=C, Fc=Fc, sigma0=sig,

@@ -171,9 +171,17 @@ PRELOAD_TORQUE_COEFFICIENT = 0.05 / math.sqrt(TAN_LEAD_ANGLE)
 #: the rest of NUT_FRICTION_TORQUE (support bearings, seals, recirculation) stays
 #: load-independent.
 FLANK_FRICTION_COEFFICIENT = PRELOAD_TORQUE_COEFFICIENT / 2.0
+# ------------------------------------------- nut model "hertz" (assumptions, fixed a priori)
+# The "flank" friction sites on a preloaded Hertzian ball contact (two flank sets, each
+# F = c delta^1.5). No new number: preload NUT_PRELOAD (10 % Ca = 3.5 kN) and the net
+# stiffness at zero external load dF_bn/dd(0) = K_NUT (the catalogue stiffness is that of
+# the preloaded nut, both sets in parallel) fix
+#   d0 = 3 P / K_NUT = 13.1 µm (preload deflection of each set), c = P / d0^1.5;
+# one set unloads beyond |F_bn| = 2^1.5 P = 9.9 kN. Fixed before the first "hertz" run.
+
 #: Nut friction models available (see :class:`frictionkit.plants.ballscrew.ElasticBallScrew`);
 #: the preset default stays the original ``"sliding"``.
-NUT_MODELS = ("sliding", "flank")
+NUT_MODELS = ("sliding", "flank", "hertz")
 NUT_MODEL = "sliding"
 
 #: The assumed stiffnesses varied ±30 % in the robustness tests (names of
@@ -195,11 +203,12 @@ def plant_kwargs(nut_model: str = NUT_MODEL) -> dict:
     """Keyword arguments of :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` for this stage.
 
     ``nut_model = "flank"`` adds the flank load-transfer nut friction (NUT_PRELOAD,
-    FLANK_FRICTION_COEFFICIENT); ``"sliding"`` is the original model.
+    FLANK_FRICTION_COEFFICIENT); ``"hertz"`` the same on the preloaded Hertzian contact;
+    ``"sliding"`` is the original model.
     """
     extra = {}
-    if nut_model == "flank":
-        extra = dict(nut_model="flank", nut_preload=NUT_PRELOAD,
+    if nut_model in ("flank", "hertz"):
+        extra = dict(nut_model=nut_model, nut_preload=NUT_PRELOAD,
                      flank_friction_coefficient=FLANK_FRICTION_COEFFICIENT)
     elif nut_model != "sliding":
         from ..errors import ParameterError

@@ -40,3 +40,14 @@ def test_reproduce_rejects_unknown_nut_model(tmp_path):
     res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--nut-model", "lost",
                                    "--json", str(tmp_path / "x.json")])
     assert res.exit_code != 0
+
+
+def test_reproduce_zhu_fujimoto_hertz_nut_model_and_fig2(tmp_path):
+    out = tmp_path / "zf.json"
+    res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--no-plot", "--nut-model", "hertz",
+                                   "--json", str(out)])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(out.read_text())
+    assert doc["nut_model"] == "hertz"
+    assert doc["fig2"]["first_antiresonance_hz"] < doc["fig2"]["first_resonance_hz"]
+    assert "Fig. 2 check" in res.output

@@ -20,8 +20,9 @@ def zhu_fujimoto(
     seed: int = typer.Option(0, "--seed", help="Measurement-noise seed."),
     plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG."),
     nut_model: str = typer.Option("sliding", "--nut-model",
-                                  help="Nut friction model: 'sliding' (Dahl on screw rotation) or 'flank' "
-                                       "(load transfer between groove flanks, tied to F_bn)."),
+                                  help="Nut model: 'sliding' (Dahl on screw rotation), 'flank' "
+                                       "(load transfer between groove flanks, tied to F_bn) or 'hertz' "
+                                       "(flank friction on a preloaded Hertzian ball contact)."),
 ) -> None:
     """Seed 001: Table 3 (sinc/Coulomb/sigmoid), Fig. 10 (l_d) and the Table 2 selector."""
     from rich.console import Console
@@ -84,4 +85,10 @@ def zhu_fujimoto(
     s = summary["selector"]
     out.print(f"selector: {s['laws']} -> max {s['mixed_max_error_um']:.2f} µm; "
               f"best fixed {s['best_fixed_max_error_um']:.2f} µm")
+    if "fig2" in summary:
+        g = summary["fig2"]
+        out.print(f"Fig. 2 check (current -> theta_m): first anti-resonance {g['first_antiresonance_hz']:.1f} Hz, "
+                  f"resonance {g['first_resonance_hz']:.1f} Hz; level vs eq. 1 fit in "
+                  f"{g['band_hz'][0]:g}-{g['band_hz'][1]:g} Hz: {g['gain_offset_vs_eq1_db'][0]:+.1f} to "
+                  f"{g['gain_offset_vs_eq1_db'][1]:+.1f} dB")
     out.print(f"wrote {json_out}")

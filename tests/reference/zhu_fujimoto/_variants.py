@@ -1,7 +1,8 @@
 """Shared, cached robustness runs for the seed 001 reference tests (quick settings).
 
-13 variants per nut friction model (``"sliding"``, the original, and ``"flank"``, the
-load transfer between groove flanks): noise seeds 0, 1, 2 on the preset plant, and every
+13 variants per nut model (``"sliding"``, the original; ``"flank"``, the load transfer
+between groove flanks; ``"hertz"``, the flank friction on a preloaded Hertzian ball contact):
+noise seeds 0, 1, 2 on the preset plant, and every
 assumed stiffness of ``presets.zhu_fujimoto.ASSUMED_STIFFNESSES`` scaled by 0.7 and 1.3
 (seed 0).
 """

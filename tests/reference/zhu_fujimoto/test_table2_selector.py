@@ -18,11 +18,12 @@ def test_table2_selector_picks_sinc_for_slow_and_sigmoid_for_fast(nut_model):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "Not reproduced with either nut model: the selector's max error comes from its sigmoid at the "
+    "Not reproduced with any nut model: the selector's max error comes from its sigmoid at the "
     "fast reversal, and in the model sinc is better there (Table 3 finding not reproduced). Seed 0 "
-    "quick, both models: selector 3.12 µm vs best fixed (sinc) 2.80 µm; 13 variants sliding: "
+    "quick, all three models: selector 3.12 µm vs best fixed (sinc) 2.80 µm; 13 variants sliding: "
     "selector 2.82-3.62 vs best fixed 2.76-3.05 µm; flank: selector 2.81-3.62 vs best fixed "
-    "2.80-3.05 µm; the selector wins in none."))
+    "2.80-3.05 µm; hertz: selector 2.81-3.62 vs best fixed 2.80-3.05 µm; the selector wins in "
+    "none."))
 @nut_models
 def test_table2_selector_beats_every_fixed_compensator(nut_model):
     bad = {k: (s["selector"]["mixed_max_error_um"], s["selector"]["best_fixed_max_error_um"])

@@ -33,3 +33,4 @@ def main(duration: float = 60.0, repeats: int = 3, nut_model: str = "sliding") -
 if __name__ == "__main__":
     main()
     main(nut_model="flank")
+    main(nut_model="hertz")

@@ -58,3 +58,80 @@ def g_only(P, i, av):
             return P[i, 0]
         return P[i, 0] + (P[i, 1] - P[i, 0]) * math.exp(-rd)
     return P[i, 0] + (P[i, 1] - P[i, 0]) / (1.0 + r * r)
+
+
+# ---------------------------------------------------------------------------
+# Row tuples for hot loops.
+#
+# Passing an array into a numba function -- even one inlined with
+# ``inline="always"`` -- costs an ``NRT_incref``/``NRT_decref`` call pair per call
+# site and per execution, and every call spills the floating-point registers: in
+# the LuGre sub-step that was most of its ~170 cycles. Kernels therefore unpack a
+# parameter row once per run into a tuple of floats (:func:`row`) and evaluate
+# ``g`` from it (:func:`g_row`, :func:`g_slope_row`); tuples are values, not
+# reference-counted objects.
+#
+# Layout (indices below): Fc, Fs - Fc, 1/vs, delta, sigma2, shape, v_cut, Fs, 1/Fc.
+# ``v_cut`` is the speed above which the exponential term has underflowed
+# (``(|v|/vs)^delta > UNDERFLOW``) so ``g = Fc`` exactly; ``inf`` for the Lorentzian
+# shape, whose term never underflows.
+# ---------------------------------------------------------------------------
+
+R_FC, R_DF, R_IVS, R_DELTA, R_S2, R_SHAPE, R_VCUT, R_FS, R_IFC = 0, 1, 2, 3, 4, 5, 6, 7, 8
+
+
+@njit(inline="always")
+def row(P, i):
+    """Row ``i`` of the packed static array as a tuple (see the layout above)."""
+    if P[i, 5] == 0.0:
+        vcut = P[i, 2] * UNDERFLOW ** (1.0 / P[i, 3])
+    else:
+        vcut = math.inf
+    return (P[i, 0], P[i, 1] - P[i, 0], 1.0 / P[i, 2], P[i, 3], P[i, 4], P[i, 5], vcut, P[i, 1], 1.0 / P[i, 0])
+
+
+@njit(inline="always")
+def g_row(p, av):
+    """``g = |s(v)|`` at speed ``av >= 0`` from a row tuple."""
+    if av > p[R_VCUT]:
+        return p[R_FC]
+    r = av * p[R_IVS]
+    if p[R_SHAPE] == 0.0:
+        if r == 0.0:
+            return p[R_FS]
+        return p[R_FC] + p[R_DF] * math.exp(-_rpow(r, p[R_DELTA]))
+    return p[R_FC] + p[R_DF] / (1.0 + r * r)
+
+
+@njit(inline="always")
+def g_slope_row(p, av):
+    """``(g, dg/d|v|)`` at speed ``av >= 0`` from a row tuple."""
+    if av > p[R_VCUT]:
+        return p[R_FC], 0.0
+    r = av * p[R_IVS]
+    if r == 0.0:
+        return p[R_FS], 0.0
+    if p[R_SHAPE] == 0.0:
+        d = p[R_DELTA]
+        rd = _rpow(r, d)
+        phi = math.exp(-rd)
+        return p[R_FC] + p[R_DF] * phi, -p[R_DF] * d * (rd / r) * phi * p[R_IVS]
+    q = 1.0 / (1.0 + r * r)
+    return p[R_FC] + p[R_DF] * q, -p[R_DF] * 2.0 * r * q * q * p[R_IVS]
+
+
+@njit(inline="always")
+def ig_row(p, av):
+    """``1/g`` at speed ``av >= 0``; no division in the fast-sliding range."""
+    if av > p[R_VCUT]:
+        return p[R_IFC]
+    return 1.0 / g_row(p, av)
+
+
+@njit(inline="always")
+def ig_slope_row(p, av):
+    """``(1/g, dg/d|v|)`` at speed ``av >= 0``; no division in the fast-sliding range."""
+    if av > p[R_VCUT]:
+        return p[R_IFC], 0.0
+    g, gr = g_slope_row(p, av)
+    return 1.0 / g, gr

@@ -36,7 +36,8 @@ import math
 import numpy as np
 
 from .._jit import njit, prange
-from ._stribeck import g_and_slope, g_only
+from ._stribeck import R_S2, g_row, ig_row, ig_slope_row
+from ._stribeck import row as static_row
 
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 
@@ -44,51 +45,64 @@ OK, NONFINITE, BUDGET = 0, 1, 2
 
 
 @njit(inline="always")
-def _force(v, z, static, dyn):
-    """Return ``(dz/dt, F)`` for the parameter row selected by the sign of ``v``."""
-    row = 0 if v >= 0.0 else 1
-    s0 = dyn[row, 0]
+def _force(v, z, p0, p1, d0, d1):
+    """Return ``(dz/dt, F)`` for the parameter row selected by the sign of ``v``.
+
+    ``p0, p1`` are the Stribeck row tuples (``_stribeck.row``) and ``d0, d1`` the
+    ``(sigma0, sigma1)`` pairs for ``v >= 0`` and ``v < 0``.
+    """
+    if v >= 0.0:
+        p = p0
+        d = d0
+    else:
+        p = p1
+        d = d1
     av = abs(v)
-    zd = v - s0 * av * z / g_only(static, row, av)
-    return zd, s0 * z + dyn[row, 1] * zd + static[row, 4] * v
+    zd = v - d[0] * av * z * ig_row(p, av)
+    return zd, d[0] * z + d[1] * zd + p[R_S2] * v
 
 
 @njit(inline="always")
-def _point(v, z, static, dyn):
+def _point(v, z, p0, p1, d0, d1):
     """Everything the step needs at one state: ``(zd, F, dzd/dv, dzd/dz, dF/dv, dF/dz)``."""
-    row = 0 if v >= 0.0 else 1
-    s0 = dyn[row, 0]
-    s1 = dyn[row, 1]
+    if v >= 0.0:
+        p = p0
+        d = d0
+    else:
+        p = p1
+        d = d1
+    s0 = d[0]
+    s1 = d[1]
     av = abs(v)
-    g, gr = g_and_slope(static, row, av)
-    ig = 1.0 / g
+    ig, gr = ig_slope_row(p, av)
     a = s0 * av * ig
     zd = v - a * z
     sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
     dzd_dv = 1.0 - s0 * z * sg * ig * (1.0 - av * gr * ig)
     return (
         zd,
-        s0 * z + s1 * zd + static[row, 4] * v,
+        s0 * z + s1 * zd + p[R_S2] * v,
         dzd_dv,
         -a,
-        s1 * dzd_dv + static[row, 4],
+        s1 * dzd_dv + p[R_S2],
         s0 - s1 * a,
     )
 
 
 @njit(inline="always")
-def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_v, atol_z, max_sub):
+def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub):
     """Advance the force-driven state over one sample interval.
 
     Returns ``(x, v, z, F, h_try, n_substeps, status)`` with ``F`` the friction
-    force at the end of the interval.
+    force at the end of the interval. Scalars and tuples only (no arrays): see
+    the note on reference counting in :mod:`._stribeck`.
     """
     im = 1.0 / m
     du = (u1 - u0) / dt
     t = 0.0
     w = u0
     n = 0
-    zd, F, dzv, dzz, dFv, dFz = _point(v, z, static, dyn)
+    zd, F, dzv, dzz, dFv, dFz = _point(v, z, p0, p1, d0, d1)
     while t < dt:
         h = h_try
         rem = dt - t
@@ -109,7 +123,7 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_v, atol_z, 
         # stage 2 at y + h k1 (w advances by h du)
         v2 = v + h * k1v
         z2 = z + h * k1z
-        zd2, F2 = _force(v2, z2, static, dyn)
+        zd2, F2 = _force(v2, z2, p0, p1, d0, d1)
         r_z = zd2 - 2.0 * k1z
         b1 = (w + h * du - F2 - gh * du) * im - 2.0 * k1v
         k2v = (b1 * a22 - a12 * r_z) * idet
@@ -141,7 +155,7 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_v, atol_z, 
             z = zn
             t += h
             w = u0 + du * t
-            zd, F, dzv, dzz, dFv, dFz = _point(v, z, static, dyn)
+            zd, F, dzv, dzz, dFv, dFz = _point(v, z, p0, p1, d0, d1)
         fac = 0.9 / math.sqrt(e) if e > 0.0 else 5.0
         h_try = h * min(5.0, max(0.2, fac))
         if n >= max_sub:
@@ -153,15 +167,19 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, static, dyn, rtol, atol_v, atol_z, 
 def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z):
     """Force-driven run over all samples; fills ``x, v, F, z``. Returns ``(status, k, substeps)``."""
     xs, vs_, zs = x0, v0, z0
+    p0 = static_row(static, 0)
+    p1 = static_row(static, 1)
+    d0 = (dyn[0, 0], dyn[0, 1])
+    d1 = (dyn[1, 0], dyn[1, 1])
     x[0] = xs
     v[0] = vs_
     z[0] = zs
-    F[0] = _force(vs_, zs, static, dyn)[1]
+    F[0] = _force(vs_, zs, p0, p1, d0, d1)[1]
     h_try = dt
     total = 0
     for k in range(u.size - 1):
         xs, vs_, zs, Fs_, h_try, n, st = _interval(
-            xs, vs_, zs, h_try, u[k], u[k + 1], dt, m, static, dyn, rtol, atol_v, atol_z, max_sub
+            xs, vs_, zs, h_try, u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub
         )
         total += n
         x[k + 1] = xs
@@ -188,11 +206,16 @@ def lugre_force_batch_sse(
         vs_ = 0.0
         zs = 0.0
         h_try = dt
+        p0 = static_row(static[j], 0)
+        p1 = static_row(static[j], 1)
+        d0 = (dyn[j, 0, 0], dyn[j, 0, 1])
+        d1 = (dyn[j, 1, 0], dyn[j, 1, 1])
+        mj = m[j]
         acc = 0.0
         st = OK
         for k in range(u.size - 1):
             xs, vs_, zs, Fe, h_try, n, st = _interval(
-                xs, vs_, zs, h_try, u[k], u[k + 1], dt, m[j], static[j], dyn[j],
+                xs, vs_, zs, h_try, u[k], u[k + 1], dt, mj, p0, p1, d0, d1,
                 rtol, atol_v, atol_z, max_sub,
             )
             if st != OK:
@@ -214,23 +237,30 @@ def lugre_motion(xpos, dt, static, dyn, z0, v_out, F_out, z_out):
     """Motion-driven LuGre with piecewise-constant velocity: exact exponential update."""
     N = xpos.size
     z = z0
+    p0 = static_row(static, 0)
+    p1 = static_row(static, 1)
     for k in range(N - 1):
         vk = (xpos[k + 1] - xpos[k]) / dt
-        row = 0 if vk >= 0.0 else 1
-        s0 = dyn[row, 0]
+        if vk >= 0.0:
+            p = p0
+            s0 = dyn[0, 0]
+            s1 = dyn[0, 1]
+        else:
+            p = p1
+            s0 = dyn[1, 0]
+            s1 = dyn[1, 1]
         av = abs(vk)
-        g = g_only(static, row, av)
-        a = s0 * av / g
+        a = s0 * av / g_row(p, av)
         if a > 0.0:
             zss = vk / a  # = sgn(v) g / sigma0
             z = zss + (z - zss) * math.exp(-a * dt)
         if k == 0:
             v_out[0] = vk
             zd0 = vk - a * z0
-            F_out[0] = s0 * z0 + dyn[row, 1] * zd0 + static[row, 4] * vk
+            F_out[0] = s0 * z0 + s1 * zd0 + p[R_S2] * vk
             z_out[0] = z0
         zd = vk - a * z
         v_out[k + 1] = vk
         z_out[k + 1] = z
-        F_out[k + 1] = s0 * z + dyn[row, 1] * zd + static[row, 4] * vk
+        F_out[k + 1] = s0 * z + s1 * zd + p[R_S2] * vk
     return OK

@@ -167,6 +167,13 @@ def _gms_buffers(pk, state0, N: int):
     return F0, stick0, np.empty((N, M)), np.empty((N, M), dtype=np.bool_)
 
 
+def _times(N: int, dt: float) -> np.ndarray:
+    """``t_k = k dt`` in one allocation (``np.arange(N) * dt`` makes an int array first)."""
+    t = np.arange(N, dtype=float)
+    t *= dt
+    return t
+
+
 def _finish(t, x, v, F, states, status, at, substeps, model) -> SimulationResult:
     failed = None
     if status != 0:
@@ -249,7 +256,7 @@ def simulate(
         x0 = val.finite("simulate", "x0", x0)
         v0 = val.finite("simulate", "v0", v0)
         N = u.size
-        t = np.arange(N) * dt
+        t = _times(N, dt)
         x = np.empty(N)
         v = np.empty(N)
         F = np.empty(N)
@@ -282,7 +289,7 @@ def simulate(
         vel = val.signal("velocity", velocity)
         xpos = np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt)])
     N = xpos.size
-    t = np.arange(N) * dt
+    t = _times(N, dt)
     v = np.empty(N)
     F = np.empty(N)
     if kind == "lugre":

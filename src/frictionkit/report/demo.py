@@ -182,12 +182,20 @@ def section_screw(shared: Path) -> _Section | None:
     import matplotlib.pyplot as plt
 
     sec = _Section("Screw drives (real data): per-direction static maps")
-    rows = [["drive", "summary"]]
+    rows = [["drive", "parameter", "value", "std. error", "95 % interval", "unit"]]
     for drive in (1, 2, 3):
         recs = load_groups(path, group="source_file", time="t_s", velocity="motor_velocity_rad_per_s",
                            force="motor_torque_N_m", where={"drive_id": drive})
         res = fit_static_records(recs, units={"v": "rad/s", "F": "N·m"})  # motor side of the drives
-        rows.append([str(drive), html.escape(res.summary()).replace("\n", "<br>")])
+        shapes = ", ".join(f"{k}: {part.model_name}" for k, part in res.parts.items())
+        sec.text.append(f"Drive {drive} — shapes chosen by information criterion ({shapes}); "
+                        f"{res.n_obs} plateaus, RMS residual {res.rms:.3g} N·m "
+                        f"({res.relative_error_percent:.2f} %)."
+                        + "".join(f" Warning: {w}." for w in res.warnings))
+        for i, name in enumerate(res.names):
+            lo, hi = res.ci95[i]
+            rows.append([str(drive), name, f"{res.values[i]:.4g}", f"{res.stderr[i]:.2g}",
+                         f"[{lo:.4g}, {hi:.4g}]", res.units[i]])
         ax = res.plot()
         ax.set_title(f"TRO2021 drive {drive}: motor torque against motor speed")
         ax.figure.tight_layout()
@@ -210,8 +218,16 @@ def section_zhu_fujimoto() -> _Section | None:
     sec.table = [["compensator", "max error here [µm]", "paper [µm]"]] + [
         [k, f"{v:.2f}", f"{paper.get(k, float('nan')):.2f}"] for k, v in t3.max_error_um.items()
     ]
-    sec.text.append("Simulated stage built from the paper's Table 1 plus documented assumptions; "
-                    "see the issue notes for which findings reproduce.")
+    order = sorted(t3.max_error_um, key=t3.max_error_um.get)
+    within3 = all(1 / 3 <= t3.max_error_um[k] / paper[k] <= 3 for k in paper)
+    sec.text.append("Simulated stage built from the paper's Table 1 plus documented assumptions "
+                    "(presets/zhu_fujimoto.py). Paper: sigmoid < sinc < Coulomb. This run: "
+                    + " < ".join(order) + ". "
+                    + ("The paper's ordering holds." if order == ["sigmoid", "sinc", "coulomb"] else
+                       "The paper's ordering does not reproduce on the simulated stage (README, "
+                       "'Reproductions', lists what was tried). ")
+                    + ("Each value is within a factor 3 of the paper's." if within3 else
+                       "Not every value is within a factor 3 of the paper's."))
     ax = t3.plot()
     fig = np.atleast_1d(ax).flat[0].figure
     sec.figures.append(("zhu_fujimoto_table3.png", _png(fig)))

@@ -15,6 +15,13 @@ from frictionkit.plants.ballscrew import DAHL_SPAN, ElasticBallScrew, LinearChai
 from frictionkit.presets import zhu_fujimoto as zf
 from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
 
+from _ballscrew_open_loop import open_loop
+
+
+def _open_loop(plant, current, T=0.5e-3, nsub=10):
+    status, outs, _ = open_loop(plant, current, T, nsub, drive_force=False)
+    return status, outs[0], outs[1]
+
 
 def test_rigid_plant_is_eq1():
     p = RigidBallScrew(K_tau=0.715, J=0.01, B=0.1)
@@ -68,24 +75,6 @@ def test_presliding_stiffness_from_length():
     ch = p.linear_chain()
     assert ch.sigma0[0] == pytest.approx(DAHL_SPAN * p.guide_friction / p.presliding_length)
     assert (ch.Fc * p.R).sum() == pytest.approx(zf.F0_MEASURED)
-
-
-def _open_loop(plant, current, T=0.5e-3, nsub=10):
-    """Run the kernel with all gains zero: the current is the feed-forward array."""
-    ch = plant.linear_chain()
-    n = ch.M.shape[0]
-    PhiN, GN, CvP, CvG = ch.lifted(T, nsub)
-    N = current.size
-    ctrl = np.zeros(K.N_CTRL)
-    ctrl[K.C_T], ctrl[K.C_KTAU], ctrl[K.C_IMAX], ctrl[K.C_R] = T, 1.0, 1e9, plant.R
-    outs = [np.zeros(N) for _ in range(6)]
-    fric = np.zeros((ch.Fc.size, N))
-    X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
-    z = np.zeros(N)
-    status, k = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), ch.hertz_array(), F, X,
-                              np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
-                              np.zeros(2 * n), z, current, z, z, z, ctrl, *outs, fric)
-    return status, outs[0], outs[1]
 
 
 def _twin(plant, current, T=0.5e-3):

@@ -15,6 +15,16 @@ from frictionkit.plants.ballscrew import DAHL_SPAN, ElasticBallScrew
 from frictionkit.presets import zhu_fujimoto as zf
 from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant
 
+from _ballscrew_open_loop import open_loop
+
+
+def _open_loop(plant, current, T=0.5e-3, nsub=10):
+    status, outs, fric = open_loop(plant, current, T, nsub)
+    return status, outs[0], outs[5], fric
+
+
+_METHOD = "LSODA"
+
 
 def _flank_loads(P, F):
     F = np.asarray(F, float)
@@ -62,27 +72,6 @@ def test_flank_load_split():
     assert up.tolist() == [0.0, 0.0, 100.0, 125.0, 200.0, 300.0]
     assert dn.tolist() == [300.0, 200.0, 100.0, 75.0, 0.0, 0.0]
     assert np.allclose(up - dn, [-300, -200, 0, 50, 200, 300])
-
-
-def _open_loop(plant, current, T=0.5e-3, nsub=10):
-    ch = plant.linear_chain()
-    n = ch.M.shape[0]
-    PhiN, GN, CvP, CvG = ch.lifted(T, nsub)
-    N = current.size
-    ctrl = np.zeros(K.N_CTRL)
-    ctrl[K.C_T], ctrl[K.C_KTAU], ctrl[K.C_IMAX], ctrl[K.C_R] = T, 1.0, 1e9, plant.R
-    outs = [np.zeros(N) for _ in range(6)]
-    fric = np.zeros((ch.Fc.size, N))
-    X, F = np.zeros(2 * n), np.zeros(ch.Fc.size)
-    z = np.zeros(N)
-    c_frc = np.concatenate((ch.drive_force_q, ch.drive_force_v))
-    status, _ = K.closed_loop(PhiN, GN, CvP, CvG, T / nsub, ch.Fc, ch.sigma0, *ch.flank_arrays(), ch.hertz_array(), F, X,
-                              np.concatenate((ch.motor, np.zeros(n))), np.concatenate((ch.table, np.zeros(n))),
-                              c_frc, z, current, z, z, z, ctrl, *outs, fric)
-    return status, outs[0], outs[5], fric
-
-
-_METHOD = "LSODA"
 
 
 def _twin(plant, current, T=0.5e-3):

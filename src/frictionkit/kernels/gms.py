@@ -117,6 +117,11 @@ def _drive(
     cK = -1.0
     cc_ = -1.0
     cH = -1.0
+    # last slip decay exp(-a), a = C h / g: while sliding past the Stribeck range g = Fc,
+    # so the four decays of a sub-step (two corrector passes, both trapezoid ends) and
+    # those of the following sub-steps share one argument and one exp
+    ea = -1.0
+    ed = 1.0
     E12 = 0.0
     E22 = 0.0
     q1 = 0.0
@@ -200,7 +205,11 @@ def _drive(
                         Cb = C1
                     gb = g_row(pb, abs(vb))
                     sgb = _sgn(vb) * gb
-                    decay = math.exp(-Cb * h / gb)
+                    a = Cb * h / gb
+                    if a != ea:
+                        ea = a
+                        ed = math.exp(-a)
+                    decay = ed
                     P = 0.0
                     if sweep == 0:
                         for i in range(M):
@@ -235,8 +244,16 @@ def _drive(
                 g_n = g_row(pn_, abs(vn))
                 s_0 = sv * g0
                 s_n = _sgn(vn) * g_n
-                d_0 = math.exp(-Cr * h / g0)
-                d_n = math.exp(-Cn * h / g_n)
+                a = Cr * h / g0
+                if a != ea:
+                    ea = a
+                    ed = math.exp(-a)
+                d_0 = ed
+                a = Cn * h / g_n
+                if a != ea:
+                    ea = a
+                    ed = math.exp(-a)
+                d_n = ed
                 # the load was taken affine between P0 and P(h); a cubic Hermite with the
                 # end rates differs from it by (h^2/12)(R0 - Rh) in impulse: its effect
                 # on the velocity is the coupling error
@@ -253,9 +270,12 @@ def _drive(
                         t0_ = xi[row, i] * s_0
                         tn_ = xi[r_n, i] * s_n
                         trap = 0.5 * (t0_ + (Fi[i] - t0_) * d_0 + tn_ + (Fi[i] - tn_) * d_n)
-                        q = max(abs(sb[i] - sa[i]), abs(sb[i] - trap)) / (atol_F + rtol * abs(sb[i]))
-                        if q > e:
-                            e = q
+                        num = max(abs(sb[i] - sa[i]), abs(sb[i] - trap))
+                        den = atol_F + rtol * abs(sb[i])
+                        if num > e * den:  # divide only when this element can raise e
+                            q = num / den
+                            if q > e:
+                                e = q
             n += 1
             if n >= max_sub:
                 status = BUDGET

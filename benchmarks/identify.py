@@ -32,6 +32,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -84,6 +85,9 @@ def _scipy_fit(u, v, method: str, max_nfev: int | None):
             r = np.full(v.size, 10.0)
         sims["wall"] += time.perf_counter() - t0
         r[0] = 0.0
+        # progress on stderr: the uncapped RK45 fit runs for many minutes
+        print(f"  {method}: simulation {sims['n']}, {sims['wall']:.0f} s so far, cost {0.5 * float(r @ r):.6e}",
+              file=sys.stderr, flush=True)
         return r
 
     c0 = time.process_time()

@@ -181,3 +181,19 @@ def test_initial_guess_needs_motion():
     t = np.arange(100) * DT
     with pytest.raises(DataError, match="does not move"):
         initial_guess_lugre({"t": t, "x": np.zeros(100), "F": np.ones(100)})
+
+
+def test_progress_callback_reports_every_evaluation(record):
+    t, u, sim = record
+    x, v = _measure(sim, 6)
+    calls = []
+    res = fit_output_error({"t": t, "F": u, "v": v}, fk.LuGre(LAW, sigma0=6e4, sigma1=90.0), plant_mass=1.0,
+                           progress=lambda nfev, nsim, cost: calls.append((nfev, nsim, cost)))
+    nfev = [c[0] for c in calls]
+    # one call per residual evaluation, numbered 1, 2, ...; simulations never decrease
+    assert nfev == list(range(1, len(calls) + 1)) and len(calls) >= res.diagnostics["nfev"]
+    assert all(b[1] >= a[1] for a, b in zip(calls, calls[1:]))
+    # the reported costs are the fit's own cost history, ending at (or above) its optimum
+    assert min(c[2] for c in calls) == pytest.approx(min(res.diagnostics["cost_history"]), rel=1e-12)
+    with pytest.raises(ParameterError, match="progress = 3: must be callable"):
+        fit_output_error({"t": t, "F": u, "v": v}, TRUE, plant_mass=1.0, progress=3)

@@ -240,7 +240,15 @@ def output_error(
         names = tuple(s.strip() for s in free.split(",") if s.strip()) or ("k",)
     else:
         raise ParameterError(f"--model {model!r}: must be lugre or gms")
-    res = fit_output_error(rec, mdl, free=names, plant_mass=mass, compare=compare, starts=starts)
+    from rich.console import Console
+
+    console = Console(stderr=True)
+    with console.status("output-error fit: starting") as status:
+        res = fit_output_error(
+            rec, mdl, free=names, plant_mass=mass, compare=compare, starts=starts,
+            progress=lambda nfev, nsim, cost: status.update(
+                f"output-error fit: evaluation {nfev}, {nsim} simulations, cost {cost:.6g}"),
+        )
     typer.echo(res.summary())
     typer.echo(f"{res.diagnostics['nfev']} evaluations, status {res.diagnostics['status']}: {res.message}")
     if json_out is not None:

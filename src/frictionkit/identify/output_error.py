@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 import os
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -328,6 +328,7 @@ class _Problem:
         self.cost_history: list[float] = []
         self._cache: tuple[bytes, np.ndarray] | None = None
         self.big = 10.0 * (np.max(np.abs(y)) + 1e-300)
+        self.progress = None
 
     def to_nat(self, p: np.ndarray) -> np.ndarray:
         return np.where(self.is_log, np.exp(np.clip(p, -700, 700)), p * self.scale)
@@ -366,6 +367,8 @@ class _Problem:
         self.nsim += 1
         self.cost_history.append(0.5 * float(r @ r))
         self._cache = (key, r)
+        if self.progress is not None:
+            self.progress(self.nfev, self.nsim, self.cost_history[-1])
         return r
 
     def jac(self, p, h: float | None = None):
@@ -566,6 +569,7 @@ def fit_output_error(
     step_tol: float = 0.02,
     workers: int | None = None,
     diff_step: float = 1e-3,
+    progress: Callable[[int, int, float], None] | None = None,
 ) -> IdentificationResult:
     """Fit dynamic-friction parameters by simulated-vs-measured output error (seed 002 eq. 12).
 
@@ -630,6 +634,9 @@ def fit_output_error(
         log-parameters). 1e-3 is large against the integrator noise (rtol 1e-6) yet
         small against the curvature; measured on GMS round trips, 1e-4 stalls in
         false minima and 1e-2 biases the result.
+    progress : callable, optional
+        Called after every residual evaluation as ``progress(nfev, simulations, cost)``
+        (the CLI shows it as a live status line). Exceptions from it propagate.
 
     Returns
     -------
@@ -692,6 +699,9 @@ def fit_output_error(
     workers = workers or os.cpu_count() or 1
     prob = _Problem(tmpl, names, u, dt, y, compare, sw, options, theta0, workers)
     prob.diff_step = val.positive(owner, "diff_step", diff_step)
+    if progress is not None and not callable(progress):
+        raise ParameterError(f"{owner}: progress = {progress!r}: must be callable(nfev, simulations, cost) or None")
+    prob.progress = progress
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):

@@ -57,7 +57,7 @@ def main() -> None:
     rows = []
     for name, model in (("LuGre", example_lugre()), ("GMS-4", example_gms(4)), ("GMS-16", example_gms(16))):
         fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)  # compile
-        t_k, res = best_of(lambda: fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT))
+        t_k, res = best_of(lambda: fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT), repeat=25)
         ref = reference_force_driven(model, 1.0, u, DT, method="LSODA", rtol=1e-11, atol=1e-13)
         ex, eF = errors({"x": res.x, "F": res.F}, ref)
         print(f"\n== {name}")

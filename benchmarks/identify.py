@@ -128,17 +128,15 @@ def _budgeted_fit(u, v, method: str, cap, budget: float):
     try:
         while True:
             left = budget - (time.perf_counter() - t0)
-            if left <= 0 or not parent.poll(min(left, 5.0)):
-                if left <= 0:
-                    return ("stopped", n, time.perf_counter() - t0, best)
-                if not proc.is_alive() and not parent.poll():
-                    raise RuntimeError(f"{method} fit process died (exit code {proc.exitcode})")
-                continue
-            msg = parent.recv()
-            if msg[0] == "sim":
+            if left <= 0:
+                return ("stopped", n, time.perf_counter() - t0, best)
+            if parent.poll(min(left, 5.0)):
+                msg = parent.recv()
+                if msg[0] == "done":
+                    return msg
                 n, best = msg[1], min(best, msg[3])
-            else:
-                return msg
+            elif not proc.is_alive():
+                raise RuntimeError(f"{method} fit process died (exit code {proc.exitcode})")
     finally:
         if proc.is_alive():
             proc.terminate()

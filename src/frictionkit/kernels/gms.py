@@ -67,6 +67,14 @@ def _sgn(v):
 
 
 @njit(inline="always")
+def _side(v, p0, p1, C0, C1):
+    """``(row, Stribeck row tuple, C)`` for the direction of ``v`` (row 0: ``v >= 0``)."""
+    if v >= 0.0:
+        return 0, p0, C0
+    return 1, p1, C1
+
+
+@njit(inline="always")
 def _is_directional(static, k, xi, C):
     if C[0] != C[1]:
         return True
@@ -156,14 +164,7 @@ def _drive(
             if h >= rem or rem - h < 1e-9 * dt:
                 h = rem
             w = u0 + du * t
-            if v >= 0.0:
-                row = 0
-                p = p0
-                Cr = C0
-            else:
-                row = 1
-                p = p1
-                Cr = C1
+            row, p, Cr = _side(v, p0, p1, C0, C1)
             c = p[R_S2]
             sv = _sgn(v)
             g0 = g_row(p, abs(v))
@@ -195,14 +196,7 @@ def _drive(
                 v_prev = vn
                 for sweep in range(2):
                     vb = xi_n / h  # mean velocity over the sub-step (exact for the current pass)
-                    if vb >= 0.0:
-                        rb = 0
-                        pb = p0
-                        Cb = C0
-                    else:
-                        rb = 1
-                        pb = p1
-                        Cb = C1
+                    rb, pb, Cb = _side(vb, p0, p1, C0, C1)
                     gb = g_row(pb, abs(vb))
                     sgb = _sgn(vb) * gb
                     a = Cb * h / gb
@@ -233,14 +227,7 @@ def _drive(
                 # truncation indicator: frozen s at the mean velocity (midpoint) against
                 # the mean of the updates frozen at both ends (trapezoid); both second
                 # order, their gap measures how much s(v) varies over the sub-step
-                if vn >= 0.0:
-                    r_n = 0
-                    pn_ = p0
-                    Cn = C0
-                else:
-                    r_n = 1
-                    pn_ = p1
-                    Cn = C1
+                r_n, pn_, Cn = _side(vn, p0, p1, C0, C1)
                 g_n = g_row(pn_, abs(vn))
                 s_0 = sv * g0
                 s_n = _sgn(vn) * g_n
@@ -307,12 +294,8 @@ def _drive(
                             break
                 if theta > 1.0 and (any_slip or directional):
                     theta = th_r
-            if vn >= 0.0:
-                rown = 0
-                gn = g_row(p0, abs(vn))
-            else:
-                rown = 1
-                gn = g_row(p1, abs(vn))
+            rown, pn, _ = _side(vn, p0, p1, C0, C1)
+            gn = g_row(pn, abs(vn))
             svn = _sgn(vn)
             if vn != 0.0 and not reversed_:
                 for i in range(M):

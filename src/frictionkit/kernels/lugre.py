@@ -48,18 +48,21 @@ E_GROW = (0.9 / 5.0) ** 2
 
 
 @njit(inline="always")
+def _side(v, p0, p1, d0, d1):
+    """Stribeck row tuple and ``(sigma0, sigma1)`` for the direction of ``v`` (row 0: ``v >= 0``)."""
+    if v >= 0.0:
+        return p0, d0
+    return p1, d1
+
+
+@njit(inline="always")
 def _force(v, z, p0, p1, d0, d1):
     """Return ``(dz/dt, F)`` for the parameter row selected by the sign of ``v``.
 
     ``p0, p1`` are the Stribeck row tuples (``_stribeck.row``) and ``d0, d1`` the
     ``(sigma0, sigma1)`` pairs for ``v >= 0`` and ``v < 0``.
     """
-    if v >= 0.0:
-        p = p0
-        d = d0
-    else:
-        p = p1
-        d = d1
+    p, d = _side(v, p0, p1, d0, d1)
     av = abs(v)
     zd = v - d[0] * av * z * ig_row(p, av)
     return zd, d[0] * z + d[1] * zd + p[R_S2] * v
@@ -68,12 +71,7 @@ def _force(v, z, p0, p1, d0, d1):
 @njit(inline="always")
 def _point(v, z, p0, p1, d0, d1):
     """Everything the step needs at one state: ``(zd, F, dzd/dv, dzd/dz, dF/dv, dF/dz)``."""
-    if v >= 0.0:
-        p = p0
-        d = d0
-    else:
-        p = p1
-        d = d1
+    p, d = _side(v, p0, p1, d0, d1)
     s0 = d[0]
     s1 = d[1]
     av = abs(v)
@@ -244,16 +242,11 @@ def lugre_motion(xpos, dt, static, dyn, z0, v_out, F_out, z_out):
     z = z0
     p0 = static_row(static, 0)
     p1 = static_row(static, 1)
+    d0 = (dyn[0, 0], dyn[0, 1])
+    d1 = (dyn[1, 0], dyn[1, 1])
     for k in range(N - 1):
         vk = (xpos[k + 1] - xpos[k]) / dt
-        if vk >= 0.0:
-            p = p0
-            s0 = dyn[0, 0]
-            s1 = dyn[0, 1]
-        else:
-            p = p1
-            s0 = dyn[1, 0]
-            s1 = dyn[1, 1]
+        p, (s0, s1) = _side(vk, p0, p1, d0, d1)
         av = abs(vk)
         a = s0 * av / g_row(p, av)
         if a > 0.0:

@@ -1,0 +1,615 @@
+"""Numba kernel of the machine core: any linear mechanical chain, sites holding any
+friction law or nonlinear compliance, sensors, a block-diagram controller and actuators,
+in one compiled closed loop.
+
+Flat arrays and floats in, arrays and a status code out; no validation here (the public
+wrapper :func:`frictionkit.machines.simulate_machine` validates and packs).
+
+Integration scheme (one sub-step ``h = dt / n_sub``)
+----------------------------------------------------
+The generalised coordinates ``q`` (n) obey ``M q'' + D q' + K q = Bw w(t) - sum_j c_j F_j``.
+The linear part is advanced *exactly*: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf Fbar``
+(``X = [q, q']``; ``w`` affine over the sub-step: actuator forces, prescribed motions and
+their rates; ``Fbar`` the site forces held over the sub-step). Stiff springs cost nothing.
+
+Site ``j`` (friction site, nonlinear compliance or position-dependent load) moves by
+``ds_j = a_j - sum_i G_ji Fbar_i`` over the sub-step, with ``a_j`` its free motion and
+``G = -Cq Gf_q`` the sub-step compliance between sites. Each site's law returns the *mean*
+force over the sub-step for a site moving at the constant velocity ``ds / h`` (exact
+exponential updates for LuGre/Dahl, closed-form breakaway and slip for GMS, Simpson's rule
+for memoryless elastic forces), and the coupled equations ``Fbar_j = law_j(ds_j)`` are
+solved *implicitly* (Gauss-Seidel over sites, a bracketed Illinois root per site). So a
+bristle stiffness of 1e8 N/m or a sticking GMS element is stable at any sub-step, and a
+static (Stribeck/Coulomb) site sticks exactly: when the force that holds it still lies
+inside ``[-Fs-, Fs+]`` it is that force (``ds = 0``), otherwise it slides.
+
+The scheme is first order in ``h`` overall (site forces held over the sub-step); raise
+``n_sub`` for accuracy. The parity tests against the ``solve_ivp`` twin measure it.
+
+Controller (once per sample, before the plant step)
+---------------------------------------------------
+``sig`` holds every named signal; a signal keeps its value until written again, so a block
+that reads a signal written later in the order (or an actuator's applied value) sees the
+previous sample's value. Order: inputs, sensors (quantised, noisy, delayed), blocks in
+order, actuators (saturate, delay), PID integrators (frozen while their actuator
+saturates).
+
+Status codes: 0 ok, 1 non-finite state (run stopped at ``k_end``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import njit
+
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+
+# Site kinds
+S_STATIC, S_LUGRE, S_GMS, S_HERTZ, S_PWL, S_SINE = 0, 1, 2, 3, 4, 5
+# Block codes
+B_LINEAR, B_PID, B_SS, B_SAT, B_FFF = 0, 1, 2, 3, 4
+
+#: Offsets of a packed static row (6 floats per direction) inside a site's parameters.
+N_ROW = 6
+
+
+# --------------------------------------------------------------------------- Stribeck
+@njit(inline="always")
+def _g(par, o, av):
+    """``g = |s(v)|`` at speed ``av >= 0`` of the packed row ``par[o:o+6]``."""
+    Fc = par[o]
+    Fs = par[o + 1]
+    r = av / par[o + 2]
+    if r == 0.0:
+        return Fs
+    if par[o + 5] == 0.0:
+        d = par[o + 3]
+        if d == 2.0:
+            e = r * r
+        elif d == 1.0:
+            e = r
+        else:
+            e = r**d
+        if e > 700.0:
+            return Fc
+        return Fc + (Fs - Fc) * math.exp(-e)
+    return Fc + (Fs - Fc) / (1.0 + r * r)
+
+
+@njit(inline="always")
+def _static_force(par, o, v):
+    """``s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
+    if v >= 0.0:
+        return _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v
+    return -_g(par, o + N_ROW, -v) + par[o + N_ROW + 4] * v
+
+
+# --------------------------------------------------------------------------- site laws
+@njit
+def _lugre_mean(par, o, z0, ds, h):
+    """Mean force over ``h`` and end state for a site moving at ``v = ds / h``.
+
+    Layout at ``o``: static rows (12), sigma0+, sigma1+, sigma0-, sigma1-.
+    """
+    v = ds / h
+    if v >= 0.0:
+        ro = o
+        s0 = par[o + 12]
+        s1 = par[o + 13]
+    else:
+        ro = o + N_ROW
+        s0 = par[o + 14]
+        s1 = par[o + 15]
+    s2 = par[ro + 4]
+    if v == 0.0:
+        return s0 * z0, z0
+    av = abs(v)
+    g = _g(par, ro, av)
+    sg = 1.0 if v > 0.0 else -1.0
+    if g <= 0.0:  # no friction level: the bristles relax at once
+        return s1 * (0.0 - z0) / h + s2 * v, 0.0
+    zss = sg * g / s0
+    x = s0 * av * h / g
+    if x > 700.0:
+        e = 0.0
+        frac = 1.0 / x
+    elif x < 1e-8:
+        e = 1.0 - x
+        frac = 1.0 - 0.5 * x
+    else:
+        e = math.exp(-x)
+        frac = -math.expm1(-x) / x
+    z1 = zss + (z0 - zss) * e
+    zbar = zss + (z0 - zss) * frac
+    return s0 * zbar + s1 * (z1 - z0) / h + s2 * v, z1
+
+
+@njit
+def _gms_mean(par, o, st, so, ds, h, commit):
+    """Mean GMS force over ``h`` for ``v = ds / h``; element states updated when ``commit``.
+
+    Layout at ``o``: static rows (12), M, k+ (M), xi+ (M), k- (M), xi- (M), C+, C-.
+    State at ``so``: F_i (M), mode_i (M: 0 sticking, +1/-1 slipping in that direction).
+    """
+    M = int(par[o + 12])
+    v = ds / h
+    if v >= 0.0:
+        ro = o
+        ko = o + 13
+        xo = o + 13 + M
+        C = par[o + 13 + 4 * M]
+    else:
+        ro = o + N_ROW
+        ko = o + 13 + 2 * M
+        xo = o + 13 + 3 * M
+        C = par[o + 14 + 4 * M]
+    s2 = par[ro + 4]
+    av = abs(v)
+    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+    g = _g(par, ro, av)
+    total = 0.0
+    for i in range(M):
+        F0 = st[so + i]
+        mode = st[so + M + i]
+        k = par[ko + i]
+        xi = par[xo + i]
+        if mode != 0.0 and mode == sg:  # keeps slipping: relaxes to xi s(v) at rate C / g
+            Fst = sg * xi * g
+            if g <= 0.0:
+                F1 = Fst
+                mean = Fst
+            else:
+                x = C * h / g
+                if x > 700.0:
+                    e = 0.0
+                    frac = 1.0 / x
+                elif x < 1e-8:
+                    e = 1.0 - x
+                    frac = 1.0 - 0.5 * x
+                else:
+                    e = math.exp(-x)
+                    frac = -math.expm1(-x) / x
+                F1 = Fst + (F0 - Fst) * e
+                mean = Fst + (F0 - Fst) * frac
+            nmode = mode
+        else:  # sticking (a slipping element sticks when the motion stops or reverses)
+            nmode = 0.0
+            if sg == 0.0:
+                F1 = F0
+                mean = F0
+            else:
+                Fb = sg * xi * g
+                if sg * F0 >= xi * g:  # already at its limit: slips for the whole sub-step
+                    F1 = Fb
+                    mean = Fb
+                    nmode = sg
+                else:
+                    tb = (Fb - F0) / (k * v)
+                    if tb >= h:
+                        F1 = F0 + k * ds
+                        mean = F0 + 0.5 * k * ds
+                    else:  # breaks away at tb, then stays on xi s(v)
+                        F1 = Fb
+                        mean = ((F0 + 0.5 * k * v * tb) * tb + Fb * (h - tb)) / h
+                        nmode = sg
+        total += mean
+        if commit:
+            st[so + i] = F1
+            st[so + M + i] = nmode
+    return total + s2 * v
+
+
+@njit(inline="always")
+def _elastic(kind, par, o, d):
+    """Memoryless site force at site coordinate ``d``."""
+    if kind == S_HERTZ:  # c (d0 + d)_+^1.5 - c (d0 - d)_+^1.5 - k_lin d
+        c = par[o]
+        d0 = par[o + 1]
+        a = d0 + d
+        b = d0 - d
+        fa = c * a * math.sqrt(a) if a > 0.0 else 0.0
+        fb = c * b * math.sqrt(b) if b > 0.0 else 0.0
+        return fa - fb - par[o + 2] * d
+    if kind == S_PWL:  # odd piecewise-linear spring minus k_lin d
+        # layout: k_lin, nseg, k_0..k_{nseg-1}, b_1..b_{nseg-1} (|d| breaks, increasing)
+        nseg = int(par[o + 1])
+        ad = abs(d)
+        f = 0.0
+        lo = 0.0
+        for i in range(nseg):
+            k = par[o + 2 + i]
+            hi = par[o + 2 + nseg + i] if i < nseg - 1 else math.inf
+            if ad <= hi:
+                f += k * (ad - lo)
+                break
+            f += k * (hi - lo)
+            lo = hi
+        sg = 1.0 if d > 0.0 else (-1.0 if d < 0.0 else 0.0)
+        return sg * f - par[o] * d
+    # S_SINE: amplitude sin(d + phase)
+    return par[o] * math.sin(d + par[o + 1])
+
+
+@njit
+def _site_mean(kind, par, o, st, so, s0, ds, h, commit):
+    """Mean force of site over the sub-step for displacement ``ds`` from coordinate ``s0``."""
+    if kind == S_STATIC:
+        return _static_force(par, o, ds / h)
+    if kind == S_LUGRE:
+        F, z1 = _lugre_mean(par, o, st[so], ds, h)
+        if commit:
+            st[so] = z1
+        return F
+    if kind == S_GMS:
+        return _gms_mean(par, o, st, so, ds, h, commit)
+    f0 = _elastic(kind, par, o, s0)
+    fm = _elastic(kind, par, o, s0 + 0.5 * ds)
+    f1 = _elastic(kind, par, o, s0 + ds)
+    return (f0 + 4.0 * fm + f1) / 6.0
+
+
+@njit
+def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
+    """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar)`` (state untouched)."""
+    if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
+        return a, _site_mean(kind, par, o, st, so, s0, a, h, False)
+    if kind == S_STATIC:
+        fs_pos = _g(par, o, 0.0)
+        fs_neg = _g(par, o + N_ROW, 0.0)
+        f_hold = a / Gjj
+        if -fs_neg <= f_hold <= fs_pos:
+            return 0.0, f_hold
+        # slides in the direction of a: the root lies in (0, a]
+        if a > 0.0:
+            lo = 0.0
+            flo = Gjj * fs_pos - a
+            hi = a
+            fhi = Gjj * _static_force(par, o, a / h)
+        else:
+            hi = 0.0
+            fhi = -Gjj * fs_neg - a
+            lo = a
+            flo = a + Gjj * _static_force(par, o, a / h) - a
+        if fhi <= 0.0:
+            return hi, _static_force(par, o, hi / h)
+        if flo >= 0.0:
+            return lo, _static_force(par, o, lo / h)
+    else:
+        # bracket phi(ds) = ds + Gjj Fbar(ds) - a around the explicit guess
+        x0 = a - Gjj * Fguess
+        f0 = x0 + Gjj * _site_mean(kind, par, o, st, so, s0, x0, h, False) - a
+        if f0 == 0.0:
+            return x0, (a - x0) / Gjj
+        step = abs(a - x0) + xtol * 4.0
+        if f0 > 0.0:
+            hi = x0
+            fhi = f0
+            lo = x0 - step
+            flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False) - a
+            n = 0
+            while flo > 0.0 and n < 200:
+                hi = lo
+                fhi = flo
+                step *= 4.0
+                lo = hi - step
+                flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False) - a
+                n += 1
+        else:
+            lo = x0
+            flo = f0
+            hi = x0 + step
+            fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False) - a
+            n = 0
+            while fhi < 0.0 and n < 200:
+                lo = hi
+                flo = fhi
+                step *= 4.0
+                hi = lo + step
+                fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False) - a
+                n += 1
+        if flo == 0.0:
+            return lo, (a - lo) / Gjj
+        if fhi == 0.0:
+            return hi, (a - hi) / Gjj
+    # Illinois (modified regula falsi) on [lo, hi], flo < 0 < fhi
+    side = 0
+    x = lo
+    for _ in range(100):
+        x = (lo * fhi - hi * flo) / (fhi - flo)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False) - a
+        if fx == 0.0:
+            break
+        if fx < 0.0:
+            lo = x
+            flo = fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi = x
+            fhi = fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+        if hi - lo <= xtol or abs(fx) <= 0.25 * xtol:
+            break
+    return x, (a - x) / Gjj
+
+
+@njit(inline="always")
+def _quantise(x, q):
+    if q > 0.0:
+        return math.floor(x / q) * q
+    return x
+
+
+# --------------------------------------------------------------------------- main loop
+@njit
+def run(
+    n_sub, dt, Phi, G0, G1, Gf, Gss, Cq, Cm, s_off,
+    site_kind, site_po, site_so, par, st, xtol,
+    X, mot, mot_coef_w,
+    act_sig, act_lim, act_delay, act_foh, act_applied_sig, act_col, inputs, in_sig,
+    sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
+    blk_code, blk_iptr, blk_idx, blk_fptr, blk_par, blk_sptr, blk_st,
+    sig,
+    q_out, v_out, F_out, sig_out, u_out,
+):
+    """Run ``N = q_out.shape[0]`` samples. ``X``, ``st``, ``sig``, ``blk_st`` are updated in place.
+
+    Returns ``(status, k_end, n_unconverged)``: samples ``k >= k_end`` are left untouched.
+    """
+    n2 = X.size
+    n = n2 // 2
+    ns = Cq.shape[0]
+    nw = G0.shape[1]
+    nact = act_sig.size
+    nmot = mot.shape[1]
+    nsen = sen_sig.size
+    nin = in_sig.size
+    nb = blk_code.size
+    N = q_out.shape[0]
+    h = dt / n_sub
+
+    Fbar = np.zeros(ns)
+    ds = np.zeros(ns)
+    a = np.zeros(ns)
+    s0 = np.zeros(ns)
+    Xf = np.empty(n2)
+    w0 = np.zeros(nw)
+    w1 = np.zeros(nw)
+    dw = np.zeros(nw)
+    u_now = np.zeros(nact)
+    sat = np.zeros(nact, dtype=np.bool_)
+    # delay lines: actuators and sensors, ring buffers of length delay + 1
+    maxd_a = 0
+    for i in range(nact):
+        if act_delay[i] > maxd_a:
+            maxd_a = act_delay[i]
+    abuf = np.zeros((nact, maxd_a + 1))
+    maxd_s = 0
+    for i in range(nsen):
+        if sen_delay[i] > maxd_s:
+            maxd_s = sen_delay[i]
+    sbuf = np.zeros((nsen, maxd_s + 1))
+    n_bad = 0
+
+    # memoryless sites start at their static force
+    for j in range(ns):
+        kind = site_kind[j]
+        if kind >= S_HERTZ:
+            sj = s_off[j]
+            for b in range(n):
+                sj += Cq[j, b] * X[b]
+            for m in range(nmot):
+                sj += Cm[j, m] * mot[0, m]
+            Fbar[j] = _elastic(kind, par, site_po[j], sj)
+
+    for k in range(N):
+        kn = k + 1 if k + 1 < N else k
+        # ---- record the state at t_k
+        for b in range(n):
+            q_out[k, b] = X[b]
+            v_out[k, b] = X[n + b]
+        for j in range(ns):
+            F_out[k, j] = Fbar[j]
+        # ---- inputs and sensors
+        for i in range(nin):
+            sig[in_sig[i]] = inputs[k, i]
+        for i in range(nsen):
+            y = 0.0
+            off = n if sen_qty[i] == 1 else 0
+            for b in range(n):
+                y += sen_row[i, b] * X[off + b]
+            for m in range(nmot):
+                if sen_qty[i] == 1:
+                    y += sen_mrow[i, m] * (mot[kn, m] - mot[k, m]) / dt
+                else:
+                    y += sen_mrow[i, m] * mot[k, m]
+            y = _quantise(y + noise[k, i], sen_res[i])
+            d = sen_delay[i]
+            if d > 0:
+                slot = k % (d + 1)
+                out = sbuf[i, slot] if k >= d else 0.0
+                sbuf[i, slot] = y
+                y = out
+            sig[sen_sig[i]] = y
+        # ---- blocks
+        for bi in range(nb):
+            code = blk_code[bi]
+            ip = blk_iptr[bi]
+            fp = blk_fptr[bi]
+            sp = blk_sptr[bi]
+            if code == B_LINEAR:  # idx: out, nin, in...; par: bias, w...
+                nin_b = blk_idx[ip + 1]
+                y = blk_par[fp]
+                for r in range(nin_b):
+                    y += blk_par[fp + 1 + r] * sig[blk_idx[ip + 2 + r]]
+                sig[blk_idx[ip]] = y
+            elif code == B_PID:  # idx: out, e, ed, act; par: Kp Ki Kd tau_d T; st: integ, dterm, ed_prev, started
+                e = sig[blk_idx[ip + 1]]
+                ed = sig[blk_idx[ip + 2]]
+                Kp = blk_par[fp]
+                Kd = blk_par[fp + 2]
+                taud = blk_par[fp + 3]
+                T = blk_par[fp + 4]
+                if blk_st[sp + 3] == 0.0:
+                    blk_st[sp + 2] = ed
+                    blk_st[sp + 3] = 1.0
+                blk_st[sp + 1] = (taud * blk_st[sp + 1] + Kd * (ed - blk_st[sp + 2])) / (taud + T)
+                blk_st[sp + 2] = ed
+                sig[blk_idx[ip]] = Kp * e + blk_st[sp] + blk_st[sp + 1]
+            elif code == B_SS:  # idx: nin, nout, in..., out...; par: nx, A, B, C, D
+                nu = blk_idx[ip]
+                ny = blk_idx[ip + 1]
+                nx = int(blk_par[fp])
+                pA = fp + 1
+                pB = pA + nx * nx
+                pC = pB + nx * nu
+                pD = pC + ny * nx
+                for r in range(ny):
+                    y = 0.0
+                    for c in range(nx):
+                        y += blk_par[pC + r * nx + c] * blk_st[sp + c]
+                    for c in range(nu):
+                        y += blk_par[pD + r * nu + c] * sig[blk_idx[ip + 2 + c]]
+                    sig[blk_idx[ip + 2 + nu + r]] = y
+                # state update x+ = A x + B u (scratch after the states)
+                for r in range(nx):
+                    y = 0.0
+                    for c in range(nx):
+                        y += blk_par[pA + r * nx + c] * blk_st[sp + c]
+                    for c in range(nu):
+                        y += blk_par[pB + r * nu + c] * sig[blk_idx[ip + 2 + c]]
+                    blk_st[sp + nx + r] = y
+                for r in range(nx):
+                    blk_st[sp + r] = blk_st[sp + nx + r]
+            elif code == B_SAT:  # idx: out, in; par: lo, hi
+                y = sig[blk_idx[ip + 1]]
+                if y > blk_par[fp + 1]:
+                    y = blk_par[fp + 1]
+                elif y < blk_par[fp]:
+                    y = blk_par[fp]
+                sig[blk_idx[ip]] = y
+            else:  # B_FFF: idx: out, in; par: scale, static rows (12)
+                sig[blk_idx[ip]] = blk_par[fp] * _static_force(blk_par, fp + 1, sig[blk_idx[ip + 1]])
+        # ---- actuators
+        for i in range(nact):
+            if act_foh[i]:
+                u = inputs[k, act_col[i]]
+            else:
+                u = sig[act_sig[i]]
+            sat[i] = False
+            if u > act_lim[i]:
+                u = act_lim[i]
+                sat[i] = True
+            elif u < -act_lim[i]:
+                u = -act_lim[i]
+                sat[i] = True
+            d = act_delay[i]
+            if d > 0:
+                slot = k % (d + 1)
+                out = abuf[i, slot] if k >= d else 0.0
+                abuf[i, slot] = u
+                u = out
+            u_now[i] = u
+            u_out[k, i] = u
+            if act_applied_sig[i] >= 0:
+                sig[act_applied_sig[i]] = u
+        # ---- PID integrators (conditional integration)
+        for bi in range(nb):
+            if blk_code[bi] == B_PID:
+                ip = blk_iptr[bi]
+                ai = blk_idx[ip + 3]
+                if ai < 0 or not sat[ai]:
+                    blk_st[blk_sptr[bi]] += blk_par[blk_fptr[bi] + 1] * blk_par[blk_fptr[bi] + 4] * sig[blk_idx[ip + 1]]
+        for r in range(sig.size):
+            sig_out[k, r] = sig[r]
+        if k == N - 1:
+            break
+        # ---- plant: n_sub sub-steps
+        for sub in range(n_sub):
+            f0 = sub / n_sub
+            f1 = (sub + 1) / n_sub
+            for i in range(nact):
+                if act_foh[i]:
+                    ua = inputs[k, act_col[i]]
+                    ub = inputs[kn, act_col[i]]
+                    va = ua + (ub - ua) * f0
+                    vb = ua + (ub - ua) * f1
+                    lim = act_lim[i]
+                    va = min(max(va, -lim), lim)
+                    vb = min(max(vb, -lim), lim)
+                    w0[i] = va
+                    w1[i] = vb
+                else:
+                    w0[i] = u_now[i]
+                    w1[i] = u_now[i]
+            for m in range(nmot):
+                pa = mot[k, m]
+                pb = mot[kn, m]
+                w0[nact + m] = pa + (pb - pa) * f0
+                w1[nact + m] = pa + (pb - pa) * f1
+                w0[nact + nmot + m] = (pb - pa) / dt
+                w1[nact + nmot + m] = (pb - pa) / dt
+            for c in range(nw):
+                dw[c] = w1[c] - w0[c]
+            for r in range(n2):
+                y = 0.0
+                for c in range(n2):
+                    y += Phi[r, c] * X[c]
+                for c in range(nw):
+                    y += G0[r, c] * w0[c] + G1[r, c] * dw[c]
+                Xf[r] = y
+            if ns > 0:
+                for j in range(ns):
+                    aj = 0.0
+                    sj = s_off[j]
+                    for b in range(n):
+                        aj += Cq[j, b] * (Xf[b] - X[b])
+                        sj += Cq[j, b] * X[b]
+                    for m in range(nmot):
+                        aj += Cm[j, m] * (w1[nact + m] - w0[nact + m])
+                        sj += Cm[j, m] * w0[nact + m]
+                    a[j] = aj
+                    s0[j] = sj
+                # Gauss-Seidel over the sites
+                for sweep in range(60):
+                    change = 0.0
+                    tol = 0.0
+                    for j in range(ns):
+                        aj = a[j]
+                        for i in range(ns):
+                            if i != j:
+                                aj -= Gss[j, i] * Fbar[i]
+                        tj = xtol[j] + 1e-13 * abs(aj)
+                        dsj, Fj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
+                                              Gss[j, j], h, Fbar[j], tj)
+                        dF = abs(Fj - Fbar[j]) * Gss[j, j]
+                        if dF > change:
+                            change = dF
+                        if tj > tol:
+                            tol = tj
+                        Fbar[j] = Fj
+                        ds[j] = dsj
+                    if ns == 1 or change <= tol:
+                        break
+                    if sweep == 59:
+                        n_bad += 1
+                for j in range(ns):
+                    _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True)
+            for r in range(n2):
+                y = Xf[r]
+                for j in range(ns):
+                    y += Gf[r, j] * Fbar[j]
+                X[r] = y
+        for r in range(n2):
+            if not math.isfinite(X[r]):
+                return STATUS_NONFINITE, k + 1, n_bad
+    return STATUS_OK, N, n_bad

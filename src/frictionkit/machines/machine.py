@@ -1,0 +1,306 @@
+"""The machine description: degrees of freedom, couplings, sites, actuators, sensors, controller.
+
+A :class:`Machine` is data. You add parts with its methods (each validated on the spot, with
+a message naming the part and the value), then run it with
+:func:`~frictionkit.machines.simulate_machine`. Presets (the seed 001 ball-screw stage, the
+EMPS axis, ...) are functions that build a ``Machine``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _validate as val
+from ..errors import ParameterError
+from .elements import BLOCK_TYPES, Coord, HertzContact, PiecewiseLinearSpring, SineLoad
+
+KINDS = {"translational": "m", "rotational": "rad"}
+QUANTITIES = ("position", "velocity")
+
+
+@dataclass(frozen=True)
+class Dof:
+    name: str
+    inertia: float
+    kind: str
+    x0: float
+    v0: float
+
+    @property
+    def unit(self) -> str:
+        return KINDS[self.kind]
+
+
+@dataclass(frozen=True)
+class Spring:
+    name: str
+    at: Coord
+    k: float
+    c: float
+
+
+@dataclass(frozen=True)
+class Site:
+    """A friction site, nonlinear compliance or position-dependent load acting along ``at``.
+
+    Its force ``F`` opposes the site coordinate: the generalised force is ``-at^T F``.
+    """
+
+    name: str
+    at: Coord
+    law: object
+    role: str  # "friction", "compliance", "load"
+
+
+@dataclass(frozen=True)
+class Actuator:
+    name: str
+    at: Coord
+    gain: float
+    limit: float
+    delay: int
+    command: str
+
+
+@dataclass(frozen=True)
+class Sensor:
+    name: str
+    at: Coord
+    quantity: str
+    resolution: float
+    noise: float
+    delay: int
+
+
+def _int(owner: str, name: str, value, *, minimum: int = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ParameterError(f"{owner}.{name} = {value!r}: must be an integer >= {minimum}")
+    return int(value)
+
+
+class Machine:
+    """A drive as degrees of freedom, couplings, friction sites, actuators, sensors and a controller.
+
+    Parameters
+    ----------
+    name : str — shown in results and reports.
+
+    Examples
+    --------
+    A 1 kg slider on a LuGre contact, pushed by a force input ``"u"``, with a position scale:
+
+    >>> import frictionkit as fk
+    >>> m = fk.Machine("slider")
+    >>> x = m.dof("x", inertia=1.0)
+    >>> m.friction("contact", x, law=fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4),
+    ...                                          sigma0=1e5, sigma1=316.0))
+    >>> m.actuator("u", x)
+    >>> m.sensor("scale", x, resolution=1e-6)
+    >>> m
+    Machine('slider': 1 dof, 0 springs, 1 site, 1 actuator, 1 sensor, 0 blocks)
+    """
+
+    def __init__(self, name: str = "machine"):
+        if not isinstance(name, str):
+            raise ParameterError(f"Machine name = {name!r}: must be a string")
+        self.name = name
+        self.dofs: list[Dof] = []
+        self.masses: list[tuple[Coord, float]] = []
+        self.springs: list[Spring] = []
+        self.sites: list[Site] = []
+        self.actuators: list[Actuator] = []
+        self.sensors: list[Sensor] = []
+        self.blocks: list = []
+        self._dof_names: list[str] = []
+        self._motion_names: list[str] = []
+        self._names: set[str] = set()
+
+    # ------------------------------------------------------------------ helpers
+    def _new_name(self, what: str, name) -> str:
+        if not isinstance(name, str) or not name:
+            raise ParameterError(f"Machine.{what} name = {name!r}: must be a non-empty string")
+        if name in self._names:
+            raise ParameterError(f"Machine.{what}: the name {name!r} is already used in machine {self.name!r}")
+        self._names.add(name)
+        return name
+
+    def _coord(self, what: str, a, b=None) -> Coord:
+        if not isinstance(a, Coord) or a._owner is not self:
+            raise ParameterError(f"Machine.{what}: {a!r} is not a coordinate of machine {self.name!r} "
+                                 "(use the values returned by dof() or motion())")
+        if b is not None:
+            if not isinstance(b, Coord) or b._owner is not self:
+                raise ParameterError(f"Machine.{what}: {b!r} is not a coordinate of machine {self.name!r}")
+            a = a - b
+        if not a.dofs:
+            raise ParameterError(f"Machine.{what}: {a!r} does not move with any degree of freedom")
+        return a
+
+    # ------------------------------------------------------------------ parts
+    def dof(self, name: str, *, inertia: float, kind: str = "translational", x0: float = 0.0,
+            v0: float = 0.0) -> Coord:
+        """Add a degree of freedom; returns its coordinate.
+
+        Parameters
+        ----------
+        name : str
+        inertia : float — mass [kg] or moment of inertia [kg·m²], >= 0 (a massless DOF needs
+            inertia from :meth:`mass` or the machine cannot be simulated).
+        kind : {"translational", "rotational"} — unit m or rad.
+        x0, v0 : float — initial position [m or rad] and velocity.
+        """
+        name = self._new_name("dof", name)
+        if kind not in KINDS:
+            raise ParameterError(f"Machine.dof({name!r}).kind = {kind!r}: must be one of {sorted(KINDS)}")
+        d = Dof(name, val.nonnegative(f"Machine.dof({name!r})", "inertia", inertia), kind,
+                val.finite(f"Machine.dof({name!r})", "x0", x0), val.finite(f"Machine.dof({name!r})", "v0", v0))
+        self.dofs.append(d)
+        self._dof_names.append(name)
+        return Coord(self, {len(self.dofs) - 1: 1.0}, {})
+
+    def coord(self, name: str) -> Coord:
+        """The coordinate of a degree of freedom or prescribed motion by name."""
+        if name in self._dof_names:
+            return Coord(self, {self._dof_names.index(name): 1.0}, {})
+        if name in self._motion_names:
+            return Coord(self, {}, {self._motion_names.index(name): 1.0})
+        raise ParameterError(f"Machine {self.name!r} has no degree of freedom or motion {name!r}; "
+                             f"it has {self._dof_names + self._motion_names}")
+
+    def motion(self, name: str) -> Coord:
+        """A prescribed position (an input array of that name at simulation) to attach springs
+        and sites to, e.g. the far end of the spring that pulls a block (Canudas et al. 1995)."""
+        name = self._new_name("motion", name)
+        self._motion_names.append(name)
+        return Coord(self, {}, {len(self._motion_names) - 1: 1.0})
+
+    def mass(self, at: Coord, mass: float) -> None:
+        """Attach a rigid inertia at a point, e.g. a worktable at ``R * (theta1 + theta2)``."""
+        at = self._coord("mass", at)
+        self.masses.append((at, val.positive("Machine.mass", "mass", mass)))
+
+    def spring(self, a: Coord, b: Coord | None = None, *, k: float = 0.0, c: float = 0.0,
+               name: str | None = None) -> None:
+        """Linear spring ``k`` [N/m] and damper ``c`` [N·s/m] on ``a - b`` (``b`` None: ground)."""
+        at = self._coord("spring", a, b)
+        name = self._new_name("spring", name or f"spring{len(self.springs)}")
+        k = val.nonnegative(f"Machine.spring({name!r})", "k", k)
+        c = val.nonnegative(f"Machine.spring({name!r})", "c", c)
+        if k == 0.0 and c == 0.0:
+            raise ParameterError(f"Machine.spring({name!r}): k = c = 0 couples nothing")
+        self.springs.append(Spring(name, at, k, c))
+
+    def damper(self, a: Coord, b: Coord | None = None, *, c: float, name: str | None = None) -> None:
+        """Linear damper on ``a - b``."""
+        self.spring(a, b, c=c, name=name)
+
+    def friction(self, name: str, a: Coord, b: Coord | None = None, *, law) -> None:
+        """A friction site on the motion of ``a`` relative to ``b`` (ground when None).
+
+        ``law`` is any friction law: ``Stribeck``, ``CoulombViscous``, ``Directional``,
+        ``Dahl``, ``LuGre`` or ``GMS``. Its force opposes the relative motion.
+        """
+        from .simulate import law_family
+
+        at = self._coord("friction", a, b)
+        name = self._new_name("friction", name)
+        law_family(law, f"Machine.friction({name!r}).law")
+        self.sites.append(Site(name, at, law, "friction"))
+
+    def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law, c: float = 0.0) -> None:
+        """A nonlinear spring on ``a - b``: :class:`HertzContact` or :class:`PiecewiseLinearSpring`
+        (a harmonic drive's torque-dependent stiffness), with an optional linear damper ``c``."""
+        if not isinstance(law, (HertzContact, PiecewiseLinearSpring)):
+            raise ParameterError(f"Machine.compliance({name!r}).law = {type(law).__name__}: "
+                                 "must be HertzContact or PiecewiseLinearSpring")
+        at = self._coord("compliance", a, b)
+        name = self._new_name("compliance", name)
+        self.sites.append(Site(name, at, law, "compliance"))
+        if c:
+            self.damper(a, b, c=c, name=f"{name}.damper")
+
+    def load(self, name: str, at: Coord, *, law: SineLoad) -> None:
+        """A position-dependent load, e.g. gravity imbalance ``m g X sin(theta)`` (:class:`SineLoad`)."""
+        if not isinstance(law, SineLoad):
+            raise ParameterError(f"Machine.load({name!r}).law = {type(law).__name__}: must be SineLoad")
+        at = self._coord("load", at)
+        name = self._new_name("load", name)
+        self.sites.append(Site(name, at, law, "load"))
+
+    def actuator(self, name: str, at: Coord, *, gain: float = 1.0, limit: float = math.inf,
+                 delay: int = 0, command: str | None = None) -> None:
+        """A force/torque source ``gain * clip(command, -limit, limit)`` acting along ``at``.
+
+        ``command`` names the signal it follows (default: the actuator's own name — give an
+        input array of that name for open-loop runs, interpolated linearly between samples,
+        or let a controller block write it; then it is held over the sample). ``delay`` whole
+        samples of transport delay. Its applied value is the signal ``"<name>.applied"``.
+        """
+        at = self._coord("actuator", at)
+        name = self._new_name("actuator", name)
+        o = f"Machine.actuator({name!r})"
+        lim = float(limit) if limit is not None else math.inf
+        if not lim > 0:
+            raise ParameterError(f"{o}.limit = {limit!r}: must be > 0")
+        cmd = name if command is None else command
+        if not isinstance(cmd, str) or not cmd:
+            raise ParameterError(f"{o}.command = {command!r}: must be a signal name")
+        self._names.add(f"{name}.applied")
+        self.actuators.append(Actuator(name, at, val.finite(o, "gain", gain), lim, _int(o, "delay", delay), cmd))
+
+    def sensor(self, name: str, at: Coord, *, quantity: str = "position", resolution: float = 0.0,
+               noise: float = 0.0, delay: int = 0) -> None:
+        """A measured signal: position or velocity of ``at``, quantised to ``resolution``
+        (``floor(x / q) q``; an encoder of N counts/rev: ``2 pi / N``), white noise of std
+        ``noise`` before quantisation, ``delay`` whole samples."""
+        o = f"Machine.sensor({name!r})"
+        at = self._coord("sensor", at) if not (isinstance(at, Coord) and not at.dofs and at.motions) else at
+        name = self._new_name("sensor", name)
+        if quantity not in QUANTITIES:
+            raise ParameterError(f"{o}.quantity = {quantity!r}: must be one of {QUANTITIES}")
+        self.sensors.append(Sensor(name, at, quantity, val.nonnegative(o, "resolution", resolution),
+                                   val.nonnegative(o, "noise", noise), _int(o, "delay", delay)))
+
+    def add(self, *blocks) -> None:
+        """Append controller blocks (:class:`Sum`, :class:`PID`, :class:`StateSpace`,
+        :class:`Saturation`, :class:`FrictionFeedforward`); they run in this order each sample."""
+        for b in blocks:
+            if not isinstance(b, BLOCK_TYPES):
+                raise ParameterError(f"Machine.add: {type(b).__name__} is not a controller block; "
+                                     f"use one of {[t.__name__ for t in BLOCK_TYPES]}")
+            for out in b.outputs:
+                if out in self._dof_names or out in self._motion_names:
+                    raise ParameterError(f"Machine.add: block output {out!r} clashes with a dof/motion name")
+            self.blocks.append(b)
+
+    # ------------------------------------------------------------------ views
+    @property
+    def n(self) -> int:
+        return len(self.dofs)
+
+    def row(self, at: Coord) -> tuple[np.ndarray, np.ndarray]:
+        """``(dof coefficients (n,), motion coefficients (n_motion,))`` of a coordinate."""
+        c = np.zeros(self.n)
+        for i, w in at.dofs.items():
+            c[i] = w
+        cm = np.zeros(len(self._motion_names))
+        for i, w in at.motions.items():
+            cm[i] = w
+        return c, cm
+
+    def mass_matrix(self) -> np.ndarray:
+        Mm = np.diag([d.inertia for d in self.dofs]).astype(float)
+        for at, mass in self.masses:
+            c, _ = self.row(at)
+            Mm += mass * np.outer(c, c)
+        return Mm
+
+    def __repr__(self) -> str:
+        def n(k, word):
+            return f"{k} {word}{'' if k == 1 else 's'}"
+        return (f"Machine({self.name!r}: {n(self.n, 'dof')}, {n(len(self.springs), 'spring')}, "
+                f"{n(len(self.sites), 'site')}, {n(len(self.actuators), 'actuator')}, "
+                f"{n(len(self.sensors), 'sensor')}, {n(len(self.blocks), 'block')})")

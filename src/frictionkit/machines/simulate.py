@@ -1,0 +1,446 @@
+"""Pack a :class:`Machine` for the compiled loop, run it, and return a :class:`MachineResult`."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import expm
+
+from .. import _validate as val
+from ..errors import DataError, ParameterError, SimulationError
+from ..kernels import machine as _k
+from ..models.gms import GMS
+from ..models.lugre import Dahl, LuGre
+from ..models.static import CoulombViscous, Directional, Stribeck
+from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation,
+                       SineLoad, StateSpace, Sum)
+from .machine import Machine
+
+
+def law_family(law, where: str = "law") -> str:
+    """``"static"``, ``"lugre"`` (LuGre, Dahl) or ``"gms"``; raises ParameterError otherwise."""
+    m = law.positive if isinstance(law, Directional) else law
+    if isinstance(m, (Stribeck, CoulombViscous)):
+        return "static"
+    if isinstance(m, (LuGre, Dahl)):
+        return "lugre"
+    if isinstance(m, GMS):
+        return "gms"
+    raise ParameterError(f"{where} = {type(law).__name__}: must be a friction law (Stribeck, "
+                         "CoulombViscous, Directional, Dahl, LuGre or GMS)")
+
+
+def _static_rows(law) -> np.ndarray:
+    """The (2, 6) rows of a law's steady-state map ``Fss(v)``."""
+    fam = law_family(law)
+    if isinstance(law, Directional):
+        return np.array([_static_rows(law.positive)[0], _static_rows(law.negative)[1]])
+    if fam == "static":
+        return np.asarray(law.static_rows(), dtype=float)
+    rows = np.array(law.static.static_rows(), dtype=float)
+    if fam == "gms":  # steady sliding: (sum xi) s(v) + sigma2 v
+        rows[:, 0:2] *= float(np.sum(law.xi))
+    return rows
+
+
+def _pack_law(law) -> tuple[int, list[float], list[float]]:
+    """``(site kind, parameters, initial state)`` of a friction law for the kernel."""
+    from ..models.pack import pack_gms, pack_lugre
+
+    fam = law_family(law)
+    if fam == "static":
+        return _k.S_STATIC, list(np.ravel(law.static_rows())), []
+    if fam == "lugre":
+        p = pack_lugre(law)
+        return _k.S_LUGRE, [*np.ravel(p.static), p.dyn[0, 0], p.dyn[0, 1], p.dyn[1, 0], p.dyn[1, 1]], [0.0]
+    p = pack_gms(law)
+    M = p.k.shape[1]
+    par = [*np.ravel(p.static), float(M), *p.k[0], *p.xi[0], *p.k[1], *p.xi[1], p.C[0], p.C[1]]
+    return _k.S_GMS, par, [0.0] * (2 * M)
+
+
+@dataclass(frozen=True, eq=False)
+class MachineResult:
+    """Time series of one machine run (SI units). ``status`` 0 = ok; else ``message`` says why.
+
+    Attributes
+    ----------
+    t : ndarray (N,) — sample times [s].
+    q, v : ndarray (N, n) — positions and velocities of the degrees of freedom at the samples.
+    F : ndarray (N, n_sites) — site forces, each the mean over the last sub-step before the sample.
+    signals : ndarray (N, n_signals) — every controller signal after the sample's update.
+    u : ndarray (N, n_actuators) — applied actuator commands (after saturation and delay).
+    dof_names, site_names, signal_names, actuator_names : tuple of str.
+    """
+
+    machine: Machine
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    F: np.ndarray
+    signals: np.ndarray
+    u: np.ndarray
+    dof_names: tuple
+    site_names: tuple
+    signal_names: tuple
+    actuator_names: tuple
+    substeps: int
+    status: int
+    message: str
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    def _index(self, names, name, what):
+        if name not in names:
+            raise DataError(f"no {what} named {name!r}; available: {list(names)}")
+        return names.index(name)
+
+    def position(self, at) -> np.ndarray:
+        """Position of a DOF (by name) or of any coordinate (motions excluded) [m or rad]."""
+        if isinstance(at, str):
+            return self.q[:, self._index(self.dof_names, at, "degree of freedom")]
+        c, _ = self.machine.row(at)
+        return self.q @ c
+
+    def velocity(self, at) -> np.ndarray:
+        if isinstance(at, str):
+            return self.v[:, self._index(self.dof_names, at, "degree of freedom")]
+        c, _ = self.machine.row(at)
+        return self.v @ c
+
+    def force(self, site: str) -> np.ndarray:
+        """Force of a friction site, compliance or load [N or N·m]."""
+        return self.F[:, self._index(self.site_names, site, "site")]
+
+    def signal(self, name: str) -> np.ndarray:
+        return self.signals[:, self._index(self.signal_names, name, "signal")]
+
+    def summary(self) -> str:
+        lines = [f"{self.machine.name}: {self.t.size} samples over {self.t[-1]:.6g} s, "
+                 f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})"]
+        for i, d in enumerate(self.machine.dofs):
+            lines.append(f"  {d.name:>12s}: final x = {self.q[-1, i]:.6g} {d.unit}, "
+                         f"max |v| = {np.nanmax(np.abs(self.v[:, i])):.4g} {d.unit}/s")
+        for j, s in enumerate(self.site_names):
+            lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.F[:, j])) if self.F.shape[0] else 0:.4g}")
+        return "\n".join(lines)
+
+    def plot(self, ax=None):
+        """Positions of the degrees of freedom over time; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        for i, d in enumerate(self.machine.dofs):
+            ax.plot(self.t, self.q[:, i], label=f"{d.name} [{d.unit}]")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("position")
+        ax.set_title(self.machine.name)
+        ax.legend(loc="best", fontsize=8)
+        return ax
+
+
+def discretise(machine: Machine, h: float):
+    """Exact discretisation of the linear chain over a sub-step ``h``.
+
+    Returns ``(Phi, G0, G1, Gf, parts)``: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf Fbar`` for
+    inputs ``w`` affine over the sub-step (actuators, motions, motion rates) and site
+    forces ``Fbar`` held over it; ``parts`` holds ``M, D, K, Bw, Cq, Cm``.
+    """
+    n = machine.n
+    nm = len(machine._motion_names)
+    Mm = machine.mass_matrix()
+    w, V = np.linalg.eigh(Mm)
+    if n == 0:
+        raise ParameterError(f"Machine {machine.name!r} has no degree of freedom")
+    if w.min() <= 1e-12 * max(w.max(), 1e-300):
+        bad = [machine.dofs[i].name for i in np.flatnonzero(np.abs(V[:, np.argmin(w)]) > 1e-6)]
+        raise ParameterError(f"Machine {machine.name!r}: the mass matrix is singular — {bad} carry no "
+                             "inertia (give them inertia or attach a mass)")
+    K = np.zeros((n, n))
+    D = np.zeros((n, n))
+    nact = len(machine.actuators)
+    Bw = np.zeros((n, nact + 2 * nm))
+    for sp in machine.springs:
+        c, cm = machine.row(sp.at)
+        K += sp.k * np.outer(c, c)
+        D += sp.c * np.outer(c, c)
+        Bw[:, nact:nact + nm] -= sp.k * np.outer(c, cm)
+        Bw[:, nact + nm:] -= sp.c * np.outer(c, cm)
+    ns = len(machine.sites)
+    Cq = np.zeros((ns, n))
+    Cm = np.zeros((ns, nm))
+    for j, s in enumerate(machine.sites):
+        Cq[j], Cm[j] = machine.row(s.at)
+        kl = getattr(s.law, "linear_stiffness", 0.0) if s.role != "friction" else 0.0
+        if kl:
+            K += kl * np.outer(Cq[j], Cq[j])
+            Bw[:, nact:nact + nm] -= kl * np.outer(Cq[j], Cm[j])
+    for i, a in enumerate(machine.actuators):
+        c, cm = machine.row(a.at)
+        Bw[:, i] = a.gain * c
+    Bf = -Cq.T
+    Minv = np.linalg.inv(Mm)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -Minv @ K
+    A[n:, n:] = -Minv @ D
+    B = np.zeros((2 * n, Bw.shape[1] + ns))
+    B[n:, :Bw.shape[1]] = Minv @ Bw
+    B[n:, Bw.shape[1]:] = Minv @ Bf
+    m = B.shape[1]
+    Z = np.zeros((2 * n + 2 * m, 2 * n + 2 * m))
+    Z[:2 * n, :2 * n] = A * h
+    Z[:2 * n, 2 * n:2 * n + m] = B * h
+    Z[2 * n:2 * n + m, 2 * n + m:] = np.eye(m)
+    E = expm(Z)
+    Phi = E[:2 * n, :2 * n]
+    G0 = E[:2 * n, 2 * n:2 * n + m]
+    G1 = E[:2 * n, 2 * n + m:]
+    nw = Bw.shape[1]
+    parts = {"M": Mm, "D": D, "K": K, "Bw": Bw, "Cq": Cq, "Cm": Cm}
+    return (np.ascontiguousarray(Phi), np.ascontiguousarray(G0[:, :nw]), np.ascontiguousarray(G1[:, :nw]),
+            np.ascontiguousarray(G0[:, nw:]), parts)
+
+
+def _length(inputs: dict, n_samples):
+    lens = {k: v.size for k, v in inputs.items()}
+    if n_samples is None:
+        if not lens:
+            raise DataError("simulate_machine: give n_samples (or duration) when there are no input arrays")
+        n_samples = next(iter(lens.values()))
+    for k, L in lens.items():
+        if L != n_samples:
+            raise DataError(f"simulate_machine: input {k!r} has {L} samples, expected {n_samples} "
+                            "(all inputs share the sample grid)")
+    return n_samples
+
+
+def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
+                     n_samples: int | None = None, duration: float | None = None,
+                     substeps: int = 10, seed: int | None = 0,
+                     raise_on_failure: bool = False) -> MachineResult:
+    """Run a machine in its compiled closed loop.
+
+    Parameters
+    ----------
+    machine : Machine
+    dt : float — sample period of inputs, sensors and controller [s].
+    inputs : dict name -> array, optional — one value per sample: actuator commands for
+        open-loop runs (interpolated linearly between samples), references and feed-forwards
+        read by controller blocks, prescribed motions (:meth:`Machine.motion`, linear between
+        samples).
+    n_samples, duration : int / float, optional — run length when no input gives it.
+    substeps : int — plant sub-steps per sample (the site forces are held over a sub-step;
+        the linear chain is exact). Raise it until the result stops changing; the parity
+        tests against the solve_ivp twin show the error at the default.
+    seed : int — seed of the sensor noise.
+    raise_on_failure : bool — raise :class:`SimulationError` instead of returning status 1.
+
+    Returns
+    -------
+    MachineResult
+
+    Examples
+    --------
+    >>> import numpy as np, frictionkit as fk
+    >>> m = fk.Machine("slider")
+    >>> x = m.dof("x", inertia=1.0)
+    >>> m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0))
+    >>> m.actuator("u", x)
+    >>> res = fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(1001, 0.5)})
+    >>> float(np.abs(res.position("x")).max())   # 0.5 N < Fc: it sticks
+    0.0
+    """
+    if not isinstance(machine, Machine):
+        raise ParameterError(f"simulate_machine: machine = {type(machine).__name__}: must be a frictionkit Machine")
+    dt = val.positive("simulate_machine", "dt", dt)
+    if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or substeps < 1:
+        raise ParameterError(f"simulate_machine substeps = {substeps!r}: must be an integer >= 1")
+    inputs = {} if inputs is None else dict(inputs)
+    for k in list(inputs):
+        if not isinstance(k, str):
+            raise DataError(f"simulate_machine: input name {k!r} must be a string")
+        inputs[k] = val.signal(f"inputs[{k!r}]", inputs[k], min_len=1)
+    if duration is not None:
+        dur = val.positive("simulate_machine", "duration", duration)
+        if n_samples is not None:
+            raise DataError("simulate_machine: give n_samples or duration, not both")
+        n_samples = int(round(dur / dt)) + 1
+    if n_samples is not None and (isinstance(n_samples, bool) or int(n_samples) != n_samples or n_samples < 2):
+        raise DataError(f"simulate_machine n_samples = {n_samples!r}: must be an integer >= 2")
+    N = _length(inputs, None if n_samples is None else int(n_samples))
+    if N < 2:
+        raise DataError(f"simulate_machine: {N} samples; need at least 2")
+
+    n = machine.n
+    h = dt / int(substeps)
+    Phi, G0, G1, Gf, parts = discretise(machine, h)
+    Cq, Cm = parts["Cq"], parts["Cm"]
+    ns = len(machine.sites)
+    Gss = -(Cq @ Gf[:n]) if ns else np.zeros((0, 0))
+
+    # motions
+    mnames = machine._motion_names
+    for mname in mnames:
+        if mname not in inputs:
+            raise DataError(f"simulate_machine: prescribed motion {mname!r} needs an input array of that name")
+    mot = np.zeros((N, len(mnames)))
+    for i, mname in enumerate(mnames):
+        mot[:, i] = inputs[mname]
+
+    # sites
+    kinds, po, so, par, st, xtol = [], [], [], [], [], []
+    for s in machine.sites:
+        if s.role == "friction":
+            kind, p, s0 = _pack_law(s.law)
+        else:
+            kind = {HertzContact: _k.S_HERTZ, PiecewiseLinearSpring: _k.S_PWL, SineLoad: _k.S_SINE}[type(s.law)]
+            p, s0 = s.law.pack(), []
+        kinds.append(kind)
+        po.append(len(par))
+        so.append(len(st))
+        par += p
+        st += s0
+        xtol.append(1e-18)
+
+    # signals: inputs, sensors, block outputs, actuator applied values
+    sig_names: list[str] = []
+
+    def sig_index(name: str) -> int:
+        if name not in sig_names:
+            sig_names.append(name)
+        return sig_names.index(name)
+
+    in_names = [k for k in inputs if k not in mnames]
+    produced = set(in_names) | {s.name for s in machine.sensors} | {f"{a.name}.applied" for a in machine.actuators}
+    for b in machine.blocks:
+        produced |= set(b.outputs)
+    for b in machine.blocks:
+        for s in b.inputs:
+            if s not in produced:
+                raise DataError(f"controller block {type(b).__name__}({b.outputs[0]!r}) reads signal {s!r}, "
+                                f"which nothing produces; known signals: {sorted(produced)}")
+    in_sig = np.array([sig_index(k) for k in in_names], dtype=np.int64)
+    in_arr = np.zeros((N, len(in_names)))
+    for i, k in enumerate(in_names):
+        in_arr[:, i] = inputs[k]
+
+    # actuators
+    nact = len(machine.actuators)
+    block_out = set()
+    for b in machine.blocks:
+        block_out |= set(b.outputs)
+    act_sig = np.zeros(nact, dtype=np.int64)
+    act_foh = np.zeros(nact, dtype=np.bool_)
+    act_col = np.full(nact, -1, dtype=np.int64)
+    for i, a in enumerate(machine.actuators):
+        if a.command in block_out or a.command in {s.name for s in machine.sensors}:
+            act_sig[i] = sig_index(a.command)
+        elif a.command in in_names:
+            act_foh[i] = True
+            act_col[i] = in_names.index(a.command)
+            act_sig[i] = sig_index(a.command)
+        else:
+            raise DataError(f"actuator {a.name!r} follows signal {a.command!r}, which is neither an input array "
+                            f"nor a controller output; inputs given: {sorted(inputs)}")
+    act_applied = np.array([sig_index(f"{a.name}.applied") for a in machine.actuators], dtype=np.int64)
+    act_lim = np.array([a.limit for a in machine.actuators], dtype=float)
+    act_delay = np.array([a.delay for a in machine.actuators], dtype=np.int64)
+
+    # sensors
+    nsen = len(machine.sensors)
+    sen_row = np.zeros((nsen, n))
+    sen_mrow = np.zeros((nsen, len(mnames)))
+    for i, s in enumerate(machine.sensors):
+        sen_row[i], sen_mrow[i] = machine.row(s.at)
+    sen_qty = np.array([1 if s.quantity == "velocity" else 0 for s in machine.sensors], dtype=np.int64)
+    sen_res = np.array([s.resolution for s in machine.sensors], dtype=float)
+    sen_delay = np.array([s.delay for s in machine.sensors], dtype=np.int64)
+    sen_sig = np.array([sig_index(s.name) for s in machine.sensors], dtype=np.int64)
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise ParameterError(f"simulate_machine seed = {seed!r}: must be a non-negative integer or None")
+    rng = np.random.default_rng(seed)
+    noise = np.zeros((N, nsen))
+    for i, s in enumerate(machine.sensors):
+        if s.noise > 0:
+            noise[:, i] = rng.standard_normal(N) * s.noise
+
+    # blocks
+    act_names = [a.name for a in machine.actuators]
+    code, iptr, idx, fptr, bpar, sptr, bst = [], [0], [], [0], [], [0], []
+    for b in machine.blocks:
+        if isinstance(b, Sum):
+            code.append(_k.B_LINEAR)
+            idx += [sig_index(b.out), len(b.terms), *[sig_index(s) for s in b.terms]]
+            bpar += [b.bias, *b.terms.values()]
+        elif isinstance(b, PID):
+            code.append(_k.B_PID)
+            aw = -1
+            if b.antiwindup is not None:
+                if b.antiwindup not in act_names:
+                    raise DataError(f"PID({b.out!r}).antiwindup = {b.antiwindup!r}: no such actuator; "
+                                    f"actuators: {act_names}")
+                aw = act_names.index(b.antiwindup)
+            idx += [sig_index(b.out), sig_index(b.error), sig_index(b.derivative_error or b.error), aw]
+            bpar += [b.Kp, b.Ki, b.Kd, b.tau_d, dt]
+            bst += [0.0, 0.0, 0.0, 0.0]
+        elif isinstance(b, StateSpace):
+            code.append(_k.B_SS)
+            nx = b.A.shape[0]
+            idx += [len(b.inputs), len(b.outputs), *[sig_index(s) for s in b.inputs],
+                    *[sig_index(s) for s in b.outputs]]
+            bpar += [float(nx), *b.A.ravel(), *b.B.ravel(), *b.C.ravel(), *b.D.ravel()]
+            bst += [*b.x0, *([0.0] * nx)]
+        elif isinstance(b, Saturation):
+            code.append(_k.B_SAT)
+            idx += [sig_index(b.out), sig_index(b.inp)]
+            bpar += [b.lo, b.hi]
+        elif isinstance(b, FrictionFeedforward):
+            code.append(_k.B_FFF)
+            idx += [sig_index(b.out), sig_index(b.velocity)]
+            bpar += [b.scale, *np.ravel(_static_rows(b.law))]
+        iptr.append(len(idx))
+        fptr.append(len(bpar))
+        sptr.append(len(bst))
+
+    X = np.array([d.x0 for d in machine.dofs] + [d.v0 for d in machine.dofs], dtype=float)
+    sig = np.zeros(len(sig_names))
+    q_out = np.full((N, n), np.nan)
+    v_out = np.full((N, n), np.nan)
+    F_out = np.full((N, ns), np.nan)
+    sig_out = np.full((N, len(sig_names)), np.nan)
+    u_out = np.full((N, nact), np.nan)
+    I64 = np.int64
+    status, k_end, n_bad = _k.run(
+        int(substeps), dt, Phi, G0, G1, Gf, np.ascontiguousarray(Gss, dtype=float),
+        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns),
+        np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
+        np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
+        X, mot, np.zeros(0),
+        act_sig, act_lim, act_delay, act_foh, act_applied, act_col, in_arr, in_sig,
+        sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
+        np.array(code, dtype=I64), np.array(iptr, dtype=I64), np.array(idx, dtype=I64),
+        np.array(fptr, dtype=I64), np.array(bpar, dtype=float), np.array(sptr, dtype=I64),
+        np.array(bst, dtype=float), sig,
+        q_out, v_out, F_out, sig_out, u_out)
+    message = "ok"
+    if status == _k.STATUS_NONFINITE:
+        message = (f"non-finite state after sample {k_end - 1} (t = {(k_end - 1) * dt:.6g} s): the run was "
+                   "stopped and later samples are NaN; check the parameters or raise substeps")
+        if raise_on_failure:
+            raise SimulationError(message)
+        warnings.warn(message, RuntimeWarning, stacklevel=2)
+    elif n_bad:
+        message = (f"ok, but the coupled site forces did not converge in {n_bad} sub-steps "
+                   "(Gauss-Seidel over sites); raise substeps")
+    t = np.arange(N) * dt
+    return MachineResult(machine=machine, t=t, q=q_out, v=v_out, F=F_out, signals=sig_out, u=u_out,
+                         dof_names=tuple(machine._dof_names), site_names=tuple(s.name for s in machine.sites),
+                         signal_names=tuple(sig_names), actuator_names=tuple(act_names),
+                         substeps=int(substeps), status=int(status), message=message)

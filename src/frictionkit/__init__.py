@@ -45,6 +45,7 @@ from .identify import (
     stribeck_model,
 )
 from .plants import ElasticBallScrew, Mass, RigidBallScrew
+from .machines import Machine, MachineResult, simulate_machine
 from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
 
 __version__ = "0.1.0"
@@ -59,6 +60,9 @@ __all__ = [
     "IdentificationError",
     "LuGre",
     "Mass",
+    "Machine",
+    "MachineResult",
+    "simulate_machine",
     "ElasticBallScrew",
     "RigidBallScrew",
     "Recording",

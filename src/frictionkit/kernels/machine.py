@@ -12,16 +12,18 @@ The linear part is advanced *exactly*: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf 
 (``X = [q, q']``; ``w`` affine over the sub-step: actuator forces, prescribed motions and
 their rates; ``Fbar`` the site forces held over the sub-step). Stiff springs cost nothing.
 
-Site ``j`` (friction site, nonlinear compliance or position-dependent load) moves by
+Site ``j`` (dynamic friction law, nonlinear compliance or position-dependent load) moves by
 ``ds_j = a_j - sum_i G_ji Fbar_i`` over the sub-step, with ``a_j`` its free motion and
 ``G = -Cq Gf_q`` the sub-step compliance between sites. Each site's law returns the *mean*
 force over the sub-step for a site moving at the constant velocity ``ds / h`` (exact
 exponential updates for LuGre/Dahl, closed-form breakaway and slip for GMS, Simpson's rule
 for memoryless elastic forces), and the coupled equations ``Fbar_j = law_j(ds_j)`` are
 solved *implicitly* (Gauss-Seidel over sites, a bracketed Illinois root per site). So a
-bristle stiffness of 1e8 N/m or a sticking GMS element is stable at any sub-step, and a
-static (Stribeck/Coulomb) site sticks exactly: when the force that holds it still lies
-inside ``[-Fs-, Fs+]`` it is that force (``ds = 0``), otherwise it slides.
+bristle stiffness of 1e8 N/m or a sticking GMS element is stable at any sub-step. A static
+(Stribeck/Coulomb) site has no state and is coupled through its *end velocity* instead
+(``v_j = b_j - sum_i H_ji Fbar_i``, ``H = -Cq Gf_v``), implicit Euler in the friction: it
+sticks exactly (``v_j = 0``) while the holding force lies inside ``[-Fs-, Fs+]`` and slides
+with ``F = s(v_j) + sigma2 v_j`` otherwise (Karnopp's stick model, made exact in discrete time).
 
 The scheme is first order in ``h`` overall (site forces held over the sub-step); raise
 ``n_sub`` for accuracy. The parity tests against the ``solve_ivp`` twin measure it.
@@ -253,31 +255,58 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, commit):
 
 
 @njit
+def _site_now(kind, par, o, st, so, s, v):
+    """Instantaneous force of a dynamic or memoryless site at coordinate ``s``, velocity ``v``."""
+    if kind == S_LUGRE:
+        z = st[so]
+        if v >= 0.0:
+            ro = o
+            s0 = par[o + 12]
+            s1 = par[o + 13]
+        else:
+            ro = o + N_ROW
+            s0 = par[o + 14]
+            s1 = par[o + 15]
+        g = _g(par, ro, abs(v))
+        zd = v - s0 * abs(v) * z / g if g > 0.0 else v
+        return s0 * z + s1 * zd + par[ro + 4] * v
+    if kind == S_GMS:
+        M = int(par[o + 12])
+        F = 0.0
+        for i in range(M):
+            F += st[so + i]
+        return F + (par[o + 4] if v >= 0.0 else par[o + N_ROW + 4]) * v
+    return _elastic(kind, par, o, s)
+
+
+@njit
 def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar)`` (state untouched)."""
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
         return a, _site_mean(kind, par, o, st, so, s0, a, h, False)
     if kind == S_STATIC:
+        # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
+        # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end (implicit Euler),
+        # or v_end = 0 while the holding force stays inside [-Fs-, Fs+].
         fs_pos = _g(par, o, 0.0)
         fs_neg = _g(par, o + N_ROW, 0.0)
         f_hold = a / Gjj
         if -fs_neg <= f_hold <= fs_pos:
             return 0.0, f_hold
-        # slides in the direction of a: the root lies in (0, a]
         if a > 0.0:
             lo = 0.0
             flo = Gjj * fs_pos - a
             hi = a
-            fhi = Gjj * _static_force(par, o, a / h)
+            fhi = Gjj * _static_force(par, o, a)
         else:
             hi = 0.0
             fhi = -Gjj * fs_neg - a
             lo = a
-            flo = a + Gjj * _static_force(par, o, a / h) - a
+            flo = Gjj * _static_force(par, o, a)
         if fhi <= 0.0:
-            return hi, _static_force(par, o, hi / h)
+            return hi, _static_force(par, o, hi)
         if flo >= 0.0:
-            return lo, _static_force(par, o, lo / h)
+            return lo, _static_force(par, o, lo)
     else:
         # bracket phi(ds) = ds + Gjj Fbar(ds) - a around the explicit guess
         x0 = a - Gjj * Fguess
@@ -322,7 +351,10 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
         x = (lo * fhi - hi * flo) / (fhi - flo)
         if not (lo < x < hi):
             x = 0.5 * (lo + hi)
-        fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False) - a
+        if kind == S_STATIC:
+            fx = x + Gjj * _static_force(par, o, x) - a
+        else:
+            fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False) - a
         if fx == 0.0:
             break
         if fx < 0.0:
@@ -352,7 +384,7 @@ def _quantise(x, q):
 # --------------------------------------------------------------------------- main loop
 @njit
 def run(
-    n_sub, dt, Phi, G0, G1, Gf, Gss, Cq, Cm, s_off,
+    n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off,
     site_kind, site_po, site_so, par, st, xtol,
     X, mot, mot_coef_w,
     act_sig, act_lim, act_delay, act_foh, act_applied_sig, act_col, inputs, in_sig,
@@ -387,7 +419,7 @@ def run(
     dw = np.zeros(nw)
     u_now = np.zeros(nact)
     sat = np.zeros(nact, dtype=np.bool_)
-    # delay lines: actuators and sensors, ring buffers of length delay + 1
+    # delay lines: actuators and sensors, ring buffers of length delay
     maxd_a = 0
     for i in range(nact):
         if act_delay[i] > maxd_a:
@@ -418,7 +450,19 @@ def run(
             q_out[k, b] = X[b]
             v_out[k, b] = X[n + b]
         for j in range(ns):
-            F_out[k, j] = Fbar[j]
+            kind = site_kind[j]
+            if kind == S_STATIC:
+                F_out[k, j] = Fbar[j]
+                continue
+            sj = s_off[j]
+            vj = 0.0
+            for b in range(n):
+                sj += Cq[j, b] * X[b]
+                vj += Cq[j, b] * X[n + b]
+            for m in range(nmot):
+                sj += Cm[j, m] * mot[k, m]
+                vj += Cm[j, m] * (mot[kn, m] - mot[k, m]) / dt
+            F_out[k, j] = _site_now(kind, par, site_po[j], st, site_so[j], sj, vj)
         # ---- inputs and sensors
         for i in range(nin):
             sig[in_sig[i]] = inputs[k, i]
@@ -435,7 +479,7 @@ def run(
             y = _quantise(y + noise[k, i], sen_res[i])
             d = sen_delay[i]
             if d > 0:
-                slot = k % (d + 1)
+                slot = k % d
                 out = sbuf[i, slot] if k >= d else 0.0
                 sbuf[i, slot] = y
                 y = out
@@ -514,7 +558,7 @@ def run(
                 sat[i] = True
             d = act_delay[i]
             if d > 0:
-                slot = k % (d + 1)
+                slot = k % d
                 out = abuf[i, slot] if k >= d else 0.0
                 abuf[i, slot] = u
                 u = out
@@ -571,11 +615,19 @@ def run(
                 for j in range(ns):
                     aj = 0.0
                     sj = s_off[j]
+                    if site_kind[j] == S_STATIC:  # free end velocity of the site
+                        for b in range(n):
+                            aj += Cq[j, b] * Xf[n + b]
+                        for m in range(nmot):
+                            aj += Cm[j, m] * w1[nact + nmot + m]
+                    else:  # free displacement over the sub-step
+                        for b in range(n):
+                            aj += Cq[j, b] * (Xf[b] - X[b])
+                        for m in range(nmot):
+                            aj += Cm[j, m] * (w1[nact + m] - w0[nact + m])
                     for b in range(n):
-                        aj += Cq[j, b] * (Xf[b] - X[b])
                         sj += Cq[j, b] * X[b]
                     for m in range(nmot):
-                        aj += Cm[j, m] * (w1[nact + m] - w0[nact + m])
                         sj += Cm[j, m] * w0[nact + m]
                     a[j] = aj
                     s0[j] = sj
@@ -585,13 +637,14 @@ def run(
                     tol = 0.0
                     for j in range(ns):
                         aj = a[j]
+                        Gc = Hss if site_kind[j] == S_STATIC else Gss
                         for i in range(ns):
                             if i != j:
-                                aj -= Gss[j, i] * Fbar[i]
+                                aj -= Gc[j, i] * Fbar[i]
                         tj = xtol[j] + 1e-13 * abs(aj)
                         dsj, Fj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                              Gss[j, j], h, Fbar[j], tj)
-                        dF = abs(Fj - Fbar[j]) * Gss[j, j]
+                                              Gc[j, j], h, Fbar[j], tj)
+                        dF = abs(Fj - Fbar[j]) * Gc[j, j]
                         if dF > change:
                             change = dF
                         if tj > tol:

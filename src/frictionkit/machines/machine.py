@@ -152,11 +152,11 @@ class Machine:
         kind : {"translational", "rotational"} — unit m or rad.
         x0, v0 : float — initial position [m or rad] and velocity.
         """
-        name = self._new_name("dof", name)
         if kind not in KINDS:
             raise ParameterError(f"Machine.dof({name!r}).kind = {kind!r}: must be one of {sorted(KINDS)}")
         d = Dof(name, val.nonnegative(f"Machine.dof({name!r})", "inertia", inertia), kind,
                 val.finite(f"Machine.dof({name!r})", "x0", x0), val.finite(f"Machine.dof({name!r})", "v0", v0))
+        self._new_name("dof", name)
         self.dofs.append(d)
         self._dof_names.append(name)
         return Coord(self, {len(self.dofs) - 1: 1.0}, {})

@@ -70,7 +70,8 @@ class MachineResult:
     ----------
     t : ndarray (N,) — sample times [s].
     q, v : ndarray (N, n) — positions and velocities of the degrees of freedom at the samples.
-    F : ndarray (N, n_sites) — site forces, each the mean over the last sub-step before the sample.
+    F : ndarray (N, n_sites) — site forces at the samples: from the state for dynamic laws and
+        compliances; for a static law (no state) the mean over the last sub-step before the sample.
     signals : ndarray (N, n_signals) — every controller signal after the sample's update.
     u : ndarray (N, n_actuators) — applied actuator commands (after saturation and delay).
     dof_names, site_names, signal_names, actuator_names : tuple of str.
@@ -283,7 +284,8 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     Phi, G0, G1, Gf, parts = discretise(machine, h)
     Cq, Cm = parts["Cq"], parts["Cm"]
     ns = len(machine.sites)
-    Gss = -(Cq @ Gf[:n]) if ns else np.zeros((0, 0))
+    Gss = -(Cq @ Gf[:n]) if ns else np.zeros((0, 0))  # sub-step displacement compliance
+    Hss = -(Cq @ Gf[n:]) if ns else np.zeros((0, 0))  # end-velocity compliance
 
     # motions
     mnames = machine._motion_names
@@ -419,6 +421,7 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     I64 = np.int64
     status, k_end, n_bad = _k.run(
         int(substeps), dt, Phi, G0, G1, Gf, np.ascontiguousarray(Gss, dtype=float),
+        np.ascontiguousarray(Hss, dtype=float),
         np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns),
         np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
         np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),

@@ -69,11 +69,11 @@ def test_unknown_file_type_and_missing_file(tmp_path):
     p = tmp_path / "run.xyz"
     p.write_text("1,2\n")
     res = runner.invoke(app, ["identify", "rigid-body", str(p), "--time", "t", "--position", "x", "--force", "F"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     assert "unknown file type '.xyz'" in _stderr(res)
     res = runner.invoke(app, ["identify", "static", str(tmp_path / "none.csv"), "--time", "t", "--velocity", "v",
                               "--force", "F"])
-    assert res.exit_code == 1 and "not found" in _stderr(res)
+    assert res.exit_code == 2 and "not found" in _stderr(res)
 
 
 def test_static_screw_drive_grouped(tmp_path):
@@ -95,7 +95,7 @@ def test_static_needs_velocity_or_position(tmp_path):
     p = tmp_path / "a.csv"
     p.write_text("t,F\n0,1\n0.1,1\n")
     res = runner.invoke(app, ["identify", "static", str(p), "--time", "t", "--force", "F"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     assert _stderr(res).strip() == "error: give --velocity or --position"
 
 
@@ -106,7 +106,7 @@ def test_subprocess_error_has_one_stderr_line_and_nonzero_status():
     code = "import frictionkit.cli.identify; from frictionkit.cli import app; app()"
     proc = subprocess.run([sys.executable, "-c", code, "identify", "rigid-body", str(EMPS), "--time", "t_s",
                            "--position", "qm_m", "--force", "torque"], capture_output=True, text=True, timeout=60)
-    assert proc.returncode == 1
+    assert proc.returncode == 2  # bad input
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "column 'torque' (given for force) not found" in lines[0]
     assert proc.stdout == ""

@@ -70,7 +70,7 @@ def test_output_error_lugre(lugre_csv, tmp_path):
 def test_output_error_gms_needs_start_values(lugre_csv):
     res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
                               "--force", "u_mN", *STATIC, "--mass", "1", "--model", "gms"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     err = _stderr(res).strip()
     assert err.startswith("error:") and "--k and --xi" in err and "\n" not in err
 
@@ -78,7 +78,7 @@ def test_output_error_gms_needs_start_values(lugre_csv):
 def test_output_error_without_static_map(lugre_csv):
     res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
                               "--force", "u_mN", "--mass", "1"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     assert "--static-json" in _stderr(res) and _stderr(res).count("\n") == 1
 
 
@@ -86,7 +86,7 @@ def test_output_error_unknown_parameter(lugre_csv):
     res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
                               "--force", "u_mN", "--force-scale", "1e-3", *STATIC, "--mass", "1",
                               "--sigma0", "1e5", "--free", "sigma0,bogus"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     assert "unknown parameter 'bogus'" in _stderr(res)
 
 
@@ -107,7 +107,7 @@ def test_presliding(gms_csv, tmp_path):
 def test_presliding_bad_column(gms_csv):
     res = runner.invoke(app, ["identify", "presliding", str(gms_csv), "--time", "t_s", "--position", "nope",
                               "--force", "F_N", "--elements", "3"])
-    assert res.exit_code == 1
+    assert res.exit_code == 2
     assert _stderr(res).startswith("error:") and "nope" in _stderr(res)
 
 

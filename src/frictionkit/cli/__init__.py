@@ -1,19 +1,39 @@
 """The ``frictionkit`` command line: thin wrappers around the public API.
 
-Each command group lives in its own module and is registered here.
+Each command group lives in its own module and is registered here. Every verb runs
+inside the one error-handling path of :mod:`frictionkit.cli._errors` (one ``error:``
+line on stderr, ``--debug`` for the traceback), and every result file is written by
+:mod:`frictionkit._io` (atomically, never over an input).
+
+Help texts are plain text (``rich_markup_mode=None``): units in square brackets,
+``[s]`` or ``[N·s/m]``, are printed as written.
 """
 
 from __future__ import annotations
 
+import sys
+
 import typer
+
+from ._errors import FrictionKitGroup, report
 
 app = typer.Typer(
     name="frictionkit",
     help="Model, identify, simulate and compensate friction in precision motion axes.",
+    cls=FrictionKitGroup,
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,
 )
+
+
+@app.callback()
+def _root(
+    debug: bool = typer.Option(False, "--debug",
+                               help="On an error, print the full traceback (also FRICTIONKIT_DEBUG=1)."),
+) -> None:
+    """Model, identify, simulate and compensate friction in precision motion axes."""
 
 
 def _register() -> None:
@@ -27,5 +47,8 @@ def _register() -> None:
 
 
 def main() -> None:
-    _register()
+    try:
+        _register()
+    except KeyboardInterrupt as exc:  # Ctrl-C while the command modules import
+        sys.exit(report(exc, debug=False))
     app()

@@ -14,9 +14,13 @@ def demo(out: Path = typer.Option(Path("out/demo"), "--out", help="Folder for th
     """Simulate every friction law, identify on the shared real data, reproduce, and write a report."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
+    from .._io import check_output_dir
     from ..report.demo import run_demo
 
+    check_output_dir(out, option="--out")
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn()) as bar:
         task = bar.add_task("demo", total=None)
         result = run_demo(out, progress=lambda label: bar.update(task, description=label))
+    for note in result.get("skipped", []):
+        typer.echo(f"warning: {note}", err=True)
     typer.echo(f"wrote {result['report']} ({len(result['files'])} figures) and {out / 'summary.txt'}")

@@ -4,19 +4,21 @@ Thin wrappers: parse options, load with :mod:`frictionkit.data`, call
 :func:`frictionkit.identify.fit_static_map` / :func:`~frictionkit.identify.fit_rigid_body` /
 :func:`frictionkit.identify.output_error.fit_output_error` /
 :func:`frictionkit.identify.presliding.fit_presliding`,
-print a plain-text table and write JSON / PNG on request. Errors print one line on
-stderr and exit with status 1.
+print a plain-text table and write JSON / plots on request. Options are checked
+before any work (unit factors, masses, counts, output paths: writable folder, not an
+input, a plot format matplotlib knows); errors go through the one error path of
+:mod:`frictionkit.cli._errors` (one ``error:`` line, exit status 2 for bad input).
 """
 
 from __future__ import annotations
 
-import functools
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import Optional
 
 import typer
 
 from . import app
+from . import _common as chk
 
 identify_app = typer.Typer(
     name="identify",
@@ -24,25 +26,9 @@ identify_app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,
 )
 app.add_typer(identify_app, name="identify")
-
-
-def _one_line_errors(fn: Callable[..., Any]) -> Callable[..., Any]:
-    """Turn library and file errors into one line on stderr and exit status 1."""
-
-    @functools.wraps(fn)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        from ..errors import FrictionKitError
-
-        try:
-            return fn(*args, **kwargs)
-        except (FrictionKitError, OSError) as exc:
-            msg = " ".join(str(exc).split())
-            typer.echo(f"error: {msg}", err=True)
-            raise typer.Exit(code=1) from None
-
-    return wrapper
 
 
 def _parse_where(items: list[str] | None) -> dict[str, str]:
@@ -57,20 +43,15 @@ def _parse_where(items: list[str] | None) -> dict[str, str]:
     return out
 
 
-def _save_plot(result, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    ax = result.plot()
-    ax.figure.tight_layout()
-    ax.figure.savefig(path, dpi=120)
-    plt.close(ax.figure)
+def _write(res, json_out: Optional[Path], plot: Optional[Path], *, include_data: bool = True) -> None:
+    """The result files, each written atomically (a failed write keeps the previous file)."""
+    if json_out is not None:
+        res.save_json(json_out, include_data=include_data)
+    if plot is not None:
+        chk.save_plot(res, plot)
 
 
 @identify_app.command("rigid-body")
-@_one_line_errors
 def rigid_body(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -83,25 +64,27 @@ def rigid_body(
     decimation: int = typer.Option(10, "--decimate", help="Decimation factor."),
     skip: int = typer.Option(49, "--skip", help="Samples dropped at the start."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs predicted force as PNG."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs predicted force as a plot "
+                                        "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
     """Rigid-body IDIM-LS: F = M a + Fv v + Fc sgn(v) + offset (EMPS benchmark procedure)."""
+    scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
+    cutoff = chk.positive(cutoff, "--cutoff")
+    decimation = chk.integer(decimation, "--decimate", lo=1)
+    skip = chk.integer(skip, "--skip", lo=0)
+    chk.outputs([recording], files={"--json": json_out}, plots={"--plot": plot})
+
     from ..data import load_recording
     from ..identify import fit_rigid_body
 
-    rec = load_recording(recording, time=time, position=position, force=force,
-                         scales={"force": force_scale, "position": position_scale})
+    rec = load_recording(recording, time=time, position=position, force=force, scales=scales)
     res = fit_rigid_body(rec, asymmetric=asymmetric, cutoff=cutoff, q=decimation, skip=skip)
     typer.echo(res.summary())
     typer.echo(f"condition number {res.diagnostics['condition_number']:.4g}")
-    if json_out is not None:
-        res.save_json(json_out, include_data=False)
-    if plot is not None:
-        _save_plot(res, plot)
+    _write(res, json_out, plot, include_data=False)
 
 
 @identify_app.command("static")
-@_one_line_errors
 def static(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -122,17 +105,26 @@ def static(
     loss: str = typer.Option("linear", "--loss", help="linear, soft_l1, huber, cauchy, arctan."),
     criterion: str = typer.Option("aic", "--criterion", help="aic or bic."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the fitted map over the points as PNG."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the fitted map over the points as a plot "
+                                        "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
     """Static friction map (Coulomb, viscous, Stribeck) per direction from steady-state data."""
-    from ..data import load_groups, load_recording, steady_state_points
     from ..errors import DataError
-    from ..identify import fit_static_map
 
     if velocity is None and position is None:
         raise DataError("give --velocity or --position")
-    kw = dict(time=time, velocity=velocity, position=position, force=force,
-              scales={"force": force_scale, "velocity": velocity_scale, "position": position_scale},
+    scales = {"force": chk.scale(force_scale, "--force-scale"), "velocity": chk.scale(velocity_scale, "--velocity-scale"),
+              "position": chk.scale(position_scale, "--position-scale")}
+    trim = chk.optional(chk.fraction, trim, "--trim")
+    delta = chk.optional(chk.positive, delta, "--delta")
+    chk.choice(direction, "--direction", ("both", "positive", "negative"))
+    chk.choice(criterion, "--criterion", ("aic", "bic"))
+    chk.outputs([recording], files={"--json": json_out}, plots={"--plot": plot})
+
+    from ..data import load_groups, load_recording, steady_state_points
+    from ..identify import fit_static_map
+
+    kw = dict(time=time, velocity=velocity, position=position, force=force, scales=scales,
               units={"F": force_unit, "v": velocity_unit}, where=_parse_where(where))
     if group:
         recs = load_groups(recording, group=group, **kw)
@@ -143,10 +135,7 @@ def static(
     res = fit_static_map(pts, model=model, direction=direction, delta=delta, loss=loss, criterion=criterion)
     typer.echo(f"{len(pts)} steady-state point(s)")
     typer.echo(res.summary())
-    if json_out is not None:
-        res.save_json(json_out)
-    if plot is not None:
-        _save_plot(res, plot)
+    _write(res, json_out, plot)
 
 
 def _floats_list(text: Optional[str], what: str) -> Optional[list[float]]:
@@ -163,22 +152,16 @@ def _floats_list(text: Optional[str], what: str) -> Optional[list[float]]:
 def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[float], vs: float,
                 delta: float, sigma2: float):
     """Static map from a ``identify static`` JSON result or from --Fc/--Fs/--vs/--delta/--sigma2."""
-    from ..errors import ParameterError
-    from ..identify import IdentificationResult, stribeck_model
     from ..models import Stribeck
 
     if static_json is not None:
-        res = IdentificationResult.load_json(static_json)
-        if res.kind != "static_map":
-            raise ParameterError(f"--static-json {static_json}: not a static-map result (kind {res.kind!r})")
-        return stribeck_model(res)
+        return chk.load_static_json(static_json)
     if Fc is None:
         return None
     return Stribeck(Fc=Fc, Fs=Fs if Fs is not None else Fc, vs=vs, delta=delta, sigma2=sigma2)
 
 
 @identify_app.command("output-error")
-@_one_line_errors
 def output_error(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -205,22 +188,33 @@ def output_error(
     compare: Optional[str] = typer.Option(None, "--compare", help="v or x (default: v if --velocity else x)."),
     starts: int = typer.Option(1, "--starts", help="Number of start points (screened in one batch)."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated output as PNG."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated output as a plot "
+                                        "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
     """Output-error fit of LuGre or GMS parameters by simulation (seed 002 eq. 12)."""
-    from ..data import load_recording
     from ..errors import DataError, ParameterError
-    from ..identify.output_error import fit_output_error, initial_guess_lugre
-    from ..models import GMS, LuGre
 
     if position is None and velocity is None:
         raise DataError("give --position or --velocity")
+    scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale"),
+              "velocity": chk.scale(velocity_scale, "--velocity-scale")}
+    mass = chk.positive(mass, "--mass")
+    chk.choice(model, "--model", ("lugre", "gms"))
+    if compare is not None:
+        chk.choice(compare, "--compare", ("v", "x"))
+    starts = chk.integer(starts, "--starts", lo=1)
+    C = chk.positive(C, "--C")
+    chk.outputs([recording, static_json], files={"--json": json_out}, plots={"--plot": plot})
+
+    from ..data import load_recording
+    from ..identify.output_error import fit_output_error, initial_guess_lugre
+    from ..models import GMS, LuGre
+
     compare = compare or ("v" if velocity is not None else "x")
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
     if law is None:
         raise ParameterError("give the static map: --static-json STATIC.json or --Fc (with --Fs, --vs, --sigma2)")
-    rec = load_recording(recording, time=time, position=position, velocity=velocity, force=force,
-                         scales={"force": force_scale, "position": position_scale, "velocity": velocity_scale})
+    rec = load_recording(recording, time=time, position=position, velocity=velocity, force=force, scales=scales)
     if model == "lugre":
         if sigma0 is None:
             if rec.x is None:
@@ -251,14 +245,10 @@ def output_error(
         )
     typer.echo(res.summary())
     typer.echo(f"{res.diagnostics['nfev']} evaluations, status {res.diagnostics['status']}: {res.message}")
-    if json_out is not None:
-        res.save_json(json_out, include_data=False)
-    if plot is not None:
-        _save_plot(res, plot)
+    _write(res, json_out, plot, include_data=False)
 
 
 @identify_app.command("presliding")
-@_one_line_errors
 def presliding(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -266,7 +256,8 @@ def presliding(
     force: str = typer.Option(..., "--force", help="Friction force column."),
     force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N."),
     position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m."),
-    elements: int = typer.Option(..., "--elements", help="Number M of GMS elements."),
+    elements: int = typer.Option(..., "--elements", help=f"Number M of GMS elements (1 to {chk.MAX_PRESLIDING_ELEMENTS}: "
+                                 "the breakpoint search grows about as M^3)."),
     static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
     Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
     Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
@@ -277,21 +268,30 @@ def presliding(
     C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
     no_refine: bool = typer.Option(False, "--no-refine", help="Skip the simulation-error refinement."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force as PNG."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force as a plot "
+                                        "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
     """GMS pre-sliding k_i, xi_i from a force-displacement branch (seed 000 eq. 19)."""
+    elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS,
+                           why="the breakpoint search grows about as M^3: 32 elements take about 30 s, "
+                               "100 more than 20 min")
+    scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
+    chk.choice(branch, "--branch", ("auto", "virgin", "reversal"))
+    C = chk.optional(chk.positive, C, "--C")
+    chk.outputs([recording, static_json], files={"--json": json_out}, plots={"--plot": plot})
+
+    from rich.console import Console
+
     from ..data import load_recording
     from ..identify.presliding import fit_presliding
 
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
-    rec = load_recording(recording, time=time, position=position, force=force,
-                         scales={"force": force_scale, "position": position_scale})
-    res = fit_presliding(rec, elements=elements, static=law, branch=branch, C=C, refine=not no_refine)
+    rec = load_recording(recording, time=time, position=position, force=force, scales=scales)
+    with Console(stderr=True).status(f"pre-sliding fit: {elements} element(s)"
+                                     + ("" if no_refine else ", then simulation-error refinement")):
+        res = fit_presliding(rec, elements=elements, static=law, branch=branch, C=C, refine=not no_refine)
     typer.echo(res.summary())
     d = res.diagnostics
     typer.echo(f"total stiffness {d['total_stiffness']:.6g} N/m, breakpoints "
                + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" m, C {d['C']:.4g} N/s")
-    if json_out is not None:
-        res.save_json(json_out, include_data=False)
-    if plot is not None:
-        _save_plot(res, plot)
+    _write(res, json_out, plot, include_data=False)

@@ -1,15 +1,20 @@
-"""``frictionkit reproduce ...``: run a paper's virtual experiments, write JSON and a plot."""
+"""``frictionkit reproduce ...``: run a paper's virtual experiments, write JSON and a plot.
+
+Options and output paths are checked before the (long) run; the files are written
+atomically (:mod:`frictionkit._io`), so a failed write keeps the previous result.
+"""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import typer
 
+from . import _common as chk
 from . import app
 
-reproduce_app = typer.Typer(help="Reproduce the source papers' findings in simulation.", no_args_is_help=True)
+reproduce_app = typer.Typer(help="Reproduce the source papers' findings in simulation.", no_args_is_help=True,
+                            rich_markup_mode=None)
 app.add_typer(reproduce_app, name="reproduce")
 
 
@@ -17,8 +22,8 @@ app.add_typer(reproduce_app, name="reproduce")
 def zhu_fujimoto(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
-    seed: int = typer.Option(0, "--seed", help="Measurement-noise seed."),
-    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG."),
+    seed: int = typer.Option(0, "--seed", help="Measurement-noise seed (0 to 2**32 - 1)."),
+    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG beside the JSON."),
     nut_model: str = typer.Option("sliding", "--nut-model",
                                   help="Nut model: 'sliding' (Dahl on screw rotation), 'flank' "
                                        "(load transfer between groove flanks, tied to F_bn) or 'hertz' "
@@ -32,8 +37,11 @@ def zhu_fujimoto(
     from ..presets import zhu_fujimoto as zf_preset
     from ..reproduce import zhu_fujimoto as zf_rep
 
-    if nut_model not in zf_preset.NUT_MODELS:
-        raise typer.BadParameter(f"{nut_model!r}: must be one of {zf_preset.NUT_MODELS}", param_hint="--nut-model")
+    chk.choice(nut_model, "--nut-model", zf_preset.NUT_MODELS)
+    seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
+    png = json_out.with_suffix(".png")
+    chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot else {},
+                make_parents=True)
 
     console = Console(stderr=True)
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
@@ -60,12 +68,13 @@ def zhu_fujimoto(
             from ..plotting.ballscrew import reproduction_figure
 
             fig, _ = reproduction_figure(result)
-            png = json_out.with_suffix(".png")
-            fig.savefig(png, dpi=110)
-            plt.close(fig)
+            try:
+                chk.save_figure(fig, png, dpi=110)
+            finally:
+                plt.close(fig)
             summary["plot"] = png.name
             bar.advance(task)
-    json_out.write_text(json.dumps(summary, indent=2))
+    chk.save_json(summary, json_out)
 
     tab = Table(title=f"Table 3: max tracking error during the reverse motion [µm] (nut model: {nut_model})")
     tab.add_column("law")

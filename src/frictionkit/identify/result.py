@@ -355,9 +355,11 @@ class IdentificationResult:
         >>> IdentificationResult.load_json("fit.json").params == res.params  # doctest: +SKIP
         True
         """
+        from .._io import atomic_write_text  # temporary file + rename: the old file survives a failed write
+
         p = Path(path)
-        p.write_text(json.dumps(self.to_dict(include_data=include_data), indent=1, ensure_ascii=False) + "\n",
-                     encoding="utf-8")
+        text = json.dumps(self.to_dict(include_data=include_data), indent=1, ensure_ascii=False) + "\n"
+        atomic_write_text(p, text, encoding="utf-8")
         return p
 
     @classmethod

@@ -262,9 +262,14 @@ def _render(sections: list[_Section], elapsed: float) -> str:
 def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str], None] | None = None) -> dict:
     """Run the demo job and write ``summary.txt``, ``report.html`` and PNGs under ``out``.
 
-    Returns a dict with the section titles and the paths written.
+    Every file is written atomically (:mod:`frictionkit._io`). A section whose data are
+    missing is left out and said so in the summary, the report and ``skipped``.
+
+    Returns a dict with the section titles, the paths written and the skipped sections.
     """
     import matplotlib
+
+    from .._io import atomic_write_bytes, atomic_write_text
 
     matplotlib.use("Agg")
     out = Path(out)
@@ -280,17 +285,22 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
         ("ball-screw reproduction", section_zhu_fujimoto),
     ]
     sections = []
+    skipped = []
     for label, fn in steps:
         if progress:
             progress(label)
         sec = fn()
         if sec is not None:
             sections.append(sec)
+        else:
+            skipped.append(f"{label}: left out, its data were not found under '{shared}'")
     elapsed = time.perf_counter() - t0
+    if skipped:
+        sections.append(_Section("Left out", text=[f"{s}." for s in skipped]))
     written = []
     for s in sections:
         for name, png in s.figures:
-            (out / name).write_bytes(png)
+            atomic_write_bytes(out / name, png)
             written.append(out / name)
     lines = [f"frictionkit demo ({elapsed:.1f} s)", ""]
     for s in sections:
@@ -300,6 +310,7 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
             for row in s.table:
                 lines.append("  " + " | ".join(html.unescape(c).replace("<br>", "; ") for c in row))
         lines.append("")
-    (out / "summary.txt").write_text("\n".join(lines))
-    (out / "report.html").write_text(_render(sections, elapsed))
-    return {"sections": [s.title for s in sections], "report": out / "report.html", "files": written}
+    atomic_write_text(out / "summary.txt", "\n".join(lines))
+    atomic_write_text(out / "report.html", _render(sections, elapsed))
+    return {"sections": [s.title for s in sections], "report": out / "report.html", "files": written,
+            "skipped": skipped}

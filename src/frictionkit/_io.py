@@ -1,0 +1,256 @@
+"""The one place frictionkit writes result files: atomically, never over an input.
+
+Every result file (JSON, plots, summaries, reports) goes through :func:`atomic_open`
+(or its shorthands :func:`atomic_write_text` / :func:`atomic_write_bytes`): the data
+go to a temporary file in the target's folder, are flushed and ``fsync``-ed, and the
+temporary file is renamed over the target with :func:`os.replace`. A reader therefore
+sees either the previous file or the complete new one — never a truncated file — and
+when writing fails (full disk, interrupt, an exception in the writer) the temporary
+file is removed and the previous file is left as it was.
+
+:func:`check_output_file` / :func:`check_output_dir` validate output paths up front
+(before any work is done) and :func:`check_not_input` refuses to write over one of a
+command's input files.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import IO, Any
+
+from .errors import DataError
+
+__all__ = [
+    "atomic_open",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "check_not_input",
+    "check_output_dir",
+    "check_output_file",
+    "plot_formats",
+]
+
+
+def _file_mode(target: Path) -> int:
+    """Permission bits for the new file: those of the file it replaces, else 0o666 minus the umask."""
+    try:
+        return target.stat().st_mode & 0o7777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+def _fsync_dir(folder: Path) -> None:
+    """Make the rename durable (POSIX); best effort, silently skipped where unsupported."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _named(exc: OSError, target: Path) -> OSError:
+    """The same kind of OSError, naming the target instead of the temporary file."""
+    if exc.errno is None:
+        return OSError(f"cannot write '{target}': {exc}")
+    return OSError(exc.errno, f"cannot write '{target}': {exc.strerror or exc}")
+
+
+@contextlib.contextmanager
+def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | None = None) -> Iterator[IO[Any]]:
+    """Open a temporary file beside ``path``; on a clean exit it replaces ``path`` atomically.
+
+    Parameters
+    ----------
+    path : path-like
+        The file to (re)write. Its folder must exist.
+    mode : {"wb", "w"}
+        Binary or text.
+    encoding : str, optional
+        Text encoding (default UTF-8 for ``mode="w"``).
+
+    Yields
+    ------
+    file object
+        Write to it (``fig.savefig(f, format="png")``, ``df.to_parquet(f)``, ``f.write(...)``).
+
+    Raises
+    ------
+    OSError
+        Creating, writing, syncing or renaming failed; it names ``path``. The previous
+        file at ``path`` is unchanged and no temporary file is left behind. Any other
+        exception (or ``KeyboardInterrupt``) raised inside the block propagates with the
+        same guarantee.
+
+    Examples
+    --------
+    >>> from frictionkit._io import atomic_open
+    >>> with atomic_open("fit.png") as f:  # doctest: +SKIP
+    ...     fig.savefig(f, format="png")
+    """
+    if mode not in ("wb", "w"):
+        raise ValueError(f"atomic_open: mode = {mode!r}: must be 'wb' or 'w'")
+    target = Path(path)
+    folder = target.parent
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise _named(exc, target) from exc
+    ok = False
+    try:
+        try:
+            f = os.fdopen(fd, mode, encoding=(encoding or "utf-8") if mode == "w" else None)
+        except BaseException:
+            os.close(fd)
+            raise
+        with f:
+            yield f
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, _file_mode(target))
+        os.replace(tmp, target)
+        ok = True
+    except OSError as exc:
+        raise _named(exc, target) from exc
+    finally:
+        if not ok:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+    _fsync_dir(folder)
+
+
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically (see :func:`atomic_open`); returns the path."""
+    with atomic_open(path, "wb") as f:
+        f.write(data)
+    return Path(path)
+
+
+def atomic_write_text(path: str | os.PathLike, text: str, *, encoding: str = "utf-8") -> Path:
+    """Write ``text`` to ``path`` atomically (see :func:`atomic_open`); returns the path."""
+    with atomic_open(path, "w", encoding=encoding) as f:
+        f.write(text)
+    return Path(path)
+
+
+# --------------------------------------------------------------------------- up-front checks
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def check_not_input(out: str | os.PathLike, inputs: Iterable[str | os.PathLike | None], *,
+                    option: str = "output") -> None:
+    """Raise :class:`~frictionkit.DataError` if ``out`` is (a link to) one of ``inputs``.
+
+    Examples
+    --------
+    >>> check_not_input("fit.json", ["run.csv"])  # fine
+    >>> check_not_input("run.csv", ["run.csv"], option="--json")
+    Traceback (most recent call last):
+    ...
+    frictionkit.errors.DataError: --json 'run.csv' is the input file 'run.csv': refusing to overwrite an input; choose another path
+    """
+    o = Path(out)
+    for inp in inputs:
+        if inp is None:
+            continue
+        if _same_file(o, Path(inp)):
+            raise DataError(f"{option} '{out}' is the input file '{inp}': refusing to overwrite an input; "
+                            "choose another path")
+
+
+def plot_formats() -> dict[str, str]:
+    """File extensions matplotlib can write, mapped to their description."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return dict(FigureCanvasBase.get_supported_filetypes())
+
+
+def _writable_folder(folder: Path, option: str, out: Path) -> None:
+    if not folder.exists():
+        raise DataError(f"{option} '{out}': folder '{folder}' does not exist")
+    if not folder.is_dir():
+        raise DataError(f"{option} '{out}': '{folder}' is not a folder")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise DataError(f"{option} '{out}': folder '{folder}' is not writable")
+
+
+def _nearest_existing(folder: Path) -> Path:
+    p = folder
+    while not p.exists() and p != p.parent:
+        p = p.parent
+    return p
+
+
+def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[str | os.PathLike | None] = (),
+                      plot: bool = False, make_parents: bool = False) -> Path:
+    """Validate a result-file path before any work is done; returns it as a :class:`~pathlib.Path`.
+
+    Checks that the path is not a folder, that its folder exists (or, with
+    ``make_parents``, can be created) and is writable, that it is none of ``inputs``,
+    and with ``plot`` that its extension is one matplotlib can write.
+
+    Raises
+    ------
+    DataError
+        Naming ``option``, the path and what is wrong.
+    """
+    out = Path(path)
+    if str(path) == "" or out.name in ("", ".", ".."):
+        raise DataError(f"{option} '{path}': not a file name")
+    if out.is_dir():
+        raise DataError(f"{option} '{out}' is a folder; give a file name")
+    folder = out.parent
+    if make_parents and not folder.exists():
+        base = _nearest_existing(folder)
+        if not base.is_dir():
+            raise DataError(f"{option} '{out}': '{base}' is a file, not a folder")
+        _writable_folder(base, option, out)
+    else:
+        _writable_folder(folder, option, out)
+    check_not_input(out, inputs, option=option)
+    if plot:
+        ext = out.suffix.lower().lstrip(".")
+        formats = plot_formats()
+        if ext not in formats:
+            known = ", ".join(f".{e}" for e in sorted(formats))
+            what = f"extension '.{ext}' is not a plot format" if ext else "no file extension"
+            raise DataError(f"{option} '{out}': {what}; use one of {known}")
+    return out
+
+
+def check_output_dir(path: str | os.PathLike, *, option: str, inputs: Iterable[str | os.PathLike | None] = ()) -> Path:
+    """Validate an output folder (existing or to be created) before any work is done.
+
+    Raises
+    ------
+    DataError
+        The path is an existing file, lies under a file, is not writable, or is an input.
+    """
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise DataError(f"{option} '{out}' is an existing file, not a folder")
+    base = _nearest_existing(out)
+    if not base.is_dir():
+        raise DataError(f"{option} '{out}': '{base}' is a file, not a folder")
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise DataError(f"{option} '{out}': folder '{base}' is not writable")
+    for inp in inputs:
+        if inp is not None and _same_file(out, Path(inp)):
+            raise DataError(f"{option} '{out}' is the input '{inp}'")
+    return out

@@ -1,0 +1,213 @@
+"""Validation of command-line values at the boundary, and the CLI's file helpers.
+
+Every check raises :class:`~frictionkit.ParameterError` or :class:`~frictionkit.DataError`
+naming the option, the value and the rule, so the one error path of
+:mod:`frictionkit.cli._errors` prints a one-line message that names the cause.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+from .._io import atomic_open, atomic_write_text, check_output_file
+from ..errors import DataError, FrictionKitError, ParameterError
+
+#: Bounds of ``--*-scale`` factors (|scale|). Unit conversions in practice span
+#: nm -> m (1e-9) to V -> N gains of a few hundred; outside 1e-12 ... 1e12 the scaled data
+#: overflow or vanish in the fits.
+SCALE_MIN, SCALE_MAX = 1e-12, 1e12
+
+#: Largest ``--elements`` of ``identify presliding``. The breakpoint search costs grow
+#: about as M^3: 3 elements take 0.2 s, 16 about 2 s, 32 about 30 s, 100 more than 20 min
+#: on a 7,500-sample record, and one branch rarely resolves more than a dozen breakpoints.
+MAX_PRESLIDING_ELEMENTS = 32
+
+
+# --------------------------------------------------------------------------- numbers
+def _finite(value: Any, option: str) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(f"{option} {value!r}: must be a number") from None
+    if not math.isfinite(out):
+        raise ParameterError(f"{option} {value!r}: must be finite (not nan or inf)")
+    return out
+
+
+def scale(value: Any, option: str) -> float:
+    """A unit factor: finite, non-zero, ``SCALE_MIN <= |value| <= SCALE_MAX`` (negative flips the sign)."""
+    out = _finite(value, option)
+    if not SCALE_MIN <= abs(out) <= SCALE_MAX:
+        raise ParameterError(f"{option} {value!r}: a unit factor must satisfy {SCALE_MIN:g} <= |factor| <= "
+                             f"{SCALE_MAX:g} (e.g. 1e-3 for mm -> m)")
+    return out
+
+
+def positive(value: Any, option: str) -> float:
+    """A finite number > 0."""
+    out = _finite(value, option)
+    if out <= 0:
+        raise ParameterError(f"{option} {value!r}: must be > 0")
+    return out
+
+
+def nonnegative(value: Any, option: str) -> float:
+    """A finite number >= 0."""
+    out = _finite(value, option)
+    if out < 0:
+        raise ParameterError(f"{option} {value!r}: must be >= 0")
+    return out
+
+
+def optional(check, value: Any, option: str) -> Any:
+    """``check(value, option)`` unless ``value`` is None."""
+    return None if value is None else check(value, option)
+
+
+def integer(value: int, option: str, *, lo: int, hi: int | None = None, why: str = "") -> int:
+    """An integer in ``[lo, hi]``."""
+    if value < lo or (hi is not None and value > hi):
+        rng = f"between {lo} and {hi}" if hi is not None else f">= {lo}"
+        raise ParameterError(f"{option} {value}: must be {rng}" + (f" ({why})" if why else ""))
+    return int(value)
+
+
+def fraction(value: Any, option: str, *, below: float = 0.5) -> float:
+    """A number in ``[0, below)``."""
+    out = _finite(value, option)
+    if not 0.0 <= out < below:
+        raise ParameterError(f"{option} {value!r}: must be >= 0 and < {below:g}")
+    return out
+
+
+def choice(value: str, option: str, allowed: Iterable[str]) -> str:
+    allowed = tuple(allowed)
+    if value not in allowed:
+        raise ParameterError(f"{option} {value!r}: must be one of {', '.join(allowed)}")
+    return value
+
+
+# --------------------------------------------------------------------------- output files
+def outputs(inputs: Iterable[Path | None], *, plots: Mapping[str, Path | None] = {},  # noqa: B006 (read-only)
+            files: Mapping[str, Path | None] = {}, make_parents: bool = False) -> None:  # noqa: B006
+    """Check every output path up front: writable folder, not an input, plots in a known format, all distinct."""
+    inputs = [p for p in inputs if p is not None]
+    seen: dict[str, str] = {}
+    for opts, is_plot in ((files, False), (plots, True)):
+        for option, path in opts.items():
+            if path is None:
+                continue
+            out = check_output_file(path, option=option, inputs=inputs, plot=is_plot, make_parents=make_parents)
+            key = str(out.resolve())
+            if key in seen:
+                raise DataError(f"{option} '{path}' and {seen[key]} name the same file")
+            seen[key] = f"{option} '{path}'"
+
+
+def save_plot(result: Any, path: Path, *, dpi: int = 120) -> None:
+    """``result.plot()`` written atomically to ``path`` (format from the extension)."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    ax = result.plot()
+    fig = ax.figure
+    try:
+        fig.tight_layout()
+        save_figure(fig, path, dpi=dpi)
+    finally:
+        plt.close(fig)
+
+
+def save_figure(fig: Any, path: Path, *, dpi: int = 120) -> None:
+    """``fig.savefig`` through the atomic writer."""
+    fmt = Path(path).suffix.lower().lstrip(".") or "png"
+    with atomic_open(path, "wb") as f:
+        fig.savefig(f, format=fmt, dpi=dpi)
+
+
+def save_json(doc: Any, path: Path, *, indent: int = 2) -> None:
+    """A JSON document written atomically."""
+    atomic_write_text(path, json.dumps(doc, indent=indent, ensure_ascii=False) + "\n")
+
+
+# --------------------------------------------------------------------------- static-map JSON
+def _same(a: float, b: float) -> bool:
+    return a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= 1e-12 * max(abs(a), abs(b)))
+
+
+def _fields(law: Any) -> dict[str, float]:
+    return {k: float(getattr(law, k)) for k in ("Fc", "Fs", "vs", "delta", "sigma2")}
+
+
+def load_static_json(path: Path, option: str = "--static-json") -> Any:
+    """The static map (``Directional`` of two ``Stribeck``) in a JSON written by ``identify static --json``.
+
+    Every way the file can be wrong ends in one :class:`~frictionkit.DataError` naming the
+    file and what is wrong: not UTF-8 text, not JSON, not an object, not a frictionkit
+    static-map result, a missing key, a value of the wrong type, a parameter that breaks
+    its rule, or a file edited in one place only (the top-level ``model``, the
+    ``parameters`` table and the per-direction ``parts`` must agree).
+    """
+    from ..identify import IdentificationResult, stribeck_model
+    from ..identify.result import JSON_FORMAT, model_from_dict
+
+    where = f"{option} '{path}'"
+    raw = Path(path).read_bytes()
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{where}: not UTF-8 text (byte {exc.start}); expected the JSON of "
+                        "'frictionkit identify static --json'") from None
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DataError(f"{where}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
+    except RecursionError:
+        raise DataError(f"{where}: JSON nested too deeply") from None
+    if not isinstance(doc, dict):
+        raise DataError(f"{where}: the top level is a JSON {type(doc).__name__}, expected an object "
+                        "(the JSON of 'frictionkit identify static --json')")
+    if doc.get("format") != JSON_FORMAT:
+        raise DataError(f"{where}: not a frictionkit identification result "
+                        f"(\"format\" is {doc.get('format')!r}, expected {JSON_FORMAT!r})")
+    if doc.get("kind") != "static_map":
+        raise DataError(f"{where}: not a static-map result (\"kind\" is {doc.get('kind')!r}, expected 'static_map')")
+    try:
+        res = IdentificationResult.from_dict(doc)
+        law = stribeck_model(res)
+        top = model_from_dict(doc["model"]) if doc.get("model") is not None else None
+    except KeyError as exc:
+        raise DataError(f"{where}: missing key {exc.args[0]!r}") from None
+    except FrictionKitError as exc:
+        raise DataError(f"{where}: {' '.join(str(exc).split())}") from None
+    except (TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
+        raise DataError(f"{where}: malformed content ({type(exc).__name__}: {' '.join(str(exc).split())})") from None
+    sides = {"positive": ("pos", law.positive), "negative": ("neg", law.negative)}
+    if top is not None:
+        for side, (_, part) in sides.items():
+            sub = getattr(top, side, None)
+            if sub is None:
+                raise DataError(f"{where}: the top-level \"model\" ({type(top).__name__}) has no {side} direction")
+            for name, val in _fields(part).items():
+                other = getattr(sub, name, None)  # a CoulombViscous has no Fs, vs, delta
+                if other is None:
+                    continue
+                if not _same(float(other), val):
+                    raise DataError(f"{where}: the top-level \"model\" ({side}.{name} = {float(other):g}) disagrees "
+                                    f"with parts.{side}.model ({name} = {val:g}); the file was edited in one "
+                                    "place only — make them agree")
+    for name, value in zip(res.names, res.values):
+        base, _, tag = name.rpartition("_")
+        for side, (short, part) in sides.items():
+            if tag == short and base in _fields(part):
+                if not _same(float(value), _fields(part)[base]):
+                    raise DataError(f"{where}: \"parameters\".{name} = {float(value):g} disagrees with "
+                                    f"parts.{side}.model ({base} = {_fields(part)[base]:g}); the file was edited "
+                                    "in one place only — make them agree")
+    return law

@@ -1,0 +1,129 @@
+"""The one error-handling path of the ``frictionkit`` command line.
+
+Every verb runs inside :class:`FrictionKitGroup`, the click group of the top-level
+app, so every error ends the same way:
+
+* frictionkit's own errors (:class:`~frictionkit.FrictionKitError`), a ``ValueError``
+  or an ``OSError`` print ONE line ``error: <message>`` on stderr;
+* a usage error (unknown option, ``--seed abc``) prints one line too, with the
+  ``--help`` to look at;
+* Ctrl-C prints ``error: interrupted`` and exits with 130;
+* anything else is a bug: one line naming the exception type and asking for a rerun
+  with ``--debug``.
+
+``frictionkit --debug ...`` (``--debug`` may also come after the verb) or
+``FRICTIONKIT_DEBUG=1`` prints the traceback before that line.
+
+Exit status: 0 success; 1 a computation could not be carried out
+(:class:`~frictionkit.SimulationError`, :class:`~frictionkit.IdentificationError`,
+a full disk, an unexpected error); 2 bad input (options, files, parameters, data);
+130 interrupted.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+from typing import Any
+
+import typer
+from typer.core import TyperGroup
+
+#: Exit status for bad input (options, files, parameters, data), as for usage errors.
+EXIT_BAD_INPUT = 2
+#: Exit status when a computation or a write could not be carried out, or on a bug.
+EXIT_FAILED = 1
+#: Exit status after Ctrl-C (128 + SIGINT).
+EXIT_INTERRUPTED = 130
+
+_BAD_INPUT_OS = (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError, FileExistsError)
+_DEBUG_FLAG = "--debug"
+
+
+def debug_requested(ctx: Any = None) -> bool:
+    """``--debug`` given (on the command line or as ``FRICTIONKIT_DEBUG=1``)."""
+    if os.environ.get("FRICTIONKIT_DEBUG", "").strip().lower() in ("1", "true", "yes", "on"):
+        return True
+    while ctx is not None:
+        if ctx.params.get("debug"):
+            return True
+        ctx = ctx.parent
+    return False
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def describe(exc: BaseException) -> tuple[int, str]:
+    """Exit status and the one-line message (without ``error: ``) for ``exc``."""
+    from ..errors import DataError, FrictionKitError, ParameterError
+
+    if isinstance(exc, KeyboardInterrupt):
+        return EXIT_INTERRUPTED, "interrupted"
+    if isinstance(exc, OSError):
+        if exc.strerror and exc.filename:
+            msg = f"'{exc.filename}': {exc.strerror}"
+        else:
+            msg = exc.strerror or str(exc) or type(exc).__name__
+        code = EXIT_BAD_INPUT if isinstance(exc, _BAD_INPUT_OS) else EXIT_FAILED
+        return code, _one_line(msg)
+    if isinstance(exc, (ParameterError, DataError)):
+        return EXIT_BAD_INPUT, _one_line(exc)
+    if isinstance(exc, FrictionKitError):
+        return EXIT_FAILED, _one_line(exc)
+    if isinstance(exc, (UnicodeError, ValueError)) and str(exc):
+        return EXIT_BAD_INPUT, _one_line(exc)
+    detail = _one_line(exc)
+    return EXIT_FAILED, (f"unexpected {type(exc).__name__}" + (f": {detail}" if detail else "")
+                         + " — this is a bug in frictionkit; rerun with --debug for the traceback and report it")
+
+
+def report(exc: BaseException, *, debug: bool) -> int:
+    """Print ``exc`` (traceback first with ``debug``) and return the exit status."""
+    code, msg = describe(exc)
+    if debug:
+        traceback.print_exception(exc, file=sys.stderr)
+    typer.echo(f"error: {msg}", err=True)
+    return code
+
+
+def _usage_line(exc: Any) -> str:
+    msg = _one_line(exc.format_message())
+    ctx = getattr(exc, "ctx", None)
+    if ctx is not None:
+        msg += f" (see '{ctx.command_path} --help')"
+    return msg
+
+
+class FrictionKitGroup(TyperGroup):
+    """The top-level click group: runs every verb inside the one error-handling path."""
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        # accept --debug anywhere before "--" (users append it when asked to rerun)
+        if _DEBUG_FLAG in args:
+            end = args.index("--") if "--" in args else len(args)
+            if _DEBUG_FLAG in args[:end]:
+                args = [_DEBUG_FLAG] + [a for a in args[:end] if a != _DEBUG_FLAG] + args[end:]
+        return super().parse_args(ctx, args)
+
+    def invoke(self, ctx: Any) -> Any:
+        try:  # typer >= 0.20 vendors click
+            from typer._click import exceptions as cx
+        except ImportError:  # pragma: no cover - older typer on click
+            from click import exceptions as cx
+
+        try:
+            return super().invoke(ctx)
+        except (typer.Exit, typer.Abort, cx.NoArgsIsHelpError):
+            raise
+        except cx.UsageError as exc:
+            if debug_requested(ctx):
+                traceback.print_exception(exc, file=sys.stderr)
+            typer.echo(f"error: {_usage_line(exc)}", err=True)
+            raise typer.Exit(code=exc.exit_code) from None
+        except cx.ClickException:
+            raise
+        except (Exception, KeyboardInterrupt) as exc:
+            raise typer.Exit(code=report(exc, debug=debug_requested(ctx))) from None

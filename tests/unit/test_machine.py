@@ -232,3 +232,58 @@ def test_nonfinite_state_ends_the_run_with_status_and_message():
     assert res.status == 1 and "non-finite" in res.message
     assert np.isnan(res.q[-1, 0])
     assert "status 1" in res.summary()
+
+
+# --------------------------------------------------------------------------- normal loads
+def _pressed_slider(law, p, dt):
+    """Slider x on a site whose normal load is the force of the spring "press" = 1000 (y - p).
+
+    y is a 1e9 kg block, so the spring force is 1000 (-p) to 1e-9 relative."""
+    m = Machine("pressed")
+    x = m.dof("x", inertia=1.0)
+    y = m.dof("y", inertia=1e9)
+    pm = m.motion("p")
+    m.spring(y, pm, k=1000.0, name="press")
+    m.friction("contact", x, law=law, load=fk.machines.NormalLoad(on="press", reference=10.0))
+    m.actuator("u", x)
+    return m
+
+
+def test_coulomb_level_follows_a_linear_normal_load():
+    """Load 10 -> 5 N over 1 s, Fc = 1 N at 10 N, u = 0.8 N: sticks until t = 0.4 s, then
+    x'' = 0.5 t - 0.2, i.e. x = (t - 0.4)^3 / 12."""
+    dt = 1e-3
+    t = np.arange(1001) * dt
+    p = -0.01 + 0.005 * t
+    m = _pressed_slider(fk.CoulombViscous(Fc=1.0), p, dt)
+    expected = np.where(t > 0.4, (t - 0.4) ** 3 / 12.0, 0.0)
+    err = {}
+    for ns in (4, 16):
+        r = simulate_machine(m, dt=dt, inputs={"p": p, "u": np.full(t.size, 0.8)}, substeps=ns)
+        assert np.abs(r.position("x")[t < 0.399]).max() == 0.0
+        err[ns] = np.abs(r.position("x") - expected).max()
+    # first order in the sub-step (the load is sampled at each sub-step's start); measured
+    # 1.12e-5 m and 2.78e-6 m (of 0.018 m travel)
+    assert err[4] < 1.5e-5 and err[16] < 4e-6
+    assert 3.0 < err[4] / err[16] < 5.0
+
+
+def test_lugre_force_falls_with_the_load_and_is_kept_when_it_rises():
+    """Pre-sliding LuGre held at 0.5 N: halving the load halves the bristle force at once
+    (contacts lose traction); doubling it back keeps the force (new contact area is unloaded)."""
+    dt = 1e-5
+    n = 60001
+    t = np.arange(n) * dt
+    p = np.where((t >= 0.2) & (t < 0.4), -0.005, -0.01)  # load 10 N, 5 N from 0.2 s, 10 N from 0.4 s
+    law = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3), sigma0=1e5, sigma1=316.0)
+    m = _pressed_slider(law, p, dt)
+    r = simulate_machine(m, dt=dt, inputs={"p": p, "u": np.full(n, 0.5)}, substeps=2)
+    F = r.force("contact")
+    k1 = np.searchsorted(t, 0.2)
+    k2 = np.searchsorted(t, 0.4)
+    assert F[k1 - 1] == pytest.approx(0.5, rel=1e-3)
+    # the step of p is linear over one sample: one sample later the load is 5 N
+    assert F[k1 + 1] == pytest.approx(0.25, rel=2e-2)
+    assert F[k2 - 1] == pytest.approx(0.5, rel=1e-3)  # settled again at the lower load
+    assert F[k2 + 1] == pytest.approx(0.5, rel=2e-2)  # load doubled: force kept
+    assert abs(F[k2 + 1] - F[k2 - 1]) < 0.1 * abs(F[k1 + 1] - F[k1 - 1])

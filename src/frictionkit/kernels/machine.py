@@ -36,6 +36,13 @@ previous sample's value. Order: inputs, sensors (quantised, noisy, delayed), blo
 order, actuators (saturate, delay), PID integrators (frozen while their actuator
 saturates).
 
+Normal loads
+------------
+A friction site may carry a normal load that depends on the state (a ball nut's flank load
+follows the drive force; seed 000's ball pair grows with axial load): see :func:`_loads`.
+Its law's levels, stiffnesses and damping scale with ``lam = N / N_ref``; its viscous term
+``sigma2 v`` does not. The load is evaluated at the start of each sub-step.
+
 Status codes: 0 ok, 1 non-finite state (run stopped at ``k_end``).
 """
 
@@ -83,16 +90,16 @@ def _g(par, o, av):
 
 
 @njit(inline="always")
-def _static_force(par, o, v):
-    """``s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
+def _static_force(par, o, v, lam=1.0):
+    """``lam s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
     if v >= 0.0:
-        return _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v
-    return -_g(par, o + N_ROW, -v) + par[o + N_ROW + 4] * v
+        return lam * _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v
+    return -lam * _g(par, o + N_ROW, -v) + par[o + N_ROW + 4] * v
 
 
 # --------------------------------------------------------------------------- site laws
 @njit
-def _lugre_mean(par, o, z0, ds, h):
+def _lugre_mean(par, o, z0, ds, h, lam):
     """Mean force over ``h`` and end state for a site moving at ``v = ds / h``.
 
     Layout at ``o``: static rows (12), sigma0+, sigma1+, sigma0-, sigma1-.
@@ -108,12 +115,12 @@ def _lugre_mean(par, o, z0, ds, h):
         s1 = par[o + 15]
     s2 = par[ro + 4]
     if v == 0.0:
-        return s0 * z0, z0
+        return lam * s0 * z0, z0
     av = abs(v)
     g = _g(par, ro, av)
     sg = 1.0 if v > 0.0 else -1.0
     if g <= 0.0:  # no friction level: the bristles relax at once
-        return s1 * (0.0 - z0) / h + s2 * v, 0.0
+        return lam * s1 * (0.0 - z0) / h + s2 * v, 0.0
     zss = sg * g / s0
     x = s0 * av * h / g
     if x > 700.0:
@@ -127,11 +134,11 @@ def _lugre_mean(par, o, z0, ds, h):
         frac = -math.expm1(-x) / x
     z1 = zss + (z0 - zss) * e
     zbar = zss + (z0 - zss) * frac
-    return s0 * zbar + s1 * (z1 - z0) / h + s2 * v, z1
+    return lam * (s0 * zbar + s1 * (z1 - z0) / h) + s2 * v, z1
 
 
 @njit
-def _gms_mean(par, o, st, so, ds, h, commit):
+def _gms_mean(par, o, st, so, ds, h, commit, lam):
     """Mean GMS force over ``h`` for ``v = ds / h``; element states updated when ``commit``.
 
     Layout at ``o``: static rows (12), M, k+ (M), xi+ (M), k- (M), xi- (M), C+, C-.
@@ -202,7 +209,7 @@ def _gms_mean(par, o, st, so, ds, h, commit):
         if commit:
             st[so + i] = F1
             st[so + M + i] = nmode
-    return total + s2 * v
+    return lam * total + s2 * v
 
 
 @njit(inline="always")
@@ -237,17 +244,20 @@ def _elastic(kind, par, o, d):
 
 
 @njit
-def _site_mean(kind, par, o, st, so, s0, ds, h, commit):
-    """Mean force of site over the sub-step for displacement ``ds`` from coordinate ``s0``."""
+def _site_mean(kind, par, o, st, so, s0, ds, h, commit, lam):
+    """Mean force of site over the sub-step for displacement ``ds`` from coordinate ``s0``.
+
+    ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
+    """
     if kind == S_STATIC:
-        return _static_force(par, o, ds / h)
+        return _static_force(par, o, ds / h, lam)
     if kind == S_LUGRE:
-        F, z1 = _lugre_mean(par, o, st[so], ds, h)
+        F, z1 = _lugre_mean(par, o, st[so], ds, h, lam)
         if commit:
             st[so] = z1
         return F
     if kind == S_GMS:
-        return _gms_mean(par, o, st, so, ds, h, commit)
+        return _gms_mean(par, o, st, so, ds, h, commit, lam)
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
@@ -255,7 +265,7 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, commit):
 
 
 @njit
-def _site_now(kind, par, o, st, so, s, v):
+def _site_now(kind, par, o, st, so, s, v, lam):
     """Instantaneous force of a dynamic or memoryless site at coordinate ``s``, velocity ``v``."""
     if kind == S_LUGRE:
         z = st[so]
@@ -269,27 +279,27 @@ def _site_now(kind, par, o, st, so, s, v):
             s1 = par[o + 15]
         g = _g(par, ro, abs(v))
         zd = v - s0 * abs(v) * z / g if g > 0.0 else v
-        return s0 * z + s1 * zd + par[ro + 4] * v
+        return lam * (s0 * z + s1 * zd) + par[ro + 4] * v
     if kind == S_GMS:
         M = int(par[o + 12])
         F = 0.0
         for i in range(M):
             F += st[so + i]
-        return F + (par[o + 4] if v >= 0.0 else par[o + N_ROW + 4]) * v
+        return lam * F + (par[o + 4] if v >= 0.0 else par[o + N_ROW + 4]) * v
     return _elastic(kind, par, o, s)
 
 
 @njit
-def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
+def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar)`` (state untouched)."""
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        return a, _site_mean(kind, par, o, st, so, s0, a, h, False)
+        return a, _site_mean(kind, par, o, st, so, s0, a, h, False, lam)
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
         # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end (implicit Euler),
         # or v_end = 0 while the holding force stays inside [-Fs-, Fs+].
-        fs_pos = _g(par, o, 0.0)
-        fs_neg = _g(par, o + N_ROW, 0.0)
+        fs_pos = lam * _g(par, o, 0.0)
+        fs_neg = lam * _g(par, o + N_ROW, 0.0)
         f_hold = a / Gjj
         if -fs_neg <= f_hold <= fs_pos:
             return 0.0, f_hold
@@ -297,20 +307,20 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
             lo = 0.0
             flo = Gjj * fs_pos - a
             hi = a
-            fhi = Gjj * _static_force(par, o, a)
+            fhi = Gjj * _static_force(par, o, a, lam)
         else:
             hi = 0.0
             fhi = -Gjj * fs_neg - a
             lo = a
-            flo = Gjj * _static_force(par, o, a)
+            flo = Gjj * _static_force(par, o, a, lam)
         if fhi <= 0.0:
-            return hi, _static_force(par, o, hi)
+            return hi, _static_force(par, o, hi, lam)
         if flo >= 0.0:
-            return lo, _static_force(par, o, lo)
+            return lo, _static_force(par, o, lo, lam)
     else:
         # bracket phi(ds) = ds + Gjj Fbar(ds) - a around the explicit guess
         x0 = a - Gjj * Fguess
-        f0 = x0 + Gjj * _site_mean(kind, par, o, st, so, s0, x0, h, False) - a
+        f0 = x0 + Gjj * _site_mean(kind, par, o, st, so, s0, x0, h, False, lam) - a
         if f0 == 0.0:
             return x0, (a - x0) / Gjj
         step = abs(a - x0) + xtol * 4.0
@@ -318,27 +328,27 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
             hi = x0
             fhi = f0
             lo = x0 - step
-            flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False) - a
+            flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False, lam) - a
             n = 0
             while flo > 0.0 and n < 200:
                 hi = lo
                 fhi = flo
                 step *= 4.0
                 lo = hi - step
-                flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False) - a
+                flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False, lam) - a
                 n += 1
         else:
             lo = x0
             flo = f0
             hi = x0 + step
-            fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False) - a
+            fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False, lam) - a
             n = 0
             while fhi < 0.0 and n < 200:
                 lo = hi
                 flo = fhi
                 step *= 4.0
                 hi = lo + step
-                fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False) - a
+                fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False, lam) - a
                 n += 1
         if flo == 0.0:
             return lo, (a - lo) / Gjj
@@ -352,9 +362,9 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
         if not (lo < x < hi):
             x = 0.5 * (lo + hi)
         if kind == S_STATIC:
-            fx = x + Gjj * _static_force(par, o, x) - a
+            fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False) - a
+            fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False, lam) - a
         if fx == 0.0:
             break
         if fx < 0.0:
@@ -374,6 +384,60 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol):
     return x, (a - x) / Gjj
 
 
+@njit
+def _loads(X, mvals, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
+           ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam):
+    """Normal-load scales ``lam`` of the friction sites at state ``X`` (motions at ``mvals``).
+
+    A site's friction laws are given at the reference load ``ld_par[j, 3]``; its load is
+    ``max(N0 + a y, b y, 0)`` (mode 1; ``y`` the force of a spring/compliance) or the Hertz
+    load of one contact set ``c (d0 + a d)_+^1.5`` (mode 2; ``d`` the compliance deflection).
+    The law's state is load-normalised (``F = lam F(state)``), so when the load falls the
+    force falls with it (contacts shrink, Mindlin); when it rises the new contact area carries
+    no traction: the state is scaled by ``lam_old / lam_new`` so the force is kept.
+    """
+    n = X.size // 2
+    for j in range(lam.size):
+        mode = ld_mode[j]
+        if mode == 0:
+            continue
+        y = 0.0
+        for b in range(2 * n):
+            y += ld_row[j, b] * X[b]
+        for m in range(mvals.size):
+            y += ld_mrow[j, m] * mvals[m]
+        c = ld_site[j]
+        N = 0.0
+        if c >= 0:
+            d = s_off[c]
+            for b in range(n):
+                d += Cq[c, b] * X[b]
+            for m in range(mvals.size):
+                d += Cm[c, m] * mvals[m]
+            if mode == 1:
+                y += _elastic(site_kind[c], par, site_po[c], d)
+            else:
+                a1 = par[site_po[c] + 1] + ld_par[j, 1] * d
+                N = par[site_po[c]] * a1 * math.sqrt(a1) if a1 > 0.0 else 0.0
+        if mode == 1:
+            N = ld_par[j, 0] + ld_par[j, 1] * y
+            if ld_par[j, 2] * y > N:
+                N = ld_par[j, 2] * y
+            if N < 0.0:
+                N = 0.0
+        new = N / ld_par[j, 3]
+        old = lam[j]
+        if new > old:
+            f = old / new
+            kind = site_kind[j]
+            if kind == S_LUGRE:
+                st[site_so[j]] *= f
+            elif kind == S_GMS:
+                for i in range(int(par[site_po[j] + 12])):
+                    st[site_so[j] + i] *= f
+        lam[j] = new
+
+
 @njit(inline="always")
 def _quantise(x, q):
     if q > 0.0:
@@ -386,7 +450,8 @@ def _quantise(x, q):
 def run(
     n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off,
     site_kind, site_po, site_so, par, st, xtol,
-    X, mot, mot_coef_w,
+    ld_mode, ld_row, ld_mrow, ld_site, ld_par,
+    X, mot,
     act_sig, act_lim, act_delay, act_foh, act_applied_sig, act_col, inputs, in_sig,
     sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
     blk_code, blk_iptr, blk_idx, blk_fptr, blk_par, blk_sptr, blk_st,
@@ -431,6 +496,12 @@ def run(
             maxd_s = sen_delay[i]
     sbuf = np.zeros((nsen, maxd_s + 1))
     n_bad = 0
+    lam = np.ones(ns)
+    for j in range(ns):
+        if ld_mode[j] != 0:
+            lam[j] = 0.0  # contacts start without traction; set from the state below
+    _loads(X, mot[0], site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
+           ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
 
     # memoryless sites start at their static force
     for j in range(ns):
@@ -443,8 +514,12 @@ def run(
                 sj += Cm[j, m] * mot[0, m]
             Fbar[j] = _elastic(kind, par, site_po[j], sj)
 
+    mv = np.zeros(nmot)
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
+        if k > 0:
+            _loads(X, mot[k], site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
+                   ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
         # ---- record the state at t_k
         for b in range(n):
             q_out[k, b] = X[b]
@@ -462,7 +537,7 @@ def run(
             for m in range(nmot):
                 sj += Cm[j, m] * mot[k, m]
                 vj += Cm[j, m] * (mot[kn, m] - mot[k, m]) / dt
-            F_out[k, j] = _site_now(kind, par, site_po[j], st, site_so[j], sj, vj)
+            F_out[k, j] = _site_now(kind, par, site_po[j], st, site_so[j], sj, vj, lam[j])
         # ---- inputs and sensors
         for i in range(nin):
             sig[in_sig[i]] = inputs[k, i]
@@ -581,6 +656,11 @@ def run(
         for sub in range(n_sub):
             f0 = sub / n_sub
             f1 = (sub + 1) / n_sub
+            if sub > 0:
+                for m in range(nmot):
+                    mv[m] = mot[k, m] + (mot[kn, m] - mot[k, m]) * f0
+                _loads(X, mv, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
+                       ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
             for i in range(nact):
                 if act_foh[i]:
                     ua = inputs[k, act_col[i]]
@@ -643,7 +723,7 @@ def run(
                                 aj -= Gc[j, i] * Fbar[i]
                         tj = xtol[j] + 1e-13 * abs(aj)
                         dsj, Fj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                              Gc[j, j], h, Fbar[j], tj)
+                                              Gc[j, j], h, Fbar[j], tj, lam[j])
                         dF = abs(Fj - Fbar[j]) * Gc[j, j]
                         if dF > change:
                             change = dF
@@ -656,7 +736,7 @@ def run(
                     if sweep == 59:
                         n_bad += 1
                 for j in range(ns):
-                    _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True)
+                    _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True, lam[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

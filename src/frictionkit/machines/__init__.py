@@ -9,8 +9,8 @@ sites holding any friction law, actuators, sensors and controller blocks (:class
 :func:`simulate_machine` runs it in :mod:`frictionkit.kernels.machine`.
 """
 
-from .elements import (PID, Coord, FrictionFeedforward, Gain, HertzContact, PiecewiseLinearSpring, Saturation,
-                       SineLoad, StateSpace, Sum)
+from .elements import (PID, Coord, FrictionFeedforward, Gain, HertzContact, NormalLoad, PiecewiseLinearSpring,
+                       Saturation, SineLoad, StateSpace, Sum)
 from .machine import Machine
 from .simulate import MachineResult, discretise, simulate_machine
 
@@ -21,6 +21,7 @@ __all__ = [
     "HertzContact",
     "Machine",
     "MachineResult",
+    "NormalLoad",
     "PID",
     "PiecewiseLinearSpring",
     "Saturation",

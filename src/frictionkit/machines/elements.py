@@ -234,6 +234,42 @@ class SineLoad:
         return [self.amplitude, self.phase]
 
 
+@dataclass(frozen=True, kw_only=True)
+class NormalLoad:
+    """A friction site's normal load as a function of the machine state.
+
+    The site's law is given at the load ``reference``; at load ``N`` its levels, stiffnesses
+    and damping (not its viscous ``sigma2``) scale by ``N / reference``. ``y`` is the force in
+    the spring or compliance named ``on`` (its linear and nonlinear part plus its damper):
+
+    * ``N = max(preload + gain y, floor_gain y, 0)`` — a load linear in ``y`` (seed 000: ball
+      pair friction grows with axial load plus preload; ``gain = 1``), or one flank of a
+      preloaded nut with the equal-stiffness split (``preload = P``, ``gain = s/2``,
+      ``floor_gain = s`` for the flank ``s = +1/-1``: the set unloads beyond ``|y| = 2P``);
+    * ``hertz_set = s`` (``on`` a :class:`HertzContact`): ``N = c (d0 + s d)_+^1.5``, the ball
+      load of that contact set.
+
+    When the load falls the contacts lose traction with it; when it rises the new contact area
+    starts without traction (the friction force is kept) — the friction-law contract, item 5.
+    """
+
+    on: str
+    reference: float
+    preload: float = 0.0
+    gain: float = 1.0
+    floor_gain: float = 0.0
+    hertz_set: int = 0
+
+    def __post_init__(self) -> None:
+        o = "NormalLoad"
+        _name(o, "on", self.on)
+        object.__setattr__(self, "reference", val.positive(o, "reference", self.reference))
+        for f in ("preload", "gain", "floor_gain"):
+            object.__setattr__(self, f, val.finite(o, f, getattr(self, f)))
+        if self.hertz_set not in (0, 1, -1):
+            raise ParameterError(f"{o}.hertz_set = {self.hertz_set!r}: must be 0 (linear load), +1 or -1")
+
+
 # --------------------------------------------------------------------------- controller blocks
 def _name(owner: str, field_: str, value) -> str:
     if not isinstance(value, str) or not value:

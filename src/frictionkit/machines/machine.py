@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
-from .elements import BLOCK_TYPES, Coord, HertzContact, PiecewiseLinearSpring, SineLoad
+from .elements import BLOCK_TYPES, Coord, HertzContact, NormalLoad, PiecewiseLinearSpring, SineLoad
 
 KINDS = {"translational": "m", "rotational": "rad"}
 QUANTITIES = ("position", "velocity")
@@ -53,6 +53,7 @@ class Site:
     at: Coord
     law: object
     role: str  # "friction", "compliance", "load"
+    load: NormalLoad | None = None
 
 
 @dataclass(frozen=True)
@@ -197,18 +198,23 @@ class Machine:
         """Linear damper on ``a - b``."""
         self.spring(a, b, c=c, name=name)
 
-    def friction(self, name: str, a: Coord, b: Coord | None = None, *, law) -> None:
+    def friction(self, name: str, a: Coord, b: Coord | None = None, *, law,
+                 load: NormalLoad | None = None) -> None:
         """A friction site on the motion of ``a`` relative to ``b`` (ground when None).
 
         ``law`` is any friction law: ``Stribeck``, ``CoulombViscous``, ``Directional``,
-        ``Dahl``, ``LuGre`` or ``GMS``. Its force opposes the relative motion.
+        ``Dahl``, ``LuGre`` or ``GMS``. Its force opposes the relative motion. ``load``
+        (:class:`NormalLoad`) makes its levels follow a state-dependent normal load; the
+        spring or compliance it names must exist when the machine is simulated.
         """
         from .simulate import law_family
 
         at = self._coord("friction", a, b)
-        name = self._new_name("friction", name)
         law_family(law, f"Machine.friction({name!r}).law")
-        self.sites.append(Site(name, at, law, "friction"))
+        if load is not None and not isinstance(load, NormalLoad):
+            raise ParameterError(f"Machine.friction({name!r}).load = {type(load).__name__}: must be a NormalLoad")
+        name = self._new_name("friction", name)
+        self.sites.append(Site(name, at, law, "friction", load))
 
     def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law, c: float = 0.0) -> None:
         """A nonlinear spring on ``a - b``: :class:`HertzContact` or :class:`PiecewiseLinearSpring`

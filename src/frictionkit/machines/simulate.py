@@ -15,8 +15,8 @@ from ..kernels import machine as _k
 from ..models.gms import GMS
 from ..models.lugre import Dahl, LuGre
 from ..models.static import CoulombViscous, Directional, Stribeck
-from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation,
-                       SineLoad, StateSpace, Sum)
+from .elements import (FrictionFeedforward, HertzContact, NormalLoad, PID, PiecewiseLinearSpring,
+                       Saturation, SineLoad, StateSpace, Sum)
 from .machine import Machine
 
 
@@ -311,6 +311,46 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         st += s0
         xtol.append(1e-18)
 
+    # normal loads
+    nmo = len(mnames)
+    ld_mode = np.zeros(ns, dtype=np.int64)
+    ld_row = np.zeros((ns, 2 * n))
+    ld_mrow = np.zeros((ns, nmo))
+    ld_site = np.full(ns, -1, dtype=np.int64)
+    ld_par = np.ones((ns, 4))
+    springs = {sp.name: sp for sp in machine.springs}
+    site_names = [s.name for s in machine.sites]
+    for j, s in enumerate(machine.sites):
+        L = s.load
+        if L is None:
+            continue
+        where = f"friction site {s.name!r}: NormalLoad.on = {L.on!r}"
+        if L.on in springs:
+            if L.hertz_set:
+                raise ParameterError(f"{where} is a linear spring; hertz_set needs a HertzContact compliance")
+            sp = springs[L.on]
+            c, cm = machine.row(sp.at)
+            ld_row[j, :n] = sp.k * c
+            ld_row[j, n:] = sp.c * c
+            ld_mrow[j] = sp.k * cm
+        elif L.on in site_names and machine.sites[site_names.index(L.on)].role == "compliance":
+            ci = site_names.index(L.on)
+            comp = machine.sites[ci]
+            if L.hertz_set and not isinstance(comp.law, HertzContact):
+                raise ParameterError(f"{where}: hertz_set needs a HertzContact, not {type(comp.law).__name__}")
+            ld_site[j] = ci
+            if not L.hertz_set:
+                c, cm = machine.row(comp.at)
+                ld_row[j, :n] = comp.law.linear_stiffness * c
+                ld_mrow[j] = comp.law.linear_stiffness * cm
+                dmp = springs.get(f"{L.on}.damper")
+                if dmp is not None:
+                    ld_row[j, n:] = dmp.c * c
+        else:
+            raise ParameterError(f"{where}: no spring or compliance of that name in machine {machine.name!r}")
+        ld_mode[j] = 2 if L.hertz_set else 1
+        ld_par[j] = [L.preload, float(L.hertz_set) if L.hertz_set else L.gain, L.floor_gain, L.reference]
+
     # signals: inputs, sensors, block outputs, actuator applied values
     sig_names: list[str] = []
 
@@ -425,7 +465,8 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns),
         np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
         np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
-        X, mot, np.zeros(0),
+        ld_mode, ld_row, ld_mrow, ld_site, ld_par,
+        X, mot,
         act_sig, act_lim, act_delay, act_foh, act_applied, act_col, in_arr, in_sig,
         sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
         np.array(code, dtype=I64), np.array(iptr, dtype=I64), np.array(idx, dtype=I64),

@@ -290,10 +290,15 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit
-def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam):
-    """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar)`` (state untouched)."""
+def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
+    """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt)`` (state untouched).
+
+    ``kt`` is the site's last secant slope ``dFbar/dds`` (a Newton-like first step from the
+    explicit guess ``a - Gjj Fguess``); secant steps follow until the root is bracketed, then
+    Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
+    """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        return a, _site_mean(kind, par, o, st, so, s0, a, h, False, lam)
+        return a, _site_mean(kind, par, o, st, so, s0, a, h, False, lam), kt
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
         # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end (implicit Euler),
@@ -302,7 +307,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam):
         fs_neg = lam * _g(par, o + N_ROW, 0.0)
         f_hold = a / Gjj
         if -fs_neg <= f_hold <= fs_pos:
-            return 0.0, f_hold
+            return 0.0, f_hold, kt
         if a > 0.0:
             lo = 0.0
             flo = Gjj * fs_pos - a
@@ -314,46 +319,77 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam):
             lo = a
             flo = Gjj * _static_force(par, o, a, lam)
         if fhi <= 0.0:
-            return hi, _static_force(par, o, hi, lam)
+            return hi, _static_force(par, o, hi, lam), kt
         if flo >= 0.0:
-            return lo, _static_force(par, o, lo, lam)
+            return lo, _static_force(par, o, lo, lam), kt
     else:
-        # bracket phi(ds) = ds + Gjj Fbar(ds) - a around the explicit guess
         x0 = a - Gjj * Fguess
-        f0 = x0 + Gjj * _site_mean(kind, par, o, st, so, s0, x0, h, False, lam) - a
-        if f0 == 0.0:
-            return x0, (a - x0) / Gjj
-        step = abs(a - x0) + xtol * 4.0
-        if f0 > 0.0:
-            hi = x0
-            fhi = f0
-            lo = x0 - step
-            flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False, lam) - a
-            n = 0
-            while flo > 0.0 and n < 200:
-                hi = lo
-                fhi = flo
-                step *= 4.0
-                lo = hi - step
-                flo = lo + Gjj * _site_mean(kind, par, o, st, so, s0, lo, h, False, lam) - a
-                n += 1
-        else:
+        F0 = _site_mean(kind, par, o, st, so, s0, x0, h, False, lam)
+        f0 = x0 + Gjj * F0 - a
+        if abs(f0) <= xtol:
+            return x0, F0, kt
+        lo = -math.inf
+        hi = math.inf
+        flo = -1.0
+        fhi = 1.0
+        if f0 < 0.0:
             lo = x0
             flo = f0
-            hi = x0 + step
-            fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False, lam) - a
-            n = 0
-            while fhi < 0.0 and n < 200:
-                lo = hi
-                flo = fhi
-                step *= 4.0
-                hi = lo + step
-                fhi = hi + Gjj * _site_mean(kind, par, o, st, so, s0, hi, h, False, lam) - a
-                n += 1
-        if flo == 0.0:
-            return lo, (a - lo) / Gjj
-        if fhi == 0.0:
-            return hi, (a - hi) / Gjj
+        else:
+            hi = x0
+            fhi = f0
+        slope = 1.0 + Gjj * kt
+        if not slope >= 0.05:
+            slope = 1.0
+        x1 = x0 - f0 / slope
+        n = 0
+        while n < 80:
+            F1 = _site_mean(kind, par, o, st, so, s0, x1, h, False, lam)
+            f1 = x1 + Gjj * F1 - a
+            n += 1
+            if x1 != x0:
+                kt_new = (F1 - F0) / (x1 - x0)
+            else:
+                kt_new = kt
+            if abs(f1) <= xtol:
+                return x1, F1, kt_new
+            if f1 < 0.0:
+                if x1 > lo:
+                    lo = x1
+                    flo = f1
+            else:
+                if x1 < hi:
+                    hi = x1
+                    fhi = f1
+            if lo > -math.inf and hi < math.inf:
+                break
+            # not bracketed yet: secant (or Newton-like) step, growing if it stalls
+            sl = (f1 - f0) / (x1 - x0) if x1 != x0 else slope
+            if not sl >= 0.05:
+                sl = slope
+            x2 = x1 - f1 / sl
+            if abs(x2 - x1) < abs(x1 - x0) and n > 4:
+                x2 = x1 - 4.0 * (x1 - x0) if (x1 - x0) * f1 < 0.0 else x1 + 4.0 * (x1 - x0)
+            x0 = x1
+            f0 = f1
+            F0 = F1
+            x1 = x2
+        if lo == -math.inf or hi == math.inf:
+            return x1, (a - x1) / Gjj, kt
+        # a secant step from the last two points if it lands inside the bracket
+        if x1 != x0 and f1 != f0:
+            x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
+            if lo < x2 < hi:
+                F2 = _site_mean(kind, par, o, st, so, s0, x2, h, False, lam)
+                f2 = x2 + Gjj * F2 - a
+                if abs(f2) <= xtol:
+                    return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt
+                if f2 < 0.0:
+                    lo = x2
+                    flo = f2
+                else:
+                    hi = x2
+                    fhi = f2
     # Illinois (modified regula falsi) on [lo, hi], flo < 0 < fhi
     side = 0
     x = lo
@@ -381,7 +417,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam):
             side = 1
         if hi - lo <= xtol or abs(fx) <= 0.25 * xtol:
             break
-    return x, (a - x) / Gjj
+    return x, (a - x) / Gjj, kt
 
 
 @njit
@@ -497,6 +533,11 @@ def run(
     sbuf = np.zeros((nsen, maxd_s + 1))
     n_bad = 0
     lam = np.ones(ns)
+    has_load = False
+    for j in range(ns):
+        if ld_mode[j] != 0:
+            has_load = True
+    kt = np.zeros(ns)  # last secant slope dFbar/dds per site (first guess of the next solve)
     for j in range(ns):
         if ld_mode[j] != 0:
             lam[j] = 0.0  # contacts start without traction; set from the state below
@@ -517,7 +558,7 @@ def run(
     mv = np.zeros(nmot)
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
-        if k > 0:
+        if k > 0 and has_load:
             _loads(X, mot[k], site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
                    ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
         # ---- record the state at t_k
@@ -656,7 +697,7 @@ def run(
         for sub in range(n_sub):
             f0 = sub / n_sub
             f1 = (sub + 1) / n_sub
-            if sub > 0:
+            if sub > 0 and has_load:
                 for m in range(nmot):
                     mv[m] = mot[k, m] + (mot[kn, m] - mot[k, m]) * f0
                 _loads(X, mv, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
@@ -722,8 +763,9 @@ def run(
                             if i != j:
                                 aj -= Gc[j, i] * Fbar[i]
                         tj = xtol[j] + 1e-13 * abs(aj)
-                        dsj, Fj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                              Gc[j, j], h, Fbar[j], tj, lam[j])
+                        dsj, Fj, ktj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
+                                                   Gc[j, j], h, Fbar[j], tj, lam[j], kt[j])
+                        kt[j] = ktj
                         dF = abs(Fj - Fbar[j]) * Gc[j, j]
                         if dF > change:
                             change = dF

@@ -4,17 +4,31 @@ Reference numbers (``shared/data/emps/README.md``, from EMPS_Description.pdf §3
 curator's RK4 cross-check): the published rigid-body model scores 0.229 % (velocity) and
 5.85 % (force) in closed loop; IDIM-LS inverse errors 4.08 % (symmetric), 3.11 %
 (asymmetric, 3.19 % with scipy's decimate).
+
+Regression of the move onto the machine core (issue 8, part 6). ``BEFORE``: the errors of
+the private numba loop this replaced (RK4, 10 sub-steps of 0.1 ms, ``sgn(0) = 0``, no stick
+model), measured on this record just before its deletion. ``BEFORE_FINE``: the same loop at
+1000 sub-steps (1 µs), its step-converged limit: the 10-sub-step values carried up to
+0.006 percentage points of integration error (RK4 chattering across v = 0).
 """
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
-from frictionkit import CoulombViscous, Stribeck
+from frictionkit import CoulombViscous, Directional, Stribeck
 from frictionkit.data import load_recording
-from frictionkit.identify.emps_dynamic import emps_closed_loop, emps_compare
+from frictionkit.identify.emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare
 
 GTAU = 35.15065188248547
+MODELS = ("published", "asymmetric", "stribeck")
+# (velocity %, force %) of the deleted private loop, 10 RK4 sub-steps (the shipped default)
+BEFORE = {"published": (0.228814, 5.850316), "asymmetric": (0.228502, 5.219881),
+          "stribeck": (0.210720, 4.674624)}
+# the same loop at 1000 RK4 sub-steps
+BEFORE_FINE = {"published": (0.229085, 5.855113), "asymmetric": (0.228815, 5.225766),
+               "stribeck": (0.211112, 4.681003)}
 
 
 @pytest.fixture(scope="module")
@@ -50,3 +64,47 @@ def test_stribeck_lowers_inverse_and_closed_loop_errors(compared):
     law = st["model"]
     assert isinstance(law.positive, Stribeck)
     assert 94.5 < st["M"] < 95.8  # within a few published standard errors of 95.15 kg
+
+
+@pytest.fixture(scope="module")
+def sweep(emps, compared):
+    """Errors of each model at 10, 20, 40 and 80 core sub-steps per 1 ms sample."""
+    pub = (95.1089, CoulombViscous(Fc=20.3935, sigma2=203.5034), -3.1648)
+    asym = (95.1540, Directional(positive=CoulombViscous(Fc=20.1440, sigma2=166.7061),
+                                 negative=CoulombViscous(Fc=20.6277, sigma2=240.4236)), 0.0)
+    st = (compared["stribeck"]["M"], compared["stribeck"]["model"], 0.0)
+    out = {}
+    for name, (M, law, off) in zip(MODELS, (pub, asym, st)):
+        for ns in (10, 20, 40, 80):
+            e = emps_closed_loop_errors(emps, M=M, friction=law, offset=off, substeps=ns)
+            out[name, ns] = (e["velocity_error_percent"], e["force_error_percent"])
+    return out
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_errors_converged_in_substeps(sweep, name):
+    """The two finest sub-steps (40, 80) agree within 0.003 percentage points."""
+    for i, what in enumerate(("velocity", "force")):
+        assert abs(sweep[name, 80][i] - sweep[name, 40][i]) < 0.003, (name, what, sweep)
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_errors_within_0p01_of_before(compared, sweep, name):
+    """Within 0.01 pp of the deleted loop's shipped numbers, at the default and at 80 sub-steps."""
+    for i, key in enumerate(("velocity_error_percent", "force_error_percent")):
+        assert abs(compared[name][key] - BEFORE[name][i]) < 0.01, (name, key, compared[name][key])
+        assert abs(sweep[name, 80][i] - BEFORE[name][i]) < 0.01, (name, key, sweep[name, 80])
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_core_agrees_with_fine_step_old_loop(sweep, name):
+    """Exact stick (core) and RK4 chatter across v = 0 (old loop, 1 µs) reach the same limit."""
+    for i in range(2):
+        assert abs(sweep[name, 80][i] - BEFORE_FINE[name][i]) < 0.002, (name, i, sweep[name, 80])
+
+
+def test_closed_loop_force_is_delayed_controller_output(emps):
+    out = emps_closed_loop(emps.reference[:3000], M=95.1089,
+                           friction=CoulombViscous(Fc=20.3935, sigma2=203.5034), offset=-3.1648)
+    assert out["tau"][0] == 0.0
+    assert np.array_equal(out["tau"][1:], GTAU * out["nu"][:-1])

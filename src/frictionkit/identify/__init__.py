@@ -1,6 +1,6 @@
 """Identification of friction and rigid-body parameters from recordings."""
 
-from .emps_dynamic import emps_closed_loop, emps_compare, emps_stribeck_fit
+from .emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare, emps_stribeck_fit
 from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
 from .presliding import fit_presliding, piecewise_linear_fit
 from .result import IdentificationResult, parameter_statistics
@@ -12,6 +12,7 @@ __all__ = [
     "OUTPUT_ERROR_OPTIONS",
     "STATIC_MODELS",
     "emps_closed_loop",
+    "emps_closed_loop_errors",
     "emps_compare",
     "emps_stribeck_fit",
     "fit_output_error",

@@ -145,6 +145,23 @@ def _fields(law: Any) -> dict[str, float]:
     return {k: float(getattr(law, k)) for k in ("Fc", "Fs", "vs", "delta", "sigma2")}
 
 
+def _check_model_types(node: Any, at: str) -> None:
+    """Model fields must be JSON numbers (``true`` or ``"1.0"`` are not taken as 1)."""
+    if not isinstance(node, dict):
+        return
+    for key, val in node.items():
+        if key in ("type", "shape"):
+            continue
+        if isinstance(val, dict):
+            _check_model_types(val, f"{at}.{key}")
+            continue
+        items = val if isinstance(val, list) else [val]
+        for x in items:
+            if isinstance(x, bool) or not isinstance(x, (int, float)):
+                raise DataError(f"{at}.{key} is {json.dumps(val)}, expected a number"
+                                + (" or a list of numbers" if isinstance(val, list) else ""))
+
+
 def load_static_json(path: Path, option: str = "--static-json") -> Any:
     """The static map (``Directional`` of two ``Stribeck``) in a JSON written by ``identify static --json``.
 
@@ -179,6 +196,11 @@ def load_static_json(path: Path, option: str = "--static-json") -> Any:
     if doc.get("kind") != "static_map":
         raise DataError(f"{where}: not a static-map result (\"kind\" is {doc.get('kind')!r}, expected 'static_map')")
     try:
+        _check_model_types(doc.get("model"), "model")
+        parts = doc.get("parts")
+        for side, part in (parts.items() if isinstance(parts, dict) else ()):
+            if isinstance(part, dict):
+                _check_model_types(part.get("model"), f"parts.{side}.model")
         res = IdentificationResult.from_dict(doc)
         law = stribeck_model(res)
         top = model_from_dict(doc["model"]) if doc.get("model") is not None else None
@@ -186,6 +208,8 @@ def load_static_json(path: Path, option: str = "--static-json") -> Any:
         raise DataError(f"{where}: missing key {exc.args[0]!r}") from None
     except FrictionKitError as exc:
         raise DataError(f"{where}: {' '.join(str(exc).split())}") from None
+    except RecursionError:
+        raise DataError(f"{where}: JSON nested too deeply") from None
     except (TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
         raise DataError(f"{where}: malformed content ({type(exc).__name__}: {' '.join(str(exc).split())})") from None
     sides = {"positive": ("pos", law.positive), "negative": ("neg", law.negative)}
@@ -202,12 +226,15 @@ def load_static_json(path: Path, option: str = "--static-json") -> Any:
                     raise DataError(f"{where}: the top-level \"model\" ({side}.{name} = {float(other):g}) disagrees "
                                     f"with parts.{side}.model ({name} = {val:g}); the file was edited in one "
                                     "place only — make them agree")
-    for name, value in zip(res.names, res.values):
-        base, _, tag = name.rpartition("_")
-        for side, (short, part) in sides.items():
-            if tag == short and base in _fields(part):
-                if not _same(float(value), _fields(part)[base]):
-                    raise DataError(f"{where}: \"parameters\".{name} = {float(value):g} disagrees with "
-                                    f"parts.{side}.model ({base} = {_fields(part)[base]:g}); the file was edited "
-                                    "in one place only — make them agree")
+    # the parameter tables: "Fc_pos" at the top level, "Fc" in each direction's part
+    rows = [("parameters", name, value, side, name[:-4]) for name, value in zip(res.names, res.values)
+            for side, (short, _) in sides.items() if name.endswith(f"_{short}")]
+    rows += [(f"parts.{side}.parameters", name, value, side, name) for side in sides
+             for name, value in zip(res.parts[side].names, res.parts[side].values)]
+    for table, name, value, side, field in rows:
+        want = _fields(sides[side][1]).get(field)
+        if want is not None and not _same(float(value), want):
+            raise DataError(f"{where}: \"{table}\".{name} = {float(value):g} disagrees with "
+                            f"parts.{side}.model ({field} = {want:g}); the file was edited in one place only "
+                            "— make them agree")
     return law

@@ -33,3 +33,15 @@ def test_readme_error_message_is_the_real_one():
         assert f"ParameterError: {exc}" in text
     else:  # pragma: no cover
         raise AssertionError("negative stiffness accepted")
+
+
+def test_readme_machine_example_runs():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+    src = next(b for b in blocks if "fk.Machine(" in b)
+    ns: dict = {}
+    exec(compile(src, "README.md", "exec"), ns)
+    res = ns["res"]
+    assert res.success and res.q.shape == (4001, 2)
+    # the PID holds the table within a few micrometres of a 1 mm sine; the reversal spikes are friction
+    assert 1e-7 < abs(ns["err"][200:]).max() < 1e-5
+    assert abs(res.u).max() < 10.0  # the 10 A limit was not needed

@@ -132,17 +132,33 @@ class MachineResult:
         return "\n".join(lines)
 
     def plot(self, ax=None):
-        """Positions of the degrees of freedom over time; returns the Axes."""
+        """Positions of the degrees of freedom over time; returns the (left) Axes.
+
+        Translational DOFs [m] on the left axis; rotational ones [rad] on a twin right axis
+        when the machine has both.
+        """
         import matplotlib.pyplot as plt
 
-        if ax is None:
+        new = ax is None
+        if new:
             _, ax = plt.subplots(figsize=(7, 3.5))
+        kinds = {d.kind for d in self.machine.dofs}
+        right = ax.twinx() if len(kinds) > 1 else None
+        lines = []
         for i, d in enumerate(self.machine.dofs):
-            ax.plot(self.t, self.q[:, i], label=f"{d.name} [{d.unit}]")
+            target = right if (right is not None and d.kind == "rotational") else ax
+            style = "--" if target is right else "-"
+            lines += target.plot(self.t, self.q[:, i], style, label=f"{d.name} [{d.unit}]", color=f"C{i}")
         ax.set_xlabel("t [s]")
-        ax.set_ylabel("position")
+        if right is not None:
+            ax.set_ylabel("position [m]")
+            right.set_ylabel("angle [rad]")
+        else:
+            ax.set_ylabel(f"position [{self.machine.dofs[0].unit}]")
         ax.set_title(self.machine.name)
-        ax.legend(loc="best", fontsize=8)
+        ax.legend(lines, [ln.get_label() for ln in lines], loc="best", fontsize=8)
+        if new:
+            ax.figure.tight_layout()
         return ax
 
 

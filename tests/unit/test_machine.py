@@ -287,3 +287,21 @@ def test_lugre_force_falls_with_the_load_and_is_kept_when_it_rises():
     assert F[k2 - 1] == pytest.approx(0.5, rel=1e-3)  # settled again at the lower load
     assert F[k2 + 1] == pytest.approx(0.5, rel=2e-2)  # load doubled: force kept
     assert abs(F[k2 + 1] - F[k2 - 1]) < 0.1 * abs(F[k1 + 1] - F[k1 - 1])
+
+
+def test_one_dof_fast_path_is_the_single_axis_kernel_and_agrees_with_the_general_loop():
+    law = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=316.0)
+    m, _ = slider(law)
+    m.actuators[0] = m.actuators[0].__class__("u", m.coord("x"), 2.0, 3.0, 0, "u")  # gain 2, limit 3
+    dt = 2.5e-4
+    t = np.arange(8001) * dt
+    u = 2.0 * np.sin(np.pi * t)
+    fast = simulate_machine(m, dt=dt, inputs={"u": u})
+    assert "fast path" in fast.message and fast.substeps == 0
+    ref = fk.simulate(law, plant=fk.Mass(1.0), force=2.0 * np.clip(u, -3.0, 3.0), dt=dt)
+    np.testing.assert_array_equal(fast.q[:, 0], ref.x)
+    np.testing.assert_array_equal(fast.force("contact"), ref.F)
+    general = simulate_machine(m, dt=dt, inputs={"u": u}, fast_path=False)
+    assert general.substeps == 10 and "fast path" not in general.message
+    # measured 0.27 um over a 0.44 m run (both against each other)
+    assert np.abs(general.q[:, 0] - fast.q[:, 0]).max() < 1e-6

@@ -225,6 +225,33 @@ def discretise(machine: Machine, h: float):
             np.ascontiguousarray(G0[:, nw:]), parts)
 
 
+def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failure: bool):
+    """Run a one-mass, one-site, open-loop machine on the single-axis kernels, else None."""
+    if (machine.n != 1 or machine.springs or machine._motion_names or machine.blocks or machine.sensors
+            or len(machine.sites) != 1 or len(machine.actuators) != 1):
+        return None
+    site, act = machine.sites[0], machine.actuators[0]
+    if (site.role != "friction" or site.load is not None or law_family(site.law) == "static"
+            or site.at.dofs != {0: 1.0} or act.at.dofs != {0: 1.0} or act.delay
+            or act.command not in inputs or len(inputs) != 1):
+        return None
+    from ..plants.mass import Mass
+    from ..simulate.core import simulate
+
+    u = np.clip(inputs[act.command], -act.limit, act.limit)
+    d = machine.dofs[0]
+    r = simulate(site.law, plant=Mass(float(machine.mass_matrix()[0, 0])), force=act.gain * u, dt=dt,
+                 x0=d.x0, v0=d.v0)
+    if r.status != 0 and raise_on_failure:
+        raise SimulationError(r.message)
+    names = (act.command, f"{act.name}.applied")
+    return MachineResult(machine=machine, t=r.t, q=r.x[:, None], v=r.v[:, None], F=r.F[:, None],
+                         signals=np.column_stack([inputs[act.command], u]), u=u[:, None],
+                         dof_names=(d.name,), site_names=(site.name,), signal_names=names,
+                         actuator_names=(act.name,), substeps=0, status=int(r.status),
+                         message=f"{r.message} (one-DOF fast path: adaptive single-axis kernel)")
+
+
 def _length(inputs: dict, n_samples):
     lens = {k: v.size for k, v in inputs.items()}
     if n_samples is None:
@@ -240,7 +267,7 @@ def _length(inputs: dict, n_samples):
 
 def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
                      n_samples: int | None = None, duration: float | None = None,
-                     substeps: int = 10, seed: int | None = 0,
+                     substeps: int = 10, seed: int | None = 0, fast_path: bool = True,
                      raise_on_failure: bool = False) -> MachineResult:
     """Run a machine in its compiled closed loop.
 
@@ -257,6 +284,10 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         the linear chain is exact). Raise it until the result stops changing; the parity
         tests against the solve_ivp twin show the error at the default.
     seed : int — seed of the sensor noise.
+    fast_path : bool — a machine that is one mass, one dynamic friction site (LuGre, Dahl, GMS)
+        and one open-loop force input, with nothing else, runs on the single-axis adaptive
+        kernels of :func:`frictionkit.simulate` (error-controlled, breakaways located inside
+        the step; ``substeps`` does not apply). ``False`` forces the general loop.
     raise_on_failure : bool — raise :class:`SimulationError` instead of returning status 1.
 
     Returns
@@ -296,6 +327,10 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         raise DataError(f"simulate_machine: {N} samples; need at least 2")
 
     n = machine.n
+    if fast_path:
+        fast = _fast_path(machine, dt, inputs, N, raise_on_failure)
+        if fast is not None:
+            return fast
     h = dt / int(substeps)
     Phi, G0, G1, Gf, parts = discretise(machine, h)
     Cq, Cm = parts["Cq"], parts["Cm"]

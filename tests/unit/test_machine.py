@@ -305,3 +305,12 @@ def test_one_dof_fast_path_is_the_single_axis_kernel_and_agrees_with_the_general
     assert general.substeps == 10 and "fast path" not in general.message
     # measured 0.47 um over a 1.0 m run (the two paths against each other)
     assert np.abs(general.q[:, 0] - fast.q[:, 0]).max() < 1e-6
+
+
+def test_a_sum_without_terms_is_a_constant():
+    m, _ = slider(fk.CoulombViscous(Fc=1.0))
+    m.actuators[0] = m.actuators[0].__class__("u", m.coord("x"), 1.0, math.inf, 0, "push")
+    m.add(Sum("push", {}, bias=3.0))
+    r = simulate_machine(m, dt=1e-3, n_samples=101)
+    np.testing.assert_allclose(r.signal("push"), 3.0)
+    np.testing.assert_allclose(r.q[:, 0], (3.0 - 1.0) * r.t**2 / 2.0, rtol=1e-9, atol=1e-15)

@@ -279,7 +279,7 @@ def _name(owner: str, field_: str, value) -> str:
 
 @dataclass(frozen=True)
 class Sum:
-    """``out = bias + sum_i w_i signal_i`` — error signals, gains, cross-axis distribution.
+    """``out = bias + sum_i w_i signal_i`` — error signals, gains, constants, cross-axis distribution.
 
     Examples
     --------
@@ -294,8 +294,9 @@ class Sum:
 
     def __post_init__(self) -> None:
         _name("Sum", "out", self.out)
-        if not isinstance(self.terms, dict) or not self.terms:
-            raise ParameterError(f"Sum.terms = {self.terms!r}: must be a non-empty dict signal -> weight")
+        if not isinstance(self.terms, dict):
+            raise ParameterError(f"Sum.terms = {self.terms!r}: must be a dict signal -> weight "
+                                 "(empty for a constant: Sum('c', {}, bias=1.0))")
         terms = {_name("Sum", "terms", k): val.finite("Sum", f"terms[{k!r}]", w) for k, w in self.terms.items()}
         object.__setattr__(self, "terms", terms)
         object.__setattr__(self, "bias", val.finite("Sum", "bias", self.bias))

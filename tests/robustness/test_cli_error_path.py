@@ -142,3 +142,32 @@ def test_every_bracketed_help_text_survives(runner):
                 assert unit in out, f"{' '.join(path)} {p.name}: {unit} missing from --help"
                 checked += 1
     assert checked >= 15
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+def test_ctrl_c_while_the_package_imports_is_one_line():
+    """The console script's launcher catches an interrupt before frictionkit has finished importing."""
+    import signal
+
+    code = ("import sys; sys.argv = ['frictionkit', 'identify', '--help']; import _frictionkit_main; "
+            "print('ready', flush=True); _frictionkit_main.main()")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        proc.send_signal(signal.SIGINT)  # frictionkit (numpy, scipy, numba) takes > 0.5 s to import
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130
+    assert err == "error: interrupted\n"
+    assert "Usage" not in out
+
+
+def test_console_script_points_at_the_launcher():
+    import tomllib
+    from pathlib import Path
+
+    meta = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())
+    assert meta["project"]["scripts"]["frictionkit"] == "_frictionkit_main:main"

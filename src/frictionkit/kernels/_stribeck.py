@@ -41,19 +41,41 @@ def _rpow(r, d):
 # ``v_cut`` is the speed above which the exponential term has underflowed
 # (``(|v|/vs)^delta > UNDERFLOW``) so ``g = Fc`` exactly; ``inf`` for the Lorentzian
 # shape, whose term never underflows.
+#
+# Levels of zero. ``Fc = 0`` (friction fading to nothing at speed) and ``Fs = 0`` (no
+# breakaway level) are valid laws, but the kernels divide by ``g``: the relaxation
+# rates ``sigma0 |v| / g`` (LuGre) and ``C / g`` (GMS). In the limit ``g -> 0`` the
+# state settles on its target instantly -- LuGre ``z -> sgn(v) g / sigma0 -> 0``, so
+# ``F -> sigma2 v``; a slipping GMS element ``F_i -> xi_i s(v) -> 0``. :func:`row`
+# floors both levels at ``G_FLOOR`` times the largest level of the packed array, so
+# ``g >= G_FLOOR max(Fc, Fs) > 0`` everywhere: the rates stay finite (~1e13 /s), the
+# L-stable ROS2 step and the exact exponential slip updates reach the target within
+# one sub-step, and the force differs from the limit by at most ``G_FLOOR max(Fc, Fs)``.
+# Laws whose levels are both well above that floor are untouched, and the hot
+# loops carry no extra test (the floor is applied once per run, here).
 # ---------------------------------------------------------------------------
 
 R_FC, R_DF, R_IVS, R_DELTA, R_S2, R_SHAPE, R_VCUT, R_FS, R_IFC = 0, 1, 2, 3, 4, 5, 6, 7, 8
 
+#: Floor of the levels ``Fc``, ``Fs`` as a fraction of the largest level of the packed
+#: array (the ``solve_ivp`` twin floors ``|s(v)|`` at the same value).
+G_FLOOR = 1e-9
+
 
 @njit(inline="always")
 def row(P, i):
-    """Row ``i`` of the packed static array as a tuple (see the layout above)."""
+    """Row ``i`` of the packed static array as a tuple (see the layout above).
+
+    Both levels are floored at ``G_FLOOR`` times the largest level in ``P``.
+    """
+    lo = G_FLOOR * max(max(P[0, 0], P[0, 1]), max(P[1, 0], P[1, 1]))
+    Fc = max(P[i, 0], lo)
+    Fs = max(P[i, 1], lo)
     if P[i, 5] == 0.0:
         vcut = P[i, 2] * UNDERFLOW ** (1.0 / P[i, 3])
     else:
         vcut = math.inf
-    return (P[i, 0], P[i, 1] - P[i, 0], 1.0 / P[i, 2], P[i, 3], P[i, 4], P[i, 5], vcut, P[i, 1], 1.0 / P[i, 0])
+    return (Fc, Fs - Fc, 1.0 / P[i, 2], P[i, 3], P[i, 4], P[i, 5], vcut, Fs, 1.0 / Fc)
 
 
 @njit(inline="always")

@@ -27,7 +27,8 @@ one sample at a time, with the loop over parameter sets innermost:
 * the direction row is chosen per lane with selects (``a if v >= 0 else b``
   on already-loaded values compiles to a blend), the special cases of
   ``_stribeck`` (``r == 0``, exponent above :data:`~._stribeck.UNDERFLOW`) are
-  selects too;
+  selects too; levels of zero are floored once, when a chunk is loaded, exactly as
+  in ``_stribeck.row`` (see the note there);
 * ``exp`` is :func:`_vexp`, a branch-free Cody–Waite / degree-13 polynomial
   (<= 2 ulp from libm): the libm call cannot be vectorised without SVML.
   One ``exp`` per set per stage, two per sub-step;
@@ -56,7 +57,7 @@ from numba import types
 from numba.extending import intrinsic
 
 from .._jit import njit, prange
-from ._stribeck import UNDERFLOW
+from ._stribeck import G_FLOOR, UNDERFLOW
 
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 OK, NONFINITE = 0, 1
@@ -339,10 +340,12 @@ def _load(B, static, dyn, m, j0, nl):
     """Fill a chunk buffer: lanes ``0 .. nl-1`` from sets ``j0 ..``; padding lanes copy set ``j0``."""
     for i in range(CHUNK):
         j = j0 + i if i < nl else j0
+        # levels floored as in ``_stribeck.row``: g > 0 even where Fc or Fs is 0
+        lo = G_FLOOR * max(max(static[j, 0, 0], static[j, 0, 1]), max(static[j, 1, 0], static[j, 1, 1]))
         for row in range(2):
             o = 0 if row == 0 else 9
-            Fc = static[j, row, 0]
-            Fs = static[j, row, 1]
+            Fc = max(static[j, row, 0], lo)
+            Fs = max(static[j, row, 1], lo)
             B[(o + _FCP) * CHUNK + i] = Fc
             B[(o + _DFP) * CHUNK + i] = Fs - Fc
             B[(o + _FSP) * CHUNK + i] = Fs

@@ -28,7 +28,11 @@ row 0 for ``v >= 0``, row 1 for ``v < 0``.
   its direction of slip (reversed *or zero*).
 
 ``|s(v)|`` is floored at ``1e-9 max(Fc, Fs)`` so that a law with ``Fs = 0`` does not
-divide by zero at rest (such a GMS is very stiff near ``v = 0``: use LSODA, not RK45).
+divide by zero at rest (such a GMS is very stiff near ``v = 0``: use LSODA, not RK45),
+nor one with ``Fc = 0`` at speed; the kernels floor the levels at the same fraction
+(``kernels._stribeck.G_FLOOR``). Near that floor the LuGre relaxation rate reaches
+1e13 /s: give ``atol`` below the bristle scale ``|s| / sigma0`` and a stiff method
+(LSODA force-driven; Radau motion-driven, where LSODA's restarts fail).
 
 Accuracy of the switching (force-driven GMS)
 --------------------------------------------

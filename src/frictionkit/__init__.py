@@ -36,7 +36,6 @@ from .data import (
 )
 from .identify import (
     IdentificationResult,
-    RigidBody,
     fit_output_error,
     fit_presliding,
     fit_rigid_body,
@@ -44,7 +43,7 @@ from .identify import (
     fit_static_records,
     stribeck_model,
 )
-from .plants import ElasticBallScrew, Mass, RigidBallScrew
+from .plants import ElasticBallScrew, Mass, RigidBallScrew, RigidBody
 from .machines import Machine, MachineResult, simulate_machine
 from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
 

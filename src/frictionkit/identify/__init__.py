@@ -4,7 +4,8 @@ from .emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compar
 from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
 from .presliding import fit_presliding, piecewise_linear_fit
 from .result import IdentificationResult, parameter_statistics
-from .rigid_body import RigidBody, fit_rigid_body, rigid_body_regressors
+from ..plants.rigid_body import RigidBody  # re-exported: the plant fit_rigid_body identifies
+from .rigid_body import fit_rigid_body, rigid_body_regressors
 from .static_map import MODELS as STATIC_MODELS
 from .static_map import fit_static_map, fit_static_records, stribeck_model
 

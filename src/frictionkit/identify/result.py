@@ -73,7 +73,7 @@ def _model_registry() -> dict[str, type]:
     from ..models.gms import GMS
     from ..models.lugre import Dahl, LuGre
     from ..models.static import CoulombViscous, Directional, Stribeck
-    from .rigid_body import RigidBody
+    from ..plants.rigid_body import RigidBody
 
     return {c.__name__: c for c in (Stribeck, CoulombViscous, Directional, LuGre, Dahl, GMS, RigidBody)}
 

@@ -2,5 +2,6 @@
 
 from .ballscrew import ElasticBallScrew, RigidBallScrew
 from .mass import Mass
+from .rigid_body import RigidBody
 
-__all__ = ["ElasticBallScrew", "Mass", "RigidBallScrew"]
+__all__ = ["ElasticBallScrew", "Mass", "RigidBallScrew", "RigidBody"]

@@ -327,6 +327,23 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             return hi, _static_force(par, o, hi, lam), kt
         if flo >= 0.0:
             return lo, _static_force(par, o, lo, lam), kt
+        # first guess: the level at the free velocity, viscous term solved exactly (exact for
+        # a Coulomb-viscous law or past the Stribeck range)
+        if a > 0.0:
+            x1 = (a - Gjj * lam * _g(par, o, a)) / (1.0 + Gjj * par[o + 4])
+        else:
+            x1 = (a + Gjj * lam * _g(par, o + N_ROW, -a)) / (1.0 + Gjj * par[o + N_ROW + 4])
+        if lo < x1 < hi:
+            F1 = _static_force(par, o, x1, lam)
+            f1 = x1 + Gjj * F1 - a
+            if abs(f1) <= xtol:
+                return x1, F1, kt
+            if f1 < 0.0:
+                lo = x1
+                flo = f1
+            else:
+                hi = x1
+                fhi = f1
     else:
         x0 = a - Gjj * Fguess
         F0 = _site_mean(kind, par, o, st, so, s0, x0, h, False, lam)
@@ -763,15 +780,21 @@ def run(
                     tol = 0.0
                     for j in range(ns):
                         aj = a[j]
-                        Gc = Hss if site_kind[j] == S_STATIC else Gss
-                        for i in range(ns):
-                            if i != j:
-                                aj -= Gc[j, i] * Fbar[i]
+                        if site_kind[j] == S_STATIC:
+                            for i in range(ns):
+                                if i != j:
+                                    aj -= Hss[j, i] * Fbar[i]
+                            Gjj = Hss[j, j]
+                        else:
+                            for i in range(ns):
+                                if i != j:
+                                    aj -= Gss[j, i] * Fbar[i]
+                            Gjj = Gss[j, j]
                         tj = xtol[j] + 1e-13 * abs(aj)
                         dsj, Fj, ktj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                                   Gc[j, j], h, Fbar[j], tj, lam[j], kt[j])
+                                                   Gjj, h, Fbar[j], tj, lam[j], kt[j])
                         kt[j] = ktj
-                        dF = abs(Fj - Fbar[j]) * Gc[j, j]
+                        dF = abs(Fj - Fbar[j]) * Gjj
                         if dF > change:
                             change = dF
                         if tj > tol:
@@ -783,7 +806,8 @@ def run(
                     if sweep == 59:
                         n_bad += 1
                 for j in range(ns):
-                    _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True, lam[j])
+                    if site_kind[j] == S_LUGRE or site_kind[j] == S_GMS:  # the others have no state
+                        _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True, lam[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

@@ -171,3 +171,21 @@ def test_console_script_points_at_the_launcher():
 
     meta = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())
     assert meta["project"]["scripts"]["frictionkit"] == "_frictionkit_main:main"
+
+
+def test_warnings_are_one_line_and_numpy_noise_is_dropped(runner, staircase_csv, monkeypatch):
+    import warnings
+
+    import numpy as np
+
+    real = frictionkit.identify.fit_static_map
+
+    def noisy(*a, **k):
+        warnings.warn("simulation stopped at t = 1 s:\n  step size too small", RuntimeWarning)
+        np.square(np.array([1e300]))  # numpy: "overflow encountered in square"
+        return real(*a, **k)
+
+    monkeypatch.setattr(frictionkit.identify, "fit_static_map", noisy)
+    res = runner.invoke(app, ["identify", "static", str(staircase_csv), *STATIC_ARGS])
+    assert res.exit_code == 0, res.output
+    assert stderr_of(res).strip().splitlines() == ["warning: simulation stopped at t = 1 s: step size too small"]

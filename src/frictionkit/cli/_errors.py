@@ -11,6 +11,10 @@ app, so every error ends the same way:
 * anything else is a bug: one line naming the exception type and asking for a rerun
   with ``--debug``.
 
+Python warnings print as one ``warning: ...`` line each; numpy's floating-point
+warnings ("overflow encountered in ...") are dropped — the result or the error says
+what went wrong (``--debug`` shows them).
+
 ``frictionkit --debug ...`` (``--debug`` may also come after the verb) or
 ``FRICTIONKIT_DEBUG=1`` prints the traceback before that line.
 
@@ -22,9 +26,11 @@ a full disk, an unexpected error); 2 bad input (options, files, parameters, data
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import traceback
+import warnings
 from typing import Any
 
 import typer
@@ -89,6 +95,19 @@ def report(exc: BaseException, *, debug: bool) -> int:
     return code
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    typer.echo(f"warning: {_one_line(message)}", err=True)
+
+
+@contextlib.contextmanager
+def _one_line_warnings(debug: bool):
+    with warnings.catch_warnings():
+        if not debug:
+            warnings.showwarning = _show_warning
+            warnings.filterwarnings("ignore", message=r".*encountered in", category=RuntimeWarning)
+        yield
+
+
 def _usage_line(exc: Any) -> str:
     msg = _one_line(exc.format_message())
     ctx = getattr(exc, "ctx", None)
@@ -115,7 +134,8 @@ class FrictionKitGroup(TyperGroup):
             from click import exceptions as cx
 
         try:
-            return super().invoke(ctx)
+            with _one_line_warnings(debug_requested(ctx)):
+                return super().invoke(ctx)
         except (typer.Exit, typer.Abort, cx.NoArgsIsHelpError):
             raise
         except cx.UsageError as exc:

@@ -1,0 +1,404 @@
+"""Machine-core benchmark (issue 8, "Speed"): real-time factors of closed-loop machines, the
+first-call compile time of the machine kernel, and ratios against peers measured in the same run.
+
+Run:  .venv/bin/python benchmarks/machines.py [--quick] [--json OUT]
+
+Workloads (each timed end to end — machine packing, exact discretisation and the compiled
+loop — best of ``--repeat`` runs after one warm-up run; real-time factor = simulated time /
+wall time):
+
+* ``ballscrew_dahl``: the seed 001 elastic stage (``presets/ballscrew.py``) in closed loop at
+  0.5 ms, 10 sub-steps, paper controller (PTC + dual PID + DOB) and sensors, sinc
+  compensation, the §5 cosine reference; Dahl sites (sliding nut; flank and Hertz nut models
+  reported too).
+* ``ballscrew_gms4``: the same with a GMS-4 at the nut and at the guide.
+* ``two_shaft_gms``: a seed-000-shaped differential feed built here with the machine API —
+  two motors, each on a shaft (screw, nut) through a coupling spring, a table at
+  ``R (theta_screw + theta_nut)`` (``Machine.mass``), GMS-3 sites on the screw shaft, the nut
+  shaft, the ball pair (the screw-nut relative rotation, ``R (theta_s + theta_n)`` in seed
+  000's sign convention) and the table guide; two PID loops at 250 µs (eq. 15: the table
+  error compensated on the screw), 23-bit encoders, 10 nm scale.
+* ``emps``: ``presets/emps.py`` (published rigid model, CoulombViscous + offset, gain 35.15,
+  ±10 V, one-sample delay) on the recorded EMPS reference at 1 ms, 40 sub-steps (its runner's
+  default) and 10.
+
+Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is faster):
+
+* ``ballscrew_old_kernel``: the private kernel ``kernels/ballscrew.py`` through
+  ``control.loop.simulate_closed_loop`` on the same run (same controller, sensors, noise).
+* ``lugre_stickslip_numbalsoda``: Canudas de Wit et al. (1995) stick-slip (1 kg, 2 N/m spring
+  pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
+  ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
+  max |dx| against a tight reference is <= the core's. Skipped if numbalsoda is missing.
+
+Nothing is asserted; the numbers go to the issue notes. The machine these were measured on
+may be shared: the load average is printed with the results.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import frictionkit as fk
+from frictionkit.control.loop import simulate_closed_loop
+from frictionkit.control.pid import PID as PIDDesign
+from frictionkit.control.trajectories import cosine_reference
+from frictionkit.machines import PID, Machine, Sum, simulate_machine
+from frictionkit.presets.ballscrew import simulate_stage
+from frictionkit.reproduce.zhu_fujimoto import (_classify, paper_compensator, paper_controller, paper_plant,
+                                                paper_sensors)
+
+
+def best_of(fn, repeat):
+    fn()  # warm-up (compile / caches)
+    best, out = math.inf, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+# --------------------------------------------------------------------------- ball screw
+def gms4(level: float, presliding: float = 10e-6) -> fk.GMS:
+    """A GMS-4 whose elements break away at 1/30, 1/10, 1/3 and 1 of ``presliding``;
+    relaxation ~10 ms (``C = 100 level``)."""
+    xi = np.array([0.1, 0.2, 0.3, 0.4])
+    d = presliding * np.array([1 / 30, 1 / 10, 1 / 3, 1.0])
+    return fk.GMS(fk.Stribeck(Fc=level, Fs=1.2 * level, vs=1e-3), k=list(xi * level / d), xi=list(xi),
+                  C=100.0 * level)
+
+
+def bench_ballscrew(duration, repeat):
+    ctrl, sens = paper_controller(), paper_sensors()
+    ref = cosine_reference(duration=duration)
+    out = {}
+    for nut_model in ("sliding", "flank", "hertz"):
+        plant = paper_plant(nut_model)
+        u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
+        t_new, r_new = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens), repeat)
+        t_old, r_old = best_of(lambda: simulate_closed_loop(plant, ctrl, ref, compensation=u_f, sensors=sens),
+                               repeat)
+        assert r_new.success and r_old.success, (r_new.message, r_old.message)
+        out[nut_model] = {"core_s": t_new, "old_s": t_old, "rt": duration / t_new, "old_rt": duration / t_old,
+                          "max_dxt_um": float(np.abs(r_new.x_t - r_old.x_t).max() * 1e6)}
+    plant = paper_plant()
+    u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
+    nut, guide = gms4(plant.nut_friction), gms4(plant.guide_friction)
+    t_g, r_g = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens, nut_law=nut,
+                                              guide_law=guide), repeat)
+    assert r_g.success, r_g.message
+    out["gms4"] = {"core_s": t_g, "rt": duration / t_g, "message": r_g.message,
+                   "max_err_um": float(np.abs(r_g.error).max() * 1e6)}
+    return out
+
+
+# --------------------------------------------------------------------------- two-shaft drive (seed 000 shape)
+R0 = 5e-3 / (2 * math.pi)  # lead 5 mm (seed 000 Table 2)
+
+
+def _gms3(Fc, Fs, vs, delta, sigma2, k_um, xi, C):
+    return fk.GMS(fk.Stribeck(Fc=Fc, Fs=Fs, vs=vs, delta=delta, sigma2=sigma2),
+                  k=[k * 1e6 for k in k_um], xi=xi, C=C)
+
+
+def two_shaft_machine(dt=250e-6):
+    """Seed 000's shape with its Table 2-6 numbers where printed; assumptions marked."""
+    Kt, J_s, J_n = 0.605, 9.85e-5, 53.62e-5          # Table 2
+    J_mot, k_c, c_c = 2.5e-5, 5e3, 0.02               # assumption: 400 W servo rotor, disc couplings
+    M_t = 20.0                                        # assumption: table mass
+    m = Machine("two-shaft differential feed")
+    m1 = m.dof("motor1", inertia=J_mot, kind="rotational")
+    th_s = m.dof("screw", inertia=J_s, kind="rotational")
+    m2 = m.dof("motor2", inertia=J_mot, kind="rotational")
+    th_n = m.dof("nut", inertia=J_n, kind="rotational")
+    m.spring(m1, th_s, k=k_c, c=c_c, name="coupling1")
+    m.spring(m2, th_n, k=k_c, c=c_c, name="coupling2")
+    table = R0 * (th_s + th_n)
+    m.mass(table, M_t)
+    # GMS-3 sites, linear-equivalent forces [N] on R * angle (Tables 3-6; k in N/µm)
+    m.friction("screw_shaft", R0 * th_s, law=_gms3(87.4, 113.5, 0.2439e-3, 1.0, 0.6033,
+                                                   [26.804, 2.312, 0.922], [0.565, 0.139, 0.0835], 250.0))
+    m.friction("nut_shaft", R0 * th_n, law=_gms3(62.0, 67.85, 0.4858e-3, 3.0, 2.297,
+                                                 [6.521, 0.803, 0.182], [0.736, 0.191, 0.084], 70.0))
+    m.friction("ball_pair", table, law=_gms3(95.92, 112.43, 2.796e-3, 1.551, 1.38,
+                                             [4.39, 0.239, 0.161], [0.919, 0.193, 0.258], 100.0))
+    m.friction("guide", table, law=_gms3(20.0, 25.0, 1e-3, 2.0, 50.0,          # assumption: guide
+                                         [5.0, 1.0, 0.2], [0.5, 0.3, 0.2], 100.0))
+    for name, at in (("enc1", m1), ("enc2", m2)):
+        m.sensor(name, at, resolution=2 * math.pi / 2**23)
+    m.sensor("scale", table, resolution=10e-9)
+    lim = 3 * 1.27 / Kt                                 # 3x rated torque
+    m.actuator("i1", m1, gain=Kt, limit=lim, command="u1")
+    m.actuator("i2", m2, gain=Kt, limit=lim, command="u2")
+    g1 = PIDDesign.pole_placement(K_tau=Kt, J=J_mot + J_s + M_t * R0**2, B=0.0, bandwidth_hz=40.0, T=dt,
+                                  derivative_cutoff_hz=400.0)
+    g2 = PIDDesign.pole_placement(K_tau=Kt, J=J_mot + J_n + M_t * R0**2, B=0.0, bandwidth_hz=40.0, T=dt,
+                                  derivative_cutoff_hz=400.0)
+    m.add(
+        # eq. 15: e1' = theta1* + theta2 - x_t / R (table error on the screw), D on its encoder
+        Sum("e1", {"th1_ref": 1.0, "enc2": 1.0, "scale": -1.0 / R0}),
+        Sum("e1d", {"th1_ref": 1.0, "enc1": -1.0}),
+        Sum("e2", {"th2_ref": 1.0, "enc2": -1.0}),
+        PID("u1", "e1", Kp=g1.Kp, Ki=g1.Ki, Kd=g1.Kd, tau_d=g1.tau_d, derivative_error="e1d", antiwindup="i1"),
+        PID("u2", "e2", Kp=g2.Kp, Ki=g2.Ki, Kd=g2.Kd, tau_d=g2.tau_d, antiwindup="i2"),
+    )
+    return m
+
+
+def two_shaft_reference(duration, dt):
+    """Differential mode: nut at a 4 mm/s base speed (reached in 0.2 s), table 2 mm back and forth."""
+    t = np.arange(int(round(duration / dt)) + 1) * dt
+    w_b = 4e-3 / R0
+    ramp = np.minimum(t / 0.2, 1.0)
+    s = ramp * ramp * (3 - 2 * ramp)
+    th_base = w_b * np.cumsum(s) * dt
+    x_ref = 1e-3 * (1 - np.cos(2 * np.pi * t / 2.0))
+    return {"th1_ref": th_base + x_ref / R0, "th2_ref": -th_base}
+
+
+def bench_two_shaft(duration, repeat):
+    dt = 250e-6
+    m = two_shaft_machine(dt)
+    inp = two_shaft_reference(duration, dt)
+    t, r = best_of(lambda: simulate_machine(m, dt=dt, inputs=inp, substeps=10), repeat)
+    x = r.position(R0 * (m.coord("screw") + m.coord("nut")))
+    x_ref = R0 * (inp["th1_ref"] + inp["th2_ref"])
+    return {"core_s": t, "rt": duration / t, "message": r.message,
+            "max_table_err_um": float(np.abs(x - x_ref)[int(0.5 / dt):].max() * 1e6)}
+
+
+# --------------------------------------------------------------------------- EMPS
+EMPS_CSV = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "data", "emps",
+                        "DATA_EMPS.csv")
+
+
+def bench_emps(repeat, csv=EMPS_CSV):
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+
+    qg = np.loadtxt(csv, delimiter=",", skiprows=1, usecols=2)  # the recorded reference qg [m], 1 kHz
+    m = emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]),
+                     offset=PUBLISHED["offset"])
+    duration = (qg.size - 1) * 1e-3
+    out = {}
+    for n_sub in (40, 10):
+        t, r = best_of(lambda: simulate_machine(m, dt=1e-3, inputs={"qg": qg}, substeps=n_sub), repeat)
+        out[n_sub] = {"core_s": t, "rt": duration / t, "message": r.message}
+    return out
+
+
+# --------------------------------------------------------------------------- LuGre stick-slip vs numbalsoda
+LUGRE = dict(sigma0=1e5, sigma1=math.sqrt(1e5), sigma2=0.4, Fc=1.0, Fs=1.5, vs=1e-3, m=1.0, k=2.0, vp=0.1)
+
+
+def lugre_core(duration, dt, substeps):
+    p = LUGRE
+    m = Machine("Canudas 1995 stick-slip")
+    x = m.dof("x", inertia=p["m"])
+    pull = m.motion("pull")
+    m.spring(x, pull, k=p["k"])
+    m.friction("contact", x, law=fk.LuGre(fk.Stribeck(Fc=p["Fc"], Fs=p["Fs"], vs=p["vs"], sigma2=p["sigma2"]),
+                                          sigma0=p["sigma0"], sigma1=p["sigma1"]))
+    t = np.arange(int(round(duration / dt)) + 1) * dt
+    return lambda: simulate_machine(m, dt=dt, inputs={"pull": p["vp"] * t}, substeps=substeps)
+
+
+def lugre_numbalsoda():
+    import numba as nb
+    from numbalsoda import lsoda, lsoda_sig
+
+    p = LUGRE
+    s0, s1, s2, Fc, Fs, vs, mm, k, vp = (p[n] for n in ("sigma0", "sigma1", "sigma2", "Fc", "Fs", "vs", "m", "k", "vp"))
+
+    @nb.cfunc(lsoda_sig)
+    def rhs(t, u, du, data):
+        x, v, z = u[0], u[1], u[2]
+        g = Fc + (Fs - Fc) * math.exp(-(v / vs) ** 2)
+        zd = v - s0 * abs(v) * z / g
+        F = s0 * z + s1 * zd + s2 * v
+        du[0] = v
+        du[1] = (k * (vp * t - x) - F) / mm
+        du[2] = zd
+
+    ptr = rhs.address
+
+    def run(t_eval, rtol, atol):
+        usol, ok = lsoda(ptr, np.zeros(3), t_eval, rtol=rtol, atol=atol, mxstep=10**7)
+        return usol, ok
+
+    return run
+
+
+def bench_lugre_peer(repeat):
+    duration, dt = 20.0, 1e-3
+    t_eval = np.arange(int(round(duration / dt)) + 1) * dt
+    run = lugre_numbalsoda()
+    ref, ok = run(t_eval, 1e-12, 1e-15)
+    assert ok
+    # cross-check of the reference with scipy's LSODA at a tight tolerance
+    from scipy.integrate import solve_ivp
+
+    p = LUGRE
+
+    def f(t, u):
+        x, v, z = u
+        g = p["Fc"] + (p["Fs"] - p["Fc"]) * math.exp(-(v / p["vs"]) ** 2)
+        zd = v - p["sigma0"] * abs(v) * z / g
+        F = p["sigma0"] * z + p["sigma1"] * zd + p["sigma2"] * v
+        return [v, (p["k"] * (p["vp"] * t - x) - F) / p["m"], zd]
+
+    sp = solve_ivp(f, (0, duration), [0, 0, 0], method="LSODA", t_eval=t_eval, rtol=1e-11, atol=1e-14)
+    ref_check = float(np.abs(sp.y[0] - ref[:, 0]).max())
+    out = {"reference": "numbalsoda LSODA rtol 1e-12 atol 1e-15", "reference_vs_scipy_lsoda_1e-11_dx_m": ref_check}
+    for substeps in (10, 40):
+        t_core, r = best_of(lugre_core(duration, dt, substeps), repeat)
+        dx = float(np.abs(r.q[:, 0] - ref[:, 0]).max())
+        match = None
+        for rtol in (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11):
+            u, ok = run(t_eval, rtol, rtol * 1e-3)
+            if ok and np.abs(u[:, 0] - ref[:, 0]).max() <= dx:
+                match = rtol
+                break
+        row = {"core_s": t_core, "core_max_dx_m": dx, "rt": duration / t_core}
+        if match is not None:
+            t_p, (u, _) = best_of(lambda: run(t_eval, match, match * 1e-3), repeat)
+            row.update(peer_rtol=match, peer_atol=match * 1e-3, peer_s=t_p,
+                       peer_max_dx_m=float(np.abs(u[:, 0] - ref[:, 0]).max()), ratio=t_p / t_core)
+        out[substeps] = row
+    return out
+
+
+# --------------------------------------------------------------------------- compile time
+CHILD = r"""
+import time, sys
+t0 = time.perf_counter()
+import numpy as np
+import frictionkit as fk
+from frictionkit.control.trajectories import cosine_reference
+from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
+from frictionkit.presets.ballscrew import simulate_stage
+from frictionkit.control.loop import simulate_closed_loop
+t_import = time.perf_counter() - t0
+ref = cosine_reference(duration=0.01)
+which = sys.argv[1]
+f = (lambda: simulate_stage(paper_plant(), paper_controller(), ref, sensors=paper_sensors())) if which == "core" \
+    else (lambda: simulate_closed_loop(paper_plant(), paper_controller(), ref, sensors=paper_sensors()))
+t0 = time.perf_counter(); f(); t1 = time.perf_counter(); f(); t2 = time.perf_counter()
+extra = float("nan")
+if which == "core":
+    sys.path.insert(0, sys.argv[2])
+    from machines import two_shaft_machine, two_shaft_reference
+    m = two_shaft_machine()
+    inp = two_shaft_reference(0.01, 250e-6)
+    t3 = time.perf_counter(); fk.simulate_machine(m, dt=250e-6, inputs=inp); extra = time.perf_counter() - t3
+print(t_import, (t1 - t0) - (t2 - t1), t2 - t1, extra)
+"""
+
+
+def compile_times():
+    """First-call compile time of the machine kernel (and of the old kernel) in fresh processes:
+    empty NUMBA_CACHE_DIR (compile + write the cache), then the same dir again (cache load)."""
+    out = {}
+    here = os.path.dirname(os.path.abspath(__file__))
+    for which in ("core", "old"):
+        with tempfile.TemporaryDirectory(prefix="bs_numba_cache_") as d:
+            env = dict(os.environ, NUMBA_CACHE_DIR=d)
+            row = {}
+            for label in ("cold", "cached"):
+                p = subprocess.run([sys.executable, "-c", CHILD, which, here], env=env, capture_output=True,
+                                   text=True, check=True)
+                t_imp, t_comp, t_run, t_other = map(float, p.stdout.split())
+                row[label] = {"import_s": t_imp, "first_call_minus_second_s": t_comp, "second_call_s": t_run,
+                              "other_layout_first_call_s": t_other}
+            out[which] = row
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true", help="shorter runs (5 s instead of 20 s), 2 repeats")
+    ap.add_argument("--repeat", type=int, default=None)
+    ap.add_argument("--json", metavar="OUT", help="write the summary JSON here")
+    ap.add_argument("--no-compile", action="store_true", help="skip the compile-time subprocesses")
+    ap.add_argument("--emps-csv", default=EMPS_CSV, help="DATA_EMPS.csv (default: ../shared/data/emps beside the repo)")
+    args = ap.parse_args()
+    repeat = args.repeat or (2 if args.quick else 3)
+    dur = 5.0 if args.quick else 20.0
+    load0 = os.getloadavg()
+    bs = bench_ballscrew(dur, repeat)
+    ts = bench_two_shaft(dur / 2, repeat)
+    em = bench_emps(repeat, args.emps_csv)
+    try:
+        lg = bench_lugre_peer(repeat)
+    except ImportError as e:  # numbalsoda missing
+        lg = {"skipped": str(e)}
+    ct = None if args.no_compile else compile_times()
+    load1 = os.getloadavg()
+
+    print(f"machine: {os.cpu_count()} cores, shared with other jobs; load average {load0[0]:.2f} at start, "
+          f"{load1[0]:.2f} at end — the factors below are lower bounds of a quiet machine's")
+    print(f"\n{'workload':58s} {'real-time x':>12s} {'wall [s]':>9s}  notes")
+    for nm in ("sliding", "flank", "hertz"):
+        r = bs[nm]
+        print(f"{'ball screw, Dahl, ' + nm + ' nut, 0.5 ms, 10 sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}  "
+              f"old kernel {r['old_rt']:,.0f}x ({r['old_s']:.3f} s); max|dx_t| core-old {r['max_dxt_um'] * 1e3:.1f} nm")
+    r = bs["gms4"]
+    print(f"{'ball screw, GMS-4 at nut and guide (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}  "
+          f"max|e| {r['max_err_um']:.2f} um; {r['message']}")
+    print(f"{'two-shaft drive, GMS-3 x4, 2 PID, 250 us, 10 sub (core)':58s} {ts['rt']:12,.0f} {ts['core_s']:9.3f}  "
+          f"max table err {ts['max_table_err_um']:.2f} um; {ts['message']}")
+    for n_sub, r in em.items():
+        print(f"{f'EMPS axis, 1 ms, {n_sub} sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}  {r['message']}")
+    if "skipped" in lg:
+        print(f"LuGre stick-slip vs numbalsoda: skipped ({lg['skipped']})")
+    else:
+        print(f"\nLuGre stick-slip (Canudas 1995), 20 s at 1 ms; reference {lg['reference']} "
+              f"(vs scipy LSODA rtol 1e-11: max|dx| {lg['reference_vs_scipy_lsoda_1e-11_dx_m']:.1e} m)")
+        for n_sub in (10, 40):
+            r = lg[n_sub]
+            s = (f"  core {n_sub} sub: {r['core_s'] * 1e3:7.2f} ms ({r['rt']:,.0f}x rt), "
+                 f"max|dx| {r['core_max_dx_m']:.2e} m")
+            if "ratio" in r:
+                s += (f" | numbalsoda LSODA rtol {r['peer_rtol']:.0e} atol {r['peer_atol']:.0e}: "
+                      f"{r['peer_s'] * 1e3:7.2f} ms, max|dx| {r['peer_max_dx_m']:.2e} m -> ratio {r['ratio']:.3f}")
+            print(s)
+    if ct is not None:
+        print("\nfirst-call compile time (fresh process, NUMBA_CACHE_DIR = empty temp dir, then the same dir):")
+        for which, label in (("core", "machine kernel (ball-screw stage)"), ("old", "old private kernel")):
+            c = ct[which]
+            print(f"  {label:36s} cold {c['cold']['first_call_minus_second_s']:6.1f} s, cached "
+                  f"{c['cached']['first_call_minus_second_s']:6.2f} s (import {c['cold']['import_s']:.1f} s)"
+                  + (f"; a new layout (two-shaft) then: {c['cold']['other_layout_first_call_s']:.2f} s"
+                     if which == "core" else ""))
+    summary = {
+        "ballscrew_dahl_realtime": bs["sliding"]["rt"],
+        "ballscrew_gms4_realtime": bs["gms4"]["rt"],
+        "two_shaft_gms_realtime": ts["rt"],
+        "emps_realtime": em[40]["rt"],
+        "peer_ratio": {"ballscrew_old_kernel": bs["sliding"]["old_s"] / bs["sliding"]["core_s"]},
+        "details": {"ballscrew": bs, "two_shaft": ts, "emps": {str(k): v for k, v in em.items()},
+                    "lugre_numbalsoda": {str(k): v for k, v in lg.items()}, "compile": ct,
+                    "cpu_count": os.cpu_count(), "loadavg_start": load0, "loadavg_end": load1,
+                    "note": "2-core machine shared with other jobs"},
+    }
+    for nm in ("flank", "hertz"):
+        summary["peer_ratio"][f"ballscrew_old_kernel_{nm}"] = bs[nm]["old_s"] / bs[nm]["core_s"]
+    if "skipped" not in lg and "ratio" in lg[10]:
+        summary["peer_ratio"]["lugre_stickslip_numbalsoda"] = lg[10]["ratio"]
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(summary, fh, indent=1, default=float)
+        print(f"\nwrote {args.json}")
+
+
+if __name__ == "__main__":
+    main()

@@ -109,6 +109,16 @@ def test_presliding_elements_bounded_with_reason(runner, gms_csv, elements):
     assert "M^3" in err
 
 
+@pytest.mark.parametrize("starts, rule", [("0", "must be between 1 and 10000"), ("10001", "must be between 1 and 10000"),
+                                          ("1000000", "1-2 ms each per 8,000 samples")])
+def test_output_error_starts_bounded_with_reason(runner, tmp_path, no_work, starts, rule):
+    res = runner.invoke(app, ["identify", "output-error", str(tmp_path / "r.csv"), "--time", "t", "--velocity", "v",
+                              "--force", "F", "--Fc", "1", "--mass", "1", "--starts", starts])
+    assert res.exit_code == 2
+    err = one_error_line(res)
+    assert err.startswith(f"error: --starts {starts}: ") and rule in err
+
+
 def test_presliding_elements_help_states_the_maximum(runner):
     res = runner.invoke(app, ["identify", "presliding", "--help"])
     assert "1 to 32" in " ".join(res.output.split())

@@ -26,6 +26,11 @@ SCALE_MIN, SCALE_MAX = 1e-12, 1e12
 #: on a 7,500-sample record, and one branch rarely resolves more than a dozen breakpoints.
 MAX_PRESLIDING_ELEMENTS = 32
 
+#: Largest ``--starts`` of ``identify output-error``. The screening simulates every start
+#: over the whole record: about 1-2 ms per start on 8,000 samples (4,000 starts: 8 s), so
+#: 10,000 starts take tens of seconds and a million would run for hours.
+MAX_OUTPUT_ERROR_STARTS = 10_000
+
 
 # --------------------------------------------------------------------------- numbers
 def _finite(value: Any, option: str) -> float:

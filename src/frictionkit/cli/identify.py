@@ -186,7 +186,8 @@ def output_error(
     C: float = typer.Option(20.0, "--C", help="GMS attraction constant [N/s]."),
     free: str = typer.Option("", "--free", help="Comma-separated parameters to fit (default sigma0,sigma1 or k)."),
     compare: Optional[str] = typer.Option(None, "--compare", help="v or x (default: v if --velocity else x)."),
-    starts: int = typer.Option(1, "--starts", help="Number of start points (screened in one batch)."),
+    starts: int = typer.Option(1, "--starts", help="Number of start points (screened in one batch; "
+                               f"1 to {chk.MAX_OUTPUT_ERROR_STARTS:,})."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated output as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
@@ -202,7 +203,8 @@ def output_error(
     chk.choice(model, "--model", ("lugre", "gms"))
     if compare is not None:
         chk.choice(compare, "--compare", ("v", "x"))
-    starts = chk.integer(starts, "--starts", lo=1)
+    starts = chk.integer(starts, "--starts", lo=1, hi=chk.MAX_OUTPUT_ERROR_STARTS,
+                         why="the screening simulates every start over the whole record, 1-2 ms each per 8,000 samples")
     C = chk.positive(C, "--C")
     chk.outputs([recording, static_json], files={"--json": json_out}, plots={"--plot": plot})
 

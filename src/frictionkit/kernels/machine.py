@@ -72,7 +72,7 @@ N_ROW = 6
 
 
 # --------------------------------------------------------------------------- Stribeck
-@njit(inline="always", error_model="numpy")
+@njit(error_model="numpy")
 def _g(par, o, av):
     """``g = |s(v)|`` at speed ``av >= 0`` of the packed row ``par[o:o+6]``."""
     Fc = par[o]
@@ -94,7 +94,7 @@ def _g(par, o, av):
     return Fc + (Fs - Fc) / (1.0 + r * r)
 
 
-@njit(inline="always", error_model="numpy")
+@njit(error_model="numpy")
 def _static_force(par, o, v, lam=1.0):
     """``lam s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
     if v >= 0.0:
@@ -217,7 +217,7 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam):
     return lam * total + s2 * v
 
 
-@njit(inline="always", error_model="numpy")
+@njit(error_model="numpy")
 def _elastic(kind, par, o, d):
     """Memoryless site force at site coordinate ``d``."""
     if kind == S_HERTZ:  # c (d0 + d)_+^1.5 - c (d0 - d)_+^1.5 - k_lin d

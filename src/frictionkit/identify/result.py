@@ -21,7 +21,9 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from ..errors import DataError
+from ..errors import DataError, ParameterError
+from ..models.base import law_from_dict, law_to_dict, registered_laws
+from ..plants.rigid_body import RigidBody
 
 #: Version of the JSON layout written by :meth:`IdentificationResult.save_json`.
 JSON_FORMAT = "frictionkit.identification/1"
@@ -69,39 +71,77 @@ def parameter_statistics(values, cov, dof: int, *, level: float = 0.95) -> dict[
 
 
 # --------------------------------------------------------------------------- model (de)serialisation
-def _model_registry() -> dict[str, type]:
-    from ..models.gms import GMS
-    from ..models.lugre import Dahl, LuGre
-    from ..models.static import CoulombViscous, Directional, Stribeck
-    from ..plants.rigid_body import RigidBody
+# A result's model is a friction law (its JSON form comes from the law registry,
+# ``models.base``, contract point 6) or a plant (``RigidBody``, below). In the files of
+# format JSON_FORMAT the discriminator is spelled "type", at every level of nesting:
+# the layout predates the registry and files written before it must stay loadable
+# (``{"type": "LuGre", "static": {"type": "Stribeck", ...}, ...}``). Reading also
+# accepts the registry's spelling, "law".
 
-    return {c.__name__: c for c in (Stribeck, CoulombViscous, Directional, LuGre, Dahl, GMS, RigidBody)}
+#: Plants a result may hold, by name; their fields are plain values and laws.
+_PLANTS: dict[str, type] = {"RigidBody": RigidBody}
+
+
+def _respell(node: Any, old: str, new: str) -> Any:
+    """``node`` with the discriminator key ``old`` renamed ``new`` in every nested mapping."""
+    if not isinstance(node, Mapping):
+        return node
+    return {(new if k == old else k): _respell(v, old, new) for k, v in node.items()}
 
 
 def model_to_dict(model: Any) -> dict[str, Any] | None:
-    """A JSON-ready description ``{"type": ..., <fields>}`` of a frozen model dataclass."""
+    """A JSON-ready description ``{"type": <name>, <fields>}`` of a law or plant.
+
+    For a friction law this is the registry's JSON form (:func:`frictionkit.models.law_to_dict`)
+    with ``"law"`` spelled ``"type"``.
+    """
     if model is None:
         return None
-    if not dataclasses.is_dataclass(model):
-        raise DataError(f"cannot serialise model of type {type(model).__name__}")
-    out: dict[str, Any] = {"type": type(model).__name__}
-    for f in dataclasses.fields(model):
-        val = getattr(model, f.name)
-        out[f.name] = model_to_dict(val) if dataclasses.is_dataclass(val) else _jsonable(val)
-    return out
+    name = type(model).__name__
+    if _PLANTS.get(name) is type(model):
+        out: dict[str, Any] = {"type": name}
+        for f in dataclasses.fields(model):
+            val = getattr(model, f.name)
+            out[f.name] = model_to_dict(val) if dataclasses.is_dataclass(val) else _jsonable(val)
+        return out
+    try:
+        law = law_to_dict(model)
+    except ParameterError:
+        raise DataError(
+            f"cannot serialise model of type {name}: not a registered friction law "
+            f"({sorted(registered_laws())}) nor a plant ({sorted(_PLANTS)})"
+        ) from None
+    return _respell(law, "law", "type")
 
 
 def model_from_dict(data: Mapping[str, Any] | None) -> Any:
-    """Rebuild a model written by :func:`model_to_dict`."""
+    """Rebuild a model written by :func:`model_to_dict` (or a law in the registry's JSON form)."""
     if data is None:
         return None
-    reg = _model_registry()
-    kind = data.get("type")
-    if kind not in reg:
-        raise DataError(f"model type {kind!r} unknown; known: {sorted(reg)}")
-    kw = {k: (model_from_dict(v) if isinstance(v, Mapping) and "type" in v else v)
-          for k, v in data.items() if k != "type"}
-    return reg[kind](**kw)
+    if not isinstance(data, Mapping):
+        raise DataError(f"a model is a JSON object {{\"type\": ..., ...}}, got {type(data).__name__}")
+    kind = data.get("type", data.get("law"))
+    if isinstance(kind, str) and kind in _PLANTS:
+        return _plant_from_dict(kind, data)
+    if not isinstance(kind, str) or kind not in registered_laws():
+        raise DataError(f"model type {kind!r} unknown; known: {sorted([*registered_laws(), *_PLANTS])}")
+    return law_from_dict(_respell(data, "type", "law"))
+
+
+def _plant_from_dict(kind: str, data: Mapping[str, Any]) -> Any:
+    fields = [f for f in dataclasses.fields(_PLANTS[kind]) if f.init]
+    names = [f.name for f in fields]
+    kw = {}
+    for k, v in data.items():
+        if k in ("type", "law"):
+            continue
+        if k not in names:
+            raise DataError(f"model {kind!r}: unknown field {k!r}; {kind} takes {names}")
+        kw[k] = model_from_dict(v) if isinstance(v, Mapping) else v
+    for f in fields:
+        if f.name not in kw and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            raise DataError(f"model {kind!r}: field {f.name!r} missing; {kind} takes {names}")
+    return _PLANTS[kind](**kw)
 
 
 def _jsonable(x: Any) -> Any:

@@ -22,6 +22,7 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
+from .base import register_law
 from .static import check_static
 
 
@@ -95,3 +96,6 @@ class GMS:
         )
 
     __hash__ = None
+
+
+register_law("GMS", GMS, "gms")

@@ -19,6 +19,7 @@ from dataclasses import KW_ONLY, dataclass
 import numpy as np
 
 from .. import _validate as val
+from .base import register_law
 from .static import CoulombViscous, check_static
 
 
@@ -100,3 +101,7 @@ class Dahl:
 
     def dynamic_rows(self) -> np.ndarray:
         return np.array([[self.sigma0, 0.0], [self.sigma0, 0.0]], dtype=float)
+
+
+register_law("LuGre", LuGre, "lugre")
+register_law("Dahl", Dahl, "lugre")

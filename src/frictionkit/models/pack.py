@@ -14,8 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .gms import GMS
-from .lugre import Dahl, LuGre
+from .base import kernel_family
 from .static import Directional
 
 
@@ -34,12 +33,17 @@ class PackedGMS:
 
 
 def kind_of(model) -> str:
-    """``"lugre"`` (LuGre, Dahl) or ``"gms"``; raises for anything else."""
-    m = model.positive if isinstance(model, Directional) else model
-    if isinstance(m, (LuGre, Dahl)):
-        return "lugre"
-    if isinstance(m, GMS):
-        return "gms"
+    """``"lugre"`` (LuGre, Dahl) or ``"gms"``: the kernel family of a dynamic law.
+
+    Raises for static laws and non-laws: :func:`frictionkit.simulate` and the
+    ``solve_ivp`` twins need a law with state (see ``models.base.kernel_family``).
+    """
+    try:
+        family = kernel_family(model)
+    except ParameterError:
+        family = None
+    if family in ("lugre", "gms"):
+        return family
     raise ParameterError(
         f"model = {type(model).__name__}: simulate() needs a dynamic law "
         "(LuGre, Dahl, GMS or Directional of one of them)"

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
+from .base import kernel_family, register_law
 
 #: Shape codes used by the kernels.
 SHAPE_CODES = {"exponential": 0, "lorentzian": 1}
@@ -212,3 +213,8 @@ def check_static(owner: str, static: object) -> None:
             f"{owner}.static = {type(static).__name__}: must be Stribeck, CoulombViscous "
             "or Directional(positive=..., negative=...) of those"
         )
+
+
+register_law("Stribeck", Stribeck, "static")
+register_law("CoulombViscous", CoulombViscous, "static")
+register_law("Directional", Directional, lambda law: kernel_family(law.positive))

@@ -14,6 +14,8 @@ The twin's own error (measured against rtol 1e-11/1e-12 runs) is stated where it
 it is far below the compiled loop's error at 2-8 sub-steps, and below it at 10 sub-steps
 except for positions of the long-stroke rotational cases, whose bound then carries it.
 
+Case (e) puts a static Stribeck law at the site: the twin then sticks and slips by events.
+
 Plus the closed form of the exact linear discretisation: a mass-spring-damper without sites
 under a force ramp and under a spring/damper dragged by a prescribed ramp, 1e-9 relative.
 """
@@ -114,7 +116,19 @@ def harmonic_drive():
     return m, dt, {"torque": 0.1 * np.sin(2.0 * np.pi * _t(1.0, dt))}
 
 
-CASES = {f.__name__: f for f in (lugre_slider, gms_slider, ballscrew, hertz_stage, harmonic_drive)}
+def static_stickslip():
+    """(e) The stick-slip set-up of Canudas et al. 1995 (1 kg, 2 N/m spring pulled at 0.1 m/s)
+    on a *static* Stribeck law: the twin sticks and slips by events (Karnopp, exact)."""
+    m = Machine("static stick-slip")
+    x = m.dof("x", inertia=1.0)
+    pull = m.motion("pull")
+    m.spring(x, pull, k=2.0)
+    m.friction("contact", x, law=PAPER)
+    dt = 1e-3
+    return m, dt, {"pull": 0.1 * _t(20.0, dt)}
+
+
+CASES = {f.__name__: f for f in (lugre_slider, gms_slider, ballscrew, hertz_stage, harmonic_drive, static_stickslip)}
 
 _TWINS: dict = {}
 
@@ -157,6 +171,10 @@ def test_the_cases_exercise_what_they_are_for():
     m, _, _, ref = twin("harmonic_drive")
     d = ref.position(m.sites[0].at)
     assert np.abs(d).max() > m.sites[0].law.breaks[1]  # the flexspline runs through both breaks
+    _, _, _, ref = twin("static_stickslip")
+    # sticks until the spring holds Fs (7.5 s), slips, stops, sticks, slips again
+    assert [k for _, k, _, _ in ref.event_log] == ["slip", "stop", "slip", "stop"]
+    assert ref.event_log[0][0] == pytest.approx(1.5 / (2.0 * 0.1), rel=1e-9)
 
 
 # --------------------------------------------------------------------------- accuracy at the default
@@ -176,6 +194,9 @@ DEFAULT_ERRORS = [
     # motor swings over 96 rad; the twin's own error there is ~1e-6 rad (rtol 1e-11 twin: the
     # loop is off by 2.4e-7 rad); flexspline, gravity, bearing
     ("harmonic_drive", [9.65e-7, 1.93e-8], [8.60e-5, 1.36e-7, 1.72e-5]),
+    # static law, 20 s: 0.14 mm (first order, from the stop instants); the force error is the
+    # friction jump at a stop (1.4 -> 0.77 N) landing in a different sample
+    ("static_stickslip", [1.37e-4], [8.76e-2]),
 ]
 
 
@@ -197,6 +218,7 @@ CONVERGENCE = [
     ("ballscrew", (2, 4, 8), None),  # dv 5.7/3.9, 2.4/3.6; dF 3.8/3.8, 3.4/4.5
     ("hertz_stage", (2, 4, 8), None),  # dv 3.8/4.0, 3.3/4.0; dF 4.0/3.9, 3.9/3.6
     ("harmonic_drive", (2, 4, 8), None),  # dv 4.1/4.0, 3.9/4.0; dF 3.9/7.4/3.1, 4.1/2.9/4.6
+    ("static_stickslip", (10, 20, 40), None),  # dv 2.1, 2.0; dF 1.8, 1.9
 ]
 
 
@@ -236,9 +258,11 @@ def test_twin_matches_the_single_mass_twin():
 def test_twin_refuses_what_it_cannot_model():
     m = Machine("m")
     x = m.dof("x", inertia=1.0)
+    y = m.dof("y", inertia=1.0)
     m.friction("f", x, law=fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3))
+    m.friction("g", y, law=fk.CoulombViscous(Fc=1.0))
     m.actuator("u", x)
-    with pytest.raises(ParameterError, match="static law"):
+    with pytest.raises(ParameterError, match="hold static laws"):
         reference_machine(m, dt=1e-3, inputs={"u": np.zeros(3)})
     m = Machine("m")
     x = m.dof("x", inertia=1.0)

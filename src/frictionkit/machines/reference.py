@@ -32,6 +32,12 @@ opposes it. Site laws (parameters from :mod:`frictionkit.models.pack`, row 0 for
   ``F = sum F_i + sigma2 s'``. Breakaway and reversal are terminal ``solve_ivp`` events;
   the integration restarts after each with the new stick/slip flags (as in
   :func:`frictionkit.simulate.reference.reference_force_driven`).
+* Static laws (``Stribeck``, ``CoulombViscous`` and their ``Directional``; one static site per
+  machine) — stick and slip as events: a sticking site does not move and carries the force
+  that holds it still (``F = c M^-1 f / (c M^-1 c^T)``, ``f`` every other force, ``c`` its
+  row) until that force reaches ``+Fs`` or ``-Fs``; a site slipping in direction ``d`` carries
+  ``F = s(s') + sigma2 s'`` on ``d``'s row until ``s'`` comes to zero, where it sticks again
+  if the holding force it then needs lies inside ``[-Fs-, Fs+]`` (Karnopp's model, exact).
 * Compliances and loads (:class:`HertzContact`, :class:`PiecewiseLinearSpring`,
   :class:`SineLoad`) — memoryless: ``F = law.force(s) - law.linear_stiffness * s`` (the
   linear part is already in ``K``).
@@ -42,8 +48,8 @@ its rate by more than round-off (the right-hand side jumps there); inside a piec
 has kinks only (actuator commands).
 
 Not supported (a clear error): controller blocks and actuators that follow anything but an
-input array (closed loop), static laws (``Stribeck``, ``CoulombViscous`` and their
-``Directional``) at a site, state-dependent normal loads (:class:`NormalLoad`). Sensors do not
+input array (closed loop), more than one static site, state-dependent normal loads
+(:class:`NormalLoad`). Sensors do not
 act on an open-loop plant and are ignored. An actuator's ``delay`` shifts its input array by
 whole samples (zeros before).
 
@@ -145,6 +151,22 @@ class _GMSSite:
         return self.xi[r, i] * _level(self.static[r], sv, self.floor) - direction * Fi
 
 
+class _StaticSite:
+    """Static law (Stribeck, CoulombViscous, Directional of them): sticks or slips (mode ``d``)."""
+
+    nstate = 0
+
+    def __init__(self, law):
+        self.rows = np.asarray(law.static_rows(), dtype=float)
+        self.Fs_pos = _level(self.rows[0], 0.0, 0.0)
+        self.Fs_neg = _level(self.rows[1], 0.0, 0.0)
+
+    def slip_force(self, sv: float, d: int) -> float:
+        """``s(v) + sigma2 v`` on the row of the direction of slip ``d``."""
+        r = 0 if d > 0 else 1
+        return d * _level(self.rows[r], sv, 0.0) + self.rows[r, 4] * sv
+
+
 class _ElasticSite:
     nstate = 0
 
@@ -167,7 +189,8 @@ class ReferenceResult:
     states : ndarray (N, n_states) — friction states (LuGre ``z``, GMS element forces ``F_i``)
         in site order.
     nfev : int — right-hand-side evaluations; ``n_events`` GMS switchings (``event_log``:
-        ``(t, "breakaway" | "reversal", site, element)``, element -1 for a reversal);
+        ``(t, kind, site, element)``: GMS ``"breakaway"`` / ``"reversal"`` (element -1), static
+        site ``"slip"`` (element: direction) / ``"stop"``);
         ``n_pieces`` ``solve_ivp`` calls; ``wall_s`` wall time [s]; ``method``, ``rtol``.
     """
 
@@ -267,10 +290,9 @@ class _Twin:
             if s.role == "friction":
                 fam = law_family(s.law, f"site {s.name!r}")
                 if fam == "static":
-                    raise ParameterError(
-                        f"reference_machine: site {s.name!r} holds a static law ({type(s.law).__name__}); the "
-                        "solve_ivp twin supports LuGre, Dahl and GMS sites (and compliances/loads) only")
-                site = _LuGreSite(s.law) if fam == "lugre" else _GMSSite(s.law)
+                    site = _StaticSite(s.law)
+                else:
+                    site = _LuGreSite(s.law) if fam == "lugre" else _GMSSite(s.law)
             elif isinstance(s.law, (HertzContact, PiecewiseLinearSpring, SineLoad)):
                 site = _ElasticSite(s.law)
             else:  # pragma: no cover - Machine refuses anything else
@@ -281,8 +303,18 @@ class _Twin:
         self.ny = off
         self.has_elastic = any(isinstance(s, _ElasticSite) for s in self.sites)
         self._no_u = np.zeros(0)
-        self.kinds = [1 if isinstance(s, _LuGreSite) else 2 if isinstance(s, _GMSSite) else 0 for s in self.sites]
+        self.kinds = [1 if isinstance(s, _LuGreSite) else 2 if isinstance(s, _GMSSite) else
+                      3 if isinstance(s, _StaticSite) else 0 for s in self.sites]
         self.gms = [j for j, s in enumerate(self.sites) if isinstance(s, _GMSSite)]
+        statics = [j for j, s in enumerate(self.sites) if isinstance(s, _StaticSite)]
+        if len(statics) > 1:
+            raise ParameterError(
+                f"reference_machine: sites {[machine.sites[j].name for j in statics]} hold static laws; the "
+                "solve_ivp twin handles one static site (several sticking at once need a complementarity solve)")
+        #: the static site (or None) and ``Cq_j M^-1 Cq_j^T``, its compliance to its own force
+        self.static = statics[0] if statics else None
+        if self.static is not None:
+            self.static_gain = float(self.Cq[self.static] @ self.A_F[:, self.static])
 
     # ---- inputs
     def u_at(self, t: float) -> np.ndarray:
@@ -314,17 +346,30 @@ class _Twin:
                 F[j], dF = site.force_and_rates(sv[j], y[o:o + site.M], slip, d)
                 if dy is not None:
                     dy[o:o + site.M] = dF
+            elif kind == 3:  # sticking (mode 0): the holding force, set by accel()
+                F[j] = site.slip_force(sv[j], mode[j]) if mode[j] else 0.0
             else:
                 F[j] = site.force(s[j])
         return p, F
 
+    def accel(self, t, y, mode, seg, dy=None):
+        """Accelerations and site forces at ``(t, y)``. A sticking static site holds its
+        coordinate still: its force is the one that makes the site acceleration zero."""
+        n = self.n
+        p, F = self.forces(t, y, mode, seg, dy)
+        w = np.concatenate([self.u_at(t), p, seg[2]]) if self.nm else self.u_at(t)
+        acc = self.A_w @ w - self.A_q @ y[:n] - self.A_v @ y[n:2 * n] - self.A_F @ F
+        j = self.static
+        if j is not None and mode[j] == 0:
+            F[j] = float(self.Cq[j] @ acc) / self.static_gain  # motion rates are constant in a piece
+            acc = acc - self.A_F[:, j] * F[j]
+        return acc, F
+
     def rhs(self, t, y, mode, seg):
         n = self.n
         dy = np.empty(self.ny)
-        p, F = self.forces(t, y, mode, seg, dy)
-        w = np.concatenate([self.u_at(t), p, seg[2]]) if self.nm else self.u_at(t)
+        dy[n:2 * n], _F = self.accel(t, y, mode, seg, dy)
         dy[:n] = y[n:2 * n]
-        dy[n:2 * n] = self.A_w @ w - self.A_q @ y[:n] - self.A_v @ y[n:2 * n] - self.A_F @ F
         return dy
 
     def site_motion(self, t, y, mode, seg):
@@ -356,8 +401,9 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
 
     Parameters
     ----------
-    machine : Machine — degrees of freedom, springs, LuGre/Dahl/GMS friction sites,
-        compliances, loads, actuators, prescribed motions (no controller blocks).
+    machine : Machine — degrees of freedom, springs, LuGre/Dahl/GMS friction sites (and at
+        most one static-law site), compliances, loads, actuators, prescribed motions (no
+        controller blocks).
     dt : float — sample period of the inputs and outputs [s].
     inputs : dict name -> array — actuator commands and prescribed motions, one value per
         sample (as for :func:`simulate_machine`).
@@ -377,7 +423,7 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
 
     Raises
     ------
-    ParameterError — closed-loop parts, a static law at a site, bad options.
+    ParameterError — closed-loop parts, two static sites, normal loads, bad options.
     DataError — missing or inconsistent inputs.
     SimulationError — ``solve_ivp`` fails, too many events, or the switching chatters.
 
@@ -445,6 +491,10 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
     y[n:2 * n] = [d.v0 for d in machine.dofs]
     # mode: per GMS site (slipping flags, common slip direction d, 0 when all stick)
     mode = {j: (np.zeros(tw.sites[j].M, dtype=bool), 0) for j in tw.gms}
+    # the static site: 0 sticking, +1/-1 slipping in that direction (decided at the first piece)
+    if tw.static is not None:
+        mode[tw.static] = 0
+    static_mode = np.zeros(N, dtype=int)  # at the samples
     out = np.empty((N, ny))
     out[0] = y
     filled = 1
@@ -459,12 +509,18 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
         change = np.zeros(0, dtype=int)
     bounds = [0, *change.tolist(), N - 1]
 
+    prev_rate = None  # motion rates of the previous piece
     for ka, kb in zip(bounds[:-1], bounds[1:]):
         ta, tb = t[ka], t[kb]
         # the motions are exactly linear over the piece: through the samples at its ends
         seg = (ta, tw.P[ka].copy(), (tw.P[kb] - tw.P[ka]) / (tb - ta))
         t0 = ta
         while t0 < tb:
+            if tw.static is not None:
+                y = _static_start(tw, mode, seg, t0, y, log, prev_rate)
+                if t0 == 0.0:
+                    static_mode[0] = mode[tw.static]
+            prev_rate = seg[2]
             # elements already at their threshold in the direction of motion break away first
             go = {}
             if tw.gms:
@@ -497,6 +553,8 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
             m_new = len(sol.t)
             if m_new:
                 out[filled:filled + m_new] = np.asarray(sol.y).T
+                if tw.static is not None:
+                    static_mode[filled:filled + m_new] = mode[tw.static]
                 filled += m_new
             if sol.status == 0:
                 y = np.asarray(sol.y)[:, -1].copy() if m_new else y
@@ -516,6 +574,15 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
             fired = [kinds[q] for q in range(len(kinds)) if sol.t_events[q].size and sol.t_events[q][-1] >= t_e]
             sv_e, sa_e = tw.site_motion(t_e, y, mode, seg)
             for kind, j, i in fired:
+                if kind == "stop":  # a slipping static site comes to rest: decided at the next start
+                    mode[j] = 0
+                    log.append((t_e, "stop", j, -1))
+                elif kind == "slip":
+                    mode[j] = i
+                    log.append((t_e, "slip", j, i))
+            for kind, j, i in fired:
+                if kind not in ("breakaway", "reversal"):
+                    continue
                 slip, d = mode[j]
                 if kind == "reversal":
                     mode[j] = (np.zeros_like(slip), 0)
@@ -540,10 +607,12 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
     q, v = out[:, :n].copy(), out[:, n:2 * n].copy()
     F = np.zeros((N, len(tw.sites)))
     u = np.zeros((N, tw.nact))
-    empty_mode = {j: (np.zeros(tw.sites[j].M, dtype=bool), 0) for j in tw.gms}
+    out_mode = {j: (np.zeros(tw.sites[j].M, dtype=bool), 0) for j in tw.gms}
     for k in range(N):
         rate = tw.R[min(k, N - 2)] if tw.nm else np.zeros(0)
-        _p, F[k] = tw.forces(t[k], out[k], empty_mode, (t[k], tw.P[k], rate))
+        if tw.static is not None:
+            out_mode[tw.static] = int(static_mode[k])
+        _acc, F[k] = tw.accel(t[k], out[k], out_mode, (t[k], tw.P[k], rate))
         u[k] = tw.u_at(t[k])
     return ReferenceResult(
         machine=machine, t=t, q=q, v=v, F=F, u=u, states=out[:, 2 * n:].copy(),
@@ -589,4 +658,63 @@ def _events(tw: _Twin, mode: dict, seg, ta: float, ya: np.ndarray, go: dict):
             ev_rev.direction = -1
             events.append(ev_rev)
             kinds.append(("reversal", j, -1))
+    j = tw.static
+    if j is not None:
+        site = tw.sites[j]
+        d = mode[j]
+        if d == 0:  # sticking: the holding force reaches +Fs or -Fs
+            for sgn, lim in ((1, site.Fs_pos), (-1, site.Fs_neg)):
+                def ev_hold(tt, yy, sgn=sgn, lim=lim):
+                    return lim - sgn * tw.accel(tt, yy, mode, seg)[1][j]
+
+                ev_hold.terminal = True
+                ev_hold.direction = -1
+                events.append(ev_hold)
+                kinds.append(("slip", j, sgn))
+        else:  # slipping: the site velocity comes to zero
+            def ev_stop(tt, yy, d=d):
+                return d * float(tw.Cq[j] @ yy[n:2 * n] + tw.Cm[j] @ seg[2])
+
+            ev_stop.terminal = True
+            ev_stop.direction = -1
+            events.append(ev_stop)
+            kinds.append(("stop", j, 0))
     return events, kinds
+
+
+def _static_start(tw: _Twin, mode: dict, seg, t0: float, y: np.ndarray, log: list, prev_rate) -> np.ndarray:
+    """Stick or slip of the static site at the start of a piece; returns the (projected) state.
+
+    A slipping site keeps slipping. A sticking one is moving only if it starts with a velocity
+    (``prev_rate`` None: the initial state) or a prescribed motion it rides on changed its rate
+    at this sample; then it slips that way. Otherwise its velocity is zero up to round-off
+    (projected away along ``M^-1 c^T``) and it sticks if the holding force lies inside
+    ``[-Fs-, Fs+]``, else it slips in the direction of the force it could not supply.
+    """
+    j = tw.static
+    if mode[j] != 0:
+        return y
+    n = tw.n
+    site = tw.sites[j]
+    c, cm, rate = tw.Cq[j], tw.Cm[j], seg[2]
+    sv = float(c @ y[n:2 * n] + cm @ rate)
+    if prev_rate is None:
+        moving = sv != 0.0
+    else:
+        jump = float(cm @ (rate - prev_rate))
+        moving = abs(jump) > 1e-9 * float(np.abs(cm) @ (np.abs(rate) + np.abs(prev_rate))) and sv != 0.0
+    if moving:
+        mode[j] = _sgn(sv)
+        log.append((t0, "slip", j, mode[j]))
+        return y
+    if sv != 0.0:
+        y = y.copy()
+        y[n:2 * n] -= tw.A_F[:, j] * (sv / tw.static_gain)
+    F_hold = tw.accel(t0, y, mode, seg)[1][j]
+    if F_hold > site.Fs_pos:
+        mode[j] = 1
+    elif F_hold < -site.Fs_neg:
+        mode[j] = -1
+    if mode[j]:
+        log.append((t0, "slip", j, mode[j]))
+    return y

@@ -12,7 +12,7 @@ rtol 1e-10, GMS switchings located as events) and compared with the compiled loo
 
 The twin's own error (measured against rtol 1e-11/1e-12 runs) is stated where it matters:
 it is far below the compiled loop's error at 2-8 sub-steps, and below it at 10 sub-steps
-except for positions of the long-stroke rotational cases, whose bound then carries it.
+except for the Hertz stage's motor angle and guide force, whose bounds then carry it.
 
 Case (e) puts a static Stribeck law at the site: the twin then sticks and slips by events.
 
@@ -191,8 +191,8 @@ DEFAULT_ERRORS = [
     # the motor's 2.2e-7 rad and the guide's 1.4e-3 N carry the twin's own error (against an
     # rtol 1e-12 twin the loop is off by 4.3e-8 rad and 1.1e-3 N)
     ("hertz_stage", [2.18e-7, 5.26e-10], [2.45e-3, 1.40e-3]),
-    # motor swings over 96 rad; the twin's own error there is ~1e-6 rad (rtol 1e-11 twin: the
-    # loop is off by 2.4e-7 rad); flexspline, gravity, bearing
+    # the motor swings over 96 rad: 9.7e-7 rad (the twin's own error there: 2.3e-7 rad, from an
+    # rtol 1e-11 run); flexspline, gravity, bearing
     ("harmonic_drive", [9.65e-7, 1.93e-8], [8.60e-5, 1.36e-7, 1.72e-5]),
     # static law, 20 s: 0.14 mm (first order, from the stop instants); the force error is the
     # friction jump at a stop (1.4 -> 0.77 N) landing in a different sample

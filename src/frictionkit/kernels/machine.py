@@ -131,12 +131,12 @@ def _lugre_mean(par, o, z0, ds, h, lam):
     if x > 700.0:
         e = 0.0
         frac = 1.0 / x
-    elif x < 1e-8:
-        e = 1.0 - x
-        frac = 1.0 - 0.5 * x
+    elif x < 1e-3:  # series: (1 - e^-x) / x to O(x^4), one exp fewer
+        e = math.exp(-x)
+        frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
     else:
         e = math.exp(-x)
-        frac = -math.expm1(-x) / x
+        frac = (1.0 - e) / x
     z1 = zss + (z0 - zss) * e
     zbar = zss + (z0 - zss) * frac
     return lam * (s0 * zbar + s1 * (z1 - z0) / h) + s2 * v, z1
@@ -181,12 +181,12 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam):
                 if x > 700.0:
                     e = 0.0
                     frac = 1.0 / x
-                elif x < 1e-8:
-                    e = 1.0 - x
-                    frac = 1.0 - 0.5 * x
+                elif x < 1e-3:
+                    e = math.exp(-x)
+                    frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
                 else:
                     e = math.exp(-x)
-                    frac = -math.expm1(-x) / x
+                    frac = (1.0 - e) / x
                 F1 = Fst + (F0 - Fst) * e
                 mean = Fst + (F0 - Fst) * frac
             nmode = mode
@@ -250,23 +250,23 @@ def _elastic(kind, par, o, d):
 
 @njit(error_model="numpy")
 def _site_mean(kind, par, o, st, so, s0, ds, h, commit, lam):
-    """Mean force of site over the sub-step for displacement ``ds`` from coordinate ``s0``.
+    """``(mean force, LuGre end state)`` over the sub-step for displacement ``ds`` from ``s0``.
 
     ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
     """
     if kind == S_STATIC:
-        return _static_force(par, o, ds / h, lam)
+        return _static_force(par, o, ds / h, lam), 0.0
     if kind == S_LUGRE:
         F, z1 = _lugre_mean(par, o, st[so], ds, h, lam)
         if commit:
             st[so] = z1
-        return F
+        return F, z1
     if kind == S_GMS:
-        return _gms_mean(par, o, st, so, ds, h, commit, lam)
+        return _gms_mean(par, o, st, so, ds, h, commit, lam), 0.0
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
-    return (f0 + 4.0 * fm + f1) / 6.0
+    return (f0 + 4.0 * fm + f1) / 6.0, 0.0
 
 
 @njit(error_model="numpy")
@@ -296,14 +296,16 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 @njit(error_model="numpy")
 def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
-    """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt)`` (state untouched).
+    """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
+    ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
     ``kt`` is the site's last secant slope ``dFbar/dds`` (a Newton-like first step from the
     explicit guess ``a - Gjj Fguess``); secant steps follow until the root is bracketed, then
     Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        return a, _site_mean(kind, par, o, st, so, s0, a, h, False, lam), kt
+        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, False, lam)
+        return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
         # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end (implicit Euler),
@@ -312,7 +314,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         fs_neg = lam * _g(par, o + N_ROW, 0.0)
         f_hold = a / Gjj
         if -fs_neg <= f_hold <= fs_pos:
-            return 0.0, f_hold, kt
+            return 0.0, f_hold, kt, math.nan
         if a > 0.0:
             lo = 0.0
             flo = Gjj * fs_pos - a
@@ -324,9 +326,9 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             lo = a
             flo = Gjj * _static_force(par, o, a, lam)
         if fhi <= 0.0:
-            return hi, _static_force(par, o, hi, lam), kt
+            return hi, _static_force(par, o, hi, lam), kt, math.nan
         if flo >= 0.0:
-            return lo, _static_force(par, o, lo, lam), kt
+            return lo, _static_force(par, o, lo, lam), kt, math.nan
         # first guess: the level at the free velocity, viscous term solved exactly (exact for
         # a Coulomb-viscous law or past the Stribeck range)
         if a > 0.0:
@@ -337,7 +339,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             F1 = _static_force(par, o, x1, lam)
             f1 = x1 + Gjj * F1 - a
             if abs(f1) <= xtol:
-                return x1, F1, kt
+                return x1, F1, kt, math.nan
             if f1 < 0.0:
                 lo = x1
                 flo = f1
@@ -346,10 +348,10 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
                 fhi = f1
     else:
         x0 = a - Gjj * Fguess
-        F0 = _site_mean(kind, par, o, st, so, s0, x0, h, False, lam)
+        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, False, lam)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
-            return x0, F0, kt
+            return x0, F0, kt, z0e
         lo = -math.inf
         hi = math.inf
         flo = -1.0
@@ -366,7 +368,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         x1 = x0 - f0 / slope
         n = 0
         while n < 80:
-            F1 = _site_mean(kind, par, o, st, so, s0, x1, h, False, lam)
+            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, False, lam)
             f1 = x1 + Gjj * F1 - a
             n += 1
             if x1 != x0:
@@ -374,7 +376,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             else:
                 kt_new = kt
             if abs(f1) <= xtol:
-                return x1, F1, kt_new
+                return x1, F1, kt_new, z1e
             if f1 < 0.0:
                 if x1 > lo:
                     lo = x1
@@ -397,15 +399,15 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             F0 = F1
             x1 = x2
         if lo == -math.inf or hi == math.inf:
-            return x1, (a - x1) / Gjj, kt
+            return x1, (a - x1) / Gjj, kt, z1e
         # a secant step from the last two points if it lands inside the bracket
         if x1 != x0 and f1 != f0:
             x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
             if lo < x2 < hi:
-                F2 = _site_mean(kind, par, o, st, so, s0, x2, h, False, lam)
+                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, False, lam)
                 f2 = x2 + Gjj * F2 - a
                 if abs(f2) <= xtol:
-                    return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt
+                    return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt, z2e
                 if f2 < 0.0:
                     lo = x2
                     flo = f2
@@ -415,6 +417,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
     # Illinois (modified regula falsi) on [lo, hi], flo < 0 < fhi
     side = 0
     x = lo
+    zx = math.nan
     for _ in range(100):
         x = (lo * fhi - hi * flo) / (fhi - flo)
         if not (lo < x < hi):
@@ -422,7 +425,8 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         if kind == S_STATIC:
             fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            fx = x + Gjj * _site_mean(kind, par, o, st, so, s0, x, h, False, lam) - a
+            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, False, lam)
+            fx = x + Gjj * Fx - a
         if fx == 0.0:
             break
         if fx < 0.0:
@@ -439,7 +443,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
             side = 1
         if hi - lo <= xtol or abs(fx) <= 0.25 * xtol:
             break
-    return x, (a - x) / Gjj, kt
+    return x, (a - x) / Gjj, kt, zx
 
 
 @njit(error_model="numpy")
@@ -559,6 +563,7 @@ def run(
     for j in range(ns):
         if ld_mode[j] != 0:
             has_load = True
+    zend = np.zeros(ns)  # LuGre end state of the converged solve
     kt = np.zeros(ns)  # last secant slope dFbar/dds per site (first guess of the next solve)
     for j in range(ns):
         if ld_mode[j] != 0:
@@ -791,9 +796,10 @@ def run(
                                     aj -= Gss[j, i] * Fbar[i]
                             Gjj = Gss[j, j]
                         tj = xtol[j] + 1e-13 * abs(aj)
-                        dsj, Fj, ktj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                                   Gjj, h, Fbar[j], tj, lam[j], kt[j])
+                        dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
+                                                       Gjj, h, Fbar[j], tj, lam[j], kt[j])
                         kt[j] = ktj
+                        zend[j] = zj
                         dF = abs(Fj - Fbar[j]) * Gjj
                         if dF > change:
                             change = dF
@@ -805,8 +811,10 @@ def run(
                         break
                     if sweep == 59:
                         n_bad += 1
-                for j in range(ns):
-                    if site_kind[j] == S_LUGRE or site_kind[j] == S_GMS:  # the others have no state
+                for j in range(ns):  # commit the states (static and memoryless sites have none)
+                    if site_kind[j] == S_LUGRE and math.isfinite(zend[j]):
+                        st[site_so[j]] = zend[j]
+                    elif site_kind[j] == S_LUGRE or site_kind[j] == S_GMS:
                         _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True, lam[j])
             for r in range(n2):
                 y = Xf[r]

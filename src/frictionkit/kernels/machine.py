@@ -95,7 +95,7 @@ def _g(par, o, av):
 
 
 @njit(error_model="numpy")
-def _static_force(par, o, v, lam=1.0):
+def _static_force(par, o, v, lam):
     """``lam s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
     if v >= 0.0:
         return lam * _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v
@@ -249,7 +249,7 @@ def _elastic(kind, par, o, d):
 
 
 @njit(error_model="numpy")
-def _site_mean(kind, par, o, st, so, s0, ds, h, commit, lam):
+def _site_mean(kind, par, o, st, so, s0, ds, h, lam):
     """``(mean force, LuGre end state)`` over the sub-step for displacement ``ds`` from ``s0``.
 
     ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
@@ -257,12 +257,11 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, commit, lam):
     if kind == S_STATIC:
         return _static_force(par, o, ds / h, lam), 0.0
     if kind == S_LUGRE:
-        F, z1 = _lugre_mean(par, o, st[so], ds, h, lam)
-        if commit:
-            st[so] = z1
-        return F, z1
+        return _lugre_mean(par, o, st[so], ds, h, lam)
     if kind == S_GMS:
-        return _gms_mean(par, o, st, so, ds, h, commit, lam), 0.0
+        # ``h < 0`` is False at run time but not a literal: one compiled _gms_mean serves both
+        # this call and the committing one in run (a literal would compile a second copy)
+        return _gms_mean(par, o, st, so, ds, h, h < 0.0, lam), 0.0
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
@@ -304,7 +303,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
     Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, False, lam)
+        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, lam)
         return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
@@ -348,7 +347,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
                 fhi = f1
     else:
         x0 = a - Gjj * Fguess
-        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, False, lam)
+        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, lam)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
             return x0, F0, kt, z0e
@@ -368,7 +367,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         x1 = x0 - f0 / slope
         n = 0
         while n < 80:
-            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, False, lam)
+            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, lam)
             f1 = x1 + Gjj * F1 - a
             n += 1
             if x1 != x0:
@@ -404,7 +403,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         if x1 != x0 and f1 != f0:
             x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
             if lo < x2 < hi:
-                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, False, lam)
+                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, lam)
                 f2 = x2 + Gjj * F2 - a
                 if abs(f2) <= xtol:
                     return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt, z2e
@@ -425,7 +424,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         if kind == S_STATIC:
             fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, False, lam)
+            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, lam)
             fx = x + Gjj * Fx - a
         if fx == 0.0:
             break
@@ -685,7 +684,7 @@ def run(
                     y = blk_par[fp]
                 sig[blk_idx[ip]] = y
             else:  # B_FFF: idx: out, in; par: scale, static rows (12)
-                sig[blk_idx[ip]] = blk_par[fp] * _static_force(blk_par, fp + 1, sig[blk_idx[ip + 1]])
+                sig[blk_idx[ip]] = blk_par[fp] * _static_force(blk_par, fp + 1, sig[blk_idx[ip + 1]], 1.0)
         # ---- actuators
         for i in range(nact):
             if act_foh[i]:
@@ -812,10 +811,13 @@ def run(
                     if sweep == 59:
                         n_bad += 1
                 for j in range(ns):  # commit the states (static and memoryless sites have none)
-                    if site_kind[j] == S_LUGRE and math.isfinite(zend[j]):
-                        st[site_so[j]] = zend[j]
-                    elif site_kind[j] == S_LUGRE or site_kind[j] == S_GMS:
-                        _site_mean(site_kind[j], par, site_po[j], st, site_so[j], s0[j], ds[j], h, True, lam[j])
+                    if site_kind[j] == S_LUGRE:
+                        if math.isfinite(zend[j]):
+                            st[site_so[j]] = zend[j]
+                        else:
+                            st[site_so[j]] = _lugre_mean(par, site_po[j], st[site_so[j]], ds[j], h, lam[j])[1]
+                    elif site_kind[j] == S_GMS:
+                        _gms_mean(par, site_po[j], st, site_so[j], ds[j], h, h > 0.0, lam[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

@@ -584,6 +584,10 @@ def run(
     mv = np.zeros(nmot)
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
+        # the rate of a prescribed motion at t_k (it is piecewise linear, so its rate jumps at
+        # the samples): the arriving one, over [t_k-1, t_k]; at t_0 the first interval's
+        ka = k - 1 if k > 0 else 0
+        kb = ka + 1 if ka + 1 < N else ka
         if k > 0 and has_load:
             _loads(X, mot[k], site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
                    ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
@@ -603,7 +607,7 @@ def run(
                 vj += Cq[j, b] * X[n + b]
             for m in range(nmot):
                 sj += Cm[j, m] * mot[k, m]
-                vj += Cm[j, m] * (mot[kn, m] - mot[k, m]) / dt
+                vj += Cm[j, m] * (mot[kb, m] - mot[ka, m]) / dt
             F_out[k, j] = _site_now(kind, par, site_po[j], st, site_so[j], sj, vj, lam[j])
         # ---- inputs and sensors
         for i in range(nin):
@@ -615,7 +619,7 @@ def run(
                 y += sen_row[i, b] * X[off + b]
             for m in range(nmot):
                 if sen_qty[i] == 1:
-                    y += sen_mrow[i, m] * (mot[kn, m] - mot[k, m]) / dt
+                    y += sen_mrow[i, m] * (mot[kb, m] - mot[ka, m]) / dt
                 else:
                     y += sen_mrow[i, m] * mot[k, m]
             y = _quantise(y + noise[k, i], sen_res[i])
@@ -729,9 +733,10 @@ def run(
                 _loads(X, mv, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
                        ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam)
             for i in range(nact):
-                if act_foh[i]:
-                    ua = inputs[k, act_col[i]]
-                    ub = inputs[kn, act_col[i]]
+                if act_foh[i]:  # the input array, delayed by whole samples, linear in between
+                    d = act_delay[i]
+                    ua = inputs[k - d, act_col[i]] if k >= d else 0.0
+                    ub = inputs[kn - d, act_col[i]] if kn >= d else 0.0
                     va = ua + (ub - ua) * f0
                     vb = ua + (ub - ua) * f1
                     lim = act_lim[i]

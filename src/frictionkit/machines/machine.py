@@ -128,7 +128,7 @@ class Machine:
         self._names.add(name)
         return name
 
-    def _coord(self, what: str, a, b=None) -> Coord:
+    def _coord(self, what: str, a, b=None, *, kinematic: bool = False) -> Coord:
         if not isinstance(a, Coord) or a._owner is not self:
             raise ParameterError(f"Machine.{what}: {a!r} is not a coordinate of machine {self.name!r} "
                                  "(use the values returned by dof() or motion())")
@@ -136,7 +136,7 @@ class Machine:
             if not isinstance(b, Coord) or b._owner is not self:
                 raise ParameterError(f"Machine.{what}: {b!r} is not a coordinate of machine {self.name!r}")
             a = a - b
-        if not a.dofs:
+        if not a.dofs and not (kinematic and a.motions):
             raise ParameterError(f"Machine.{what}: {a!r} does not move with any degree of freedom")
         return a
 
@@ -205,11 +205,13 @@ class Machine:
         ``law`` is any friction law: ``Stribeck``, ``CoulombViscous``, ``Directional``,
         ``Dahl``, ``LuGre`` or ``GMS``. Its force opposes the relative motion. ``load``
         (:class:`NormalLoad`) makes its levels follow a state-dependent normal load; the
-        spring or compliance it names must exist when the machine is simulated.
+        spring or compliance it names must exist when the machine is simulated. A site on
+        prescribed motions only (no degree of freedom) is kinematic: it is driven by the motion
+        and acts on nothing — a motion-driven friction experiment inside a machine.
         """
         from .simulate import law_family
 
-        at = self._coord("friction", a, b)
+        at = self._coord("friction", a, b, kinematic=True)
         law_family(law, f"Machine.friction({name!r}).law")
         if load is not None and not isinstance(load, NormalLoad):
             raise ParameterError(f"Machine.friction({name!r}).load = {type(load).__name__}: must be a NormalLoad")
@@ -263,7 +265,7 @@ class Machine:
         (``floor(x / q) q``; an encoder of N counts/rev: ``2 pi / N``), white noise of std
         ``noise`` before quantisation, ``delay`` whole samples."""
         o = f"Machine.sensor({name!r})"
-        at = self._coord("sensor", at) if not (isinstance(at, Coord) and not at.dofs and at.motions) else at
+        at = self._coord("sensor", at, kinematic=True)
         name = self._new_name("sensor", name)
         if quantity not in QUANTITIES:
             raise ParameterError(f"{o}.quantity = {quantity!r}: must be one of {QUANTITIES}")

@@ -37,7 +37,7 @@ def slider(law=None, m=1.0):
         (lambda m: m.dof("x", inertia=1.0), r"name 'x' is already used"),
         (lambda m: m.spring(m.coord("x"), k=-3.0), r"k = -3.0: must be >= 0"),
         (lambda m: m.spring(m.coord("x")), r"k = c = 0 couples nothing"),
-        (lambda m: m.friction("f", m.coord("x"), law=3.0), r"law = float: must be a friction law"),
+        (lambda m: m.friction("f", m.coord("x"), law=3.0), r"law = float: float is not a registered friction law"),
         (lambda m: m.friction("f", Machine().dof("z", inertia=1.0), law=fk.CoulombViscous(Fc=1.0)),
          r"is not a coordinate of machine 'm'"),
         (lambda m: m.actuator("a", m.coord("x"), limit=0.0), r"limit = 0.0: must be > 0"),

@@ -12,25 +12,20 @@ from scipy.linalg import expm
 from .. import _validate as val
 from ..errors import DataError, ParameterError, SimulationError
 from ..kernels import machine as _k
-from ..models.gms import GMS
-from ..models.lugre import Dahl, LuGre
-from ..models.static import CoulombViscous, Directional, Stribeck
+from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, NormalLoad, PID, PiecewiseLinearSpring,
                        Saturation, SineLoad, StateSpace, Sum)
 from .machine import Machine
 
 
 def law_family(law, where: str = "law") -> str:
-    """``"static"``, ``"lugre"`` (LuGre, Dahl) or ``"gms"``; raises ParameterError otherwise."""
-    m = law.positive if isinstance(law, Directional) else law
-    if isinstance(m, (Stribeck, CoulombViscous)):
-        return "static"
-    if isinstance(m, (LuGre, Dahl)):
-        return "lugre"
-    if isinstance(m, GMS):
-        return "gms"
-    raise ParameterError(f"{where} = {type(law).__name__}: must be a friction law (Stribeck, "
-                         "CoulombViscous, Directional, Dahl, LuGre or GMS)")
+    """``"static"``, ``"lugre"`` or ``"gms"`` from the law registry; the error names ``where``."""
+    from ..models.base import kernel_family
+
+    try:
+        return kernel_family(law)
+    except ParameterError as exc:
+        raise ParameterError(f"{where} = {type(law).__name__}: {exc}") from None
 
 
 def _static_rows(law) -> np.ndarray:

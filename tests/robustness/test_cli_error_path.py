@@ -149,13 +149,23 @@ def test_ctrl_c_while_the_package_imports_is_one_line():
     """The console script's launcher catches an interrupt before frictionkit has finished importing."""
     import signal
 
-    code = ("import sys; sys.argv = ['frictionkit', 'identify', '--help']; import _frictionkit_main; "
-            "print('ready', flush=True); _frictionkit_main.main()")
+    # the interrupt must land while frictionkit imports, whatever the machine's speed: the child
+    # holds that import open (a sleep inside it) until the signal comes
+    code = ("import sys, time, builtins; sys.argv = ['frictionkit', 'identify', '--help']\n"
+            "import _frictionkit_main\n"
+            "real = builtins.__import__\n"
+            "def slow(name, *a, **k):\n"
+            "    if name == 'frictionkit.cli':\n"
+            "        print('ready', flush=True)\n"
+            "        time.sleep(60)\n"
+            "    return real(name, *a, **k)\n"
+            "builtins.__import__ = slow\n"
+            "_frictionkit_main.main()\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert proc.stdout.readline().strip() == "ready"
-        proc.send_signal(signal.SIGINT)  # frictionkit (numpy, scipy, numba) takes > 0.5 s to import
+        proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:

@@ -55,7 +55,7 @@ whole samples (zeros before).
 
 Outputs at the samples ``t_k = k dt``: ``q, v`` of the degrees of freedom and the site
 forces ``F`` at ``t_k`` from the state there, with the motion rate of the interval that
-starts at ``t_k`` (the last interval's at the final sample), as the compiled loop records them.
+arrives at ``t_k`` (the first interval's at ``t_0``), as the compiled loop records them.
 """
 
 from __future__ import annotations
@@ -609,7 +609,7 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
     u = np.zeros((N, tw.nact))
     out_mode = {j: (np.zeros(tw.sites[j].M, dtype=bool), 0) for j in tw.gms}
     for k in range(N):
-        rate = tw.R[min(k, N - 2)] if tw.nm else np.zeros(0)
+        rate = tw.R[max(k - 1, 0)] if tw.nm else np.zeros(0)  # the arriving rate (the first at t_0)
         if tw.static is not None:
             out_mode[tw.static] = int(static_mode[k])
         _acc, F[k] = tw.accel(t[k], out[k], out_mode, (t[k], tw.P[k], rate))

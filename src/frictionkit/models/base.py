@@ -79,22 +79,24 @@ class FrictionLaw(Protocol):
        will be declared here, as part of this contract, so that the machine core
        can wire it to the site.
 
-    5. **Change of normal load.** When the normal load on a site changes from
-       ``N_old`` to ``N_new``, the levels of the law (``Fc``, ``Fs``, hence
-       ``s(v)``) scale in proportion to the load; stiffnesses and damping
-       (``sigma0``, ``k_i``, ``sigma1``, ``sigma2``) do not. The state follows so
-       that it stays inside the new limits:
+    5. **Change of normal load.** A law is given at a reference load ``N_ref``. At
+       load ``N`` every force term of the friction scales by ``lam = N / N_ref``:
+       the levels (``Fc``, ``Fs``, hence ``s(v)``), the stiffnesses and the
+       micro-damping (``sigma0``, ``sigma1``, ``k_i``), so pre-sliding *lengths*
+       (``Fc / sigma0``, ``xi_i Fs / k_i``) do not change; the viscous term
+       ``sigma2 v`` (lubricant shear) does not scale. The state is kept as a
+       deflection (``z``; GMS element forces at ``N_ref``), so:
 
-       * ``"lugre"``: the bristle deflection ``z`` is kept when the load rises and
-         scaled by ``N_new / N_old`` when it falls (``|z|`` stays below
-         ``|s(v)| / sigma0``);
-       * ``"gms"``: likewise the element forces ``F_i`` — kept when the load rises,
-         scaled by ``N_new / N_old`` when it falls (a sticking element stays below
-         its breakaway force ``xi_i |s(v)|``); the stick flags are kept;
-       * ``"static"``: nothing to do.
+       * when the load falls, the friction force falls with it (the contacts shrink
+         and lose their traction, Mindlin);
+       * when it rises, the new contact area carries no traction yet: the state is
+         scaled by ``N_old / N_new`` so that the force is kept;
+       * ``"static"``: nothing to carry over.
 
-       Only the machine core applies this rule; it is stated here so that every
-       law means the same by it.
+       Only the machine core applies this rule (``frictionkit.machines.NormalLoad``,
+       ``kernels/machine.py``); it is stated here so that every law means the same
+       by it. It reproduces the seed-001 flank model of the former ball-screw kernel
+       (constant pre-sliding length, traction lost with the load).
 
     6. **JSON form.** ``{"law": <registered name>, <field>: <value>, ...}``, one
        entry per constructor field; nested laws (the ``static`` map of ``LuGre`` and

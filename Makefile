@@ -22,7 +22,7 @@ demo: $(VENV)/.installed-demo
 	$(BIN)/frictionkit demo --out out/demo
 
 test: $(VENV)/.installed-test
-	$(BIN)/python -m pytest -n 2 -q
+	$(BIN)/python -m pytest -n 2 --dist loadgroup -q
 
 bench: $(VENV)/.installed-demo
 	$(BIN)/python benchmarks/simulate.py

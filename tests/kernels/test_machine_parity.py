@@ -132,6 +132,10 @@ CASES = {f.__name__: f for f in (lugre_slider, gms_slider, ballscrew, hertz_stag
 
 _TWINS: dict = {}
 
+# the twins cost ~1 min of solve_ivp: keep this module's tests on one xdist worker so each
+# twin runs once (`make test` runs pytest with --dist loadgroup)
+pytestmark = pytest.mark.xdist_group("machine_twins")
+
 
 def twin(name: str):
     """``(machine, dt, inputs, reference)`` of a case; the twin runs once per session."""

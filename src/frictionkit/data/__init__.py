@@ -2,6 +2,7 @@
 
 from .loaders import load_csv, load_groups, load_recording, read_table
 from .recording import IrregularSamplingWarning, Recording
+from .rests import find_rests, motion_segments
 from .segmentation import (
     Segment,
     SteadyStatePoints,
@@ -22,10 +23,12 @@ __all__ = [
     "find_cycles",
     "find_plateaus",
     "find_reversals",
+    "find_rests",
     "load_csv",
     "load_groups",
     "load_recording",
     "lowpass",
+    "motion_segments",
     "read_table",
     "steady_state_points",
 ]

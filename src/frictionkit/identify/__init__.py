@@ -1,5 +1,7 @@
 """Identification of friction and rigid-body parameters from recordings."""
 
+from .motion_data import evaluate_motion, motion_data
+from .motion_error import fit_motion_error, motion_start
 from .emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare, emps_stribeck_fit
 from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
 from .presliding import fit_presliding, piecewise_linear_fit
@@ -16,9 +18,13 @@ __all__ = [
     "emps_closed_loop_errors",
     "emps_compare",
     "emps_stribeck_fit",
+    "evaluate_motion",
+    "fit_motion_error",
     "fit_output_error",
     "fit_presliding",
     "initial_guess_lugre",
+    "motion_data",
+    "motion_start",
     "piecewise_linear_fit",
     "IdentificationResult",
     "RigidBody",

@@ -236,6 +236,26 @@ def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str, delta: float | 
     return out
 
 
+def _sign_respecting(params, values, stats, dof) -> np.ndarray:
+    """Intervals that stay where the parameter may live (issue 11, part 4).
+
+    ``vs`` and ``delta`` must be > 0: their interval comes from the standard error of
+    their logarithm, ``theta · exp(±t·se/theta)`` (drive 3's delta: [0.38, 46], not
+    [−5.9, 14.3]). The levels ``Fc``, ``Fs``, ``sigma2`` may be 0: their Wald interval is
+    cut at 0.
+    """
+    from .identifiability import log_interval
+
+    ci = np.array(stats["ci"], dtype=float)
+    for i, n in enumerate(params):
+        v, se = float(values[i]), float(stats["stderr"][i])
+        if n in ("vs", "delta") and v > 0 and np.isfinite(se):
+            ci[i] = log_interval(v, se / v, dof)
+        elif n in ("Fc", "Fs", "sigma2"):
+            ci[i, 0] = max(ci[i, 0], 0.0)
+    return ci
+
+
 def _law(st: _Structure, vals: dict, delta: float | None):
     if st.name == "coulomb_viscous":
         return CoulombViscous(Fc=vals["Fc"], sigma2=vals["sigma2"])
@@ -388,6 +408,7 @@ def fit_static_map(
             flags.append(f"{label}: estimates do not form a valid model ({exc})")
         laws[label] = law
         stats = parameter_statistics(fit["values"], fit["cov"], fit["dof"])
+        stats["ci"] = _sign_respecting(st.params, fit["values"], stats, fit["dof"])
         pred = sgn * (y + fit["raw"])  # raw = predicted - measured magnitude
         parts[label] = IdentificationResult(
             kind="static_map",

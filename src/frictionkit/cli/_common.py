@@ -96,6 +96,34 @@ def choice(value: str, option: str, allowed: Iterable[str]) -> str:
     return value
 
 
+# --------------------------------------------------------------------------- units
+def units(rotary: bool, force_unit: str | None, velocity_unit: str | None) -> dict[str, str]:
+    """Unit labels of the signals after scaling: ``{"F", "v", "x"}``.
+
+    ``--rotary`` gives N·m, rad/s and rad; ``--force-unit`` / ``--velocity-unit`` override
+    either (the position unit is the velocity unit without ``/s``). They label the JSON,
+    the tables and the plots; the numbers are converted by the ``--*-scale`` factors.
+    """
+    F = force_unit if force_unit is not None else ("N·m" if rotary else "N")
+    v = velocity_unit if velocity_unit is not None else ("rad/s" if rotary else "m/s")
+    for option, label in (("--force-unit", F), ("--velocity-unit", v)):
+        if not label.strip() or any(c in label for c in "\n\r"):
+            raise ParameterError(f"{option} {label!r}: must be a non-empty one-line unit label (e.g. N·m, rad/s)")
+    x = v[:-2] if v.endswith("/s") else ("rad" if rotary else "m")
+    return {"F": F, "v": v, "x": x}
+
+
+def where_items(items: Iterable[str] | None) -> dict[str, str]:
+    """``--where COLUMN=VALUE`` options as a mapping."""
+    out = {}
+    for it in items or []:
+        if "=" not in it or not it.split("=", 1)[0].strip():
+            raise DataError(f"--where {it!r}: expected COLUMN=VALUE")
+        k, v = it.split("=", 1)
+        out[k.strip()] = v.strip()
+    return out
+
+
 # --------------------------------------------------------------------------- output files
 def outputs(inputs: Iterable[Path | None], *, plots: Mapping[str, Path | None] = {},  # noqa: B006 (read-only)
             files: Mapping[str, Path | None] = {}, make_parents: bool = False) -> None:  # noqa: B006

@@ -2,9 +2,16 @@
 
 Thin wrappers: parse options, load with :mod:`frictionkit.data`, call
 :func:`frictionkit.identify.fit_static_map` / :func:`~frictionkit.identify.fit_rigid_body` /
-:func:`frictionkit.identify.output_error.fit_output_error` /
+:func:`frictionkit.identify.output_error.fit_output_error` (``--drive force``) /
+:func:`frictionkit.identify.motion_error.fit_motion_error` (``--drive motion``) /
 :func:`frictionkit.identify.presliding.fit_presliding`,
-print a plain-text table and write JSON / plots on request. Options are checked
+print a plain-text table and write JSON / plots on request.
+
+Every verb takes the same data options: ``--group COL`` (a file stacking several
+records), ``--where COL=VALUE`` (keep some rows), the unit labels ``--rotary`` or
+``--force-unit`` / ``--velocity-unit`` (into the JSON, tables and plot labels), and
+``--validate FILE`` (the fitted model's error on another record, loaded with the same
+column options, beside the training error). Options are checked
 before any work (unit factors, masses, counts, output paths: writable folder, not an
 input, a plot format matplotlib knows); errors go through the one error path of
 :mod:`frictionkit.cli._errors` (one ``error:`` line, exit status 2 for bad input).
@@ -32,15 +39,7 @@ app.add_typer(identify_app, name="identify")
 
 
 def _parse_where(items: list[str] | None) -> dict[str, str]:
-    from ..errors import DataError
-
-    out = {}
-    for it in items or []:
-        if "=" not in it:
-            raise DataError(f"--where {it!r}: expected COLUMN=VALUE")
-        k, v = it.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
+    return chk.where_items(items)
 
 
 def _write(res, json_out: Optional[Path], plot: Optional[Path], *, include_data: bool = True) -> None:
@@ -49,6 +48,49 @@ def _write(res, json_out: Optional[Path], plot: Optional[Path], *, include_data:
         res.save_json(json_out, include_data=include_data)
     if plot is not None:
         chk.save_plot(res, plot)
+
+
+def _load(path: Path, *, group: Optional[list[str]], where: Optional[list[str]], **kw):
+    """One Recording, or ``{name: Recording}`` with ``--group`` (several records in one file)."""
+    from ..data import load_groups, load_recording
+
+    w = _parse_where(where)
+    if group:
+        return load_groups(path, group=group, where=w, **kw)
+    return load_recording(path, where=w, **kw)
+
+
+def _single(data, verb: str):
+    """The one record a verb fits; a one-line error when ``--group`` left several."""
+    from ..data import Recording
+    from ..errors import DataError
+
+    if isinstance(data, Recording):
+        return data
+    if len(data) == 1:
+        return next(iter(data.values()))
+    names = list(data)
+    raise DataError(f"{verb} fits one record, but --group gives {len(names)} ({', '.join(names[:4])}"
+                    f"{' ...' if len(names) > 4 else ''}); pick one with --where COLUMN=VALUE")
+
+
+def _validation(res, path: Optional[Path], label: str, loader, how=None) -> object:
+    """``res`` with the error on the validation record in its diagnostics; prints the comparison."""
+    if path is None:
+        return res
+    from ..identify.validation import validate, with_validation
+
+    rep = validate(res, loader(path), name=str(path), **(how(path) if how is not None else {}))
+    unit = res.provenance.get("units", {})
+    u = unit.get("F") if res.kind in ("static_map", "rigid_body", "presliding") or "static_rms" in rep else None
+    u = u or unit.get(res.provenance.get("procedure", {}).get("compare", "F"), "")
+    line = (f"validation on {path}: {label} RMS {rep['rms']:.6g} {u} ({rep['relative_error_percent']:.4g} %), "
+            f"training {rep['training_rms']:.6g} {u} ({rep['training_relative_error_percent']:.4g} %)")
+    if "static_rms" in rep:
+        line += (f"; static map {rep['static_rms']:.6g} {u} on validation, "
+                 f"{rep['training_static_rms']:.6g} {u} in training")
+    typer.echo(line)
+    return with_validation(res, rep)
 
 
 @identify_app.command("rigid-body")
@@ -63,6 +105,13 @@ def rigid_body(
     cutoff: float = typer.Option(100.0, "--cutoff", help="Butterworth cut-off of the position filter [Hz]."),
     decimation: int = typer.Option(10, "--decimate", help="Decimation factor."),
     skip: int = typer.Option(49, "--skip", help="Samples dropped at the start."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; all are fitted jointly."),
+    where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
+    rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
+    force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
+    velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Velocity unit label (default m/s)."),
+    validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
+                                            "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs predicted force as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
@@ -72,15 +121,20 @@ def rigid_body(
     cutoff = chk.positive(cutoff, "--cutoff")
     decimation = chk.integer(decimation, "--decimate", lo=1)
     skip = chk.integer(skip, "--skip", lo=0)
-    chk.outputs([recording], files={"--json": json_out}, plots={"--plot": plot})
+    units = chk.units(rotary, force_unit, velocity_unit)
+    chk.where_items(where)
+    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
 
-    from ..data import load_recording
     from ..identify import fit_rigid_body
 
-    rec = load_recording(recording, time=time, position=position, force=force, scales=scales)
-    res = fit_rigid_body(rec, asymmetric=asymmetric, cutoff=cutoff, q=decimation, skip=skip)
+    def loader(path):
+        return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
+                     units=units)
+
+    res = fit_rigid_body(loader(recording), asymmetric=asymmetric, cutoff=cutoff, q=decimation, skip=skip)
     typer.echo(res.summary())
     typer.echo(f"condition number {res.diagnostics['condition_number']:.4g}")
+    res = _validation(res, validate, "force", loader)
     _write(res, json_out, plot, include_data=False)
 
 
@@ -94,8 +148,11 @@ def static(
     force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N (or N·m)."),
     velocity_scale: float = typer.Option(1.0, "--velocity-scale", help="Factor to m/s (or rad/s)."),
     position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m (or rad)."),
-    force_unit: str = typer.Option("N", "--force-unit", help="Unit label after scaling (e.g. N·m)."),
-    velocity_unit: str = typer.Option("m/s", "--velocity-unit", help="Unit label after scaling (e.g. rad/s)."),
+    rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
+    force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Unit label after scaling (default N; e.g. N·m)."),
+    velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Unit label after scaling (default m/s; e.g. rad/s)."),
+    validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other file's "
+                                            "steady-state points (same column options) beside the training error."),
     group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming steady-state records; each record is averaged."),
     where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
     trim: Optional[float] = typer.Option(None, "--trim", help="Fraction dropped at both ends of each segment."),
@@ -119,22 +176,22 @@ def static(
     delta = chk.optional(chk.positive, delta, "--delta")
     chk.choice(direction, "--direction", ("both", "positive", "negative"))
     chk.choice(criterion, "--criterion", ("aic", "bic"))
-    chk.outputs([recording], files={"--json": json_out}, plots={"--plot": plot})
+    units = chk.units(rotary, force_unit, velocity_unit)
+    chk.where_items(where)
+    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
 
-    from ..data import load_groups, load_recording, steady_state_points
+    from ..data import steady_state_points
     from ..identify import fit_static_map
 
-    kw = dict(time=time, velocity=velocity, position=position, force=force, scales=scales,
-              units={"F": force_unit, "v": velocity_unit}, where=_parse_where(where))
-    if group:
-        recs = load_groups(recording, group=group, **kw)
-        pts = steady_state_points(recs, trim=trim)
-    else:
-        rec = load_recording(recording, **kw)
-        pts = steady_state_points(rec, trim=trim)
+    def loader(path):
+        return _load(path, group=group, where=where, time=time, velocity=velocity, position=position, force=force,
+                     scales=scales, units=units)
+
+    pts = steady_state_points(loader(recording), trim=trim)
     res = fit_static_map(pts, model=model, direction=direction, delta=delta, loss=loss, criterion=criterion)
     typer.echo(f"{len(pts)} steady-state point(s)")
     typer.echo(res.summary())
+    res = _validation(res, validate, "mean force", loader)
     _write(res, json_out, plot)
 
 
@@ -165,58 +222,168 @@ def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[f
 def output_error(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
-    position: Optional[str] = typer.Option(None, "--position", help="Position column (compared with --compare x)."),
-    velocity: Optional[str] = typer.Option(None, "--velocity", help="Velocity column (compared by default)."),
-    force: str = typer.Option(..., "--force", help="Input force column."),
-    force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N."),
-    position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m."),
-    velocity_scale: float = typer.Option(1.0, "--velocity-scale", help="Factor to m/s."),
-    model: str = typer.Option("lugre", "--model", help="lugre or gms."),
+    position: Optional[str] = typer.Option(None, "--position", help="Position column (force drive: compared with "
+                                           "--compare x; motion drive: drives the model)."),
+    velocity: Optional[str] = typer.Option(None, "--velocity", help="Velocity column (force drive: compared by "
+                                           "default; motion drive without --position: drives the model)."),
+    force: str = typer.Option(..., "--force", help="Force or torque column (force drive: the input; "
+                              "motion drive: compared with the predicted friction)."),
+    drive: str = typer.Option("force", "--drive", help="force: the measured force drives a mass, the motion is "
+                              "compared; motion: the measured motion drives the law, the force is compared "
+                              "(drive logs)."),
+    force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N (or N·m)."),
+    position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m (or rad)."),
+    velocity_scale: float = typer.Option(1.0, "--velocity-scale", help="Factor to m/s (or rad/s)."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; with --drive motion "
+                                              "all are fitted jointly, each from the unloaded state."),
+    where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
+    rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
+    force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
+    velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Velocity unit label (default m/s)."),
+    rests: str = typer.Option("auto", "--rests", help="Motion drive: auto (force logged exactly 0 over "
+                              "--min-rest samples = drive disabled: state reset, not fitted) or none."),
+    mask: Optional[str] = typer.Option(None, "--mask", help="Motion drive: column that is non-zero where the drive "
+                                       "is disabled (instead of --rests auto)."),
+    min_rest: int = typer.Option(3, "--min-rest", help="Shortest run of zero force taken as a rest [samples]."),
+    velocity_integration: str = typer.Option("held", "--velocity-integration", help="Motion drive from a velocity "
+                                             "log: held (the log is the mean over the preceding sample, as drives "
+                                             "log it) or trapezoidal (the log is the velocity at the sample)."),
+    model: str = typer.Option("lugre", "--model", help="lugre or gms (and dahl with --drive motion)."),
     static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
     Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
     Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
     vs: float = typer.Option(1e-3, "--vs", help="Stribeck velocity [m/s]."),
     delta: float = typer.Option(2.0, "--delta", help="Stribeck exponent."),
     sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
-    mass: float = typer.Option(..., "--mass", help="Moving mass [kg] (start value with --free m)."),
-    sigma0: Optional[float] = typer.Option(None, "--sigma0", help="LuGre start sigma0 [N/m] (default: initial_guess_lugre on the position)."),
-    sigma1: Optional[float] = typer.Option(None, "--sigma1", help="LuGre start sigma1 [N·s/m] (default: critical damping)."),
+    mass: Optional[float] = typer.Option(None, "--mass", help="Force drive: moving mass [kg] (start value with "
+                                         "--free m)."),
+    inertia: Optional[float] = typer.Option(None, "--inertia", help="Motion drive: inertia J of the J·a term "
+                                            "[kg or kg·m²] (start value with --free J; default 0, or a least-squares "
+                                            "start with --free J)."),
+    offset: float = typer.Option(0.0, "--offset", help="Constant force [N] (start value with --free offset)."),
+    sigma0: Optional[float] = typer.Option(None, "--sigma0", help="LuGre start sigma0 [N/m] (force drive default: "
+                                           "initial_guess_lugre on the position; motion drive: a bristle time "
+                                           "constant of one sample)."),
+    sigma1: Optional[float] = typer.Option(None, "--sigma1", help="LuGre start sigma1 [N·s/m] (default: critical "
+                                           "damping; motion drive: 1 % of the friction level per unit speed)."),
     k: Optional[str] = typer.Option(None, "--k", help="GMS start stiffnesses, comma separated [N/m]."),
     xi: Optional[str] = typer.Option(None, "--xi", help="GMS start weights, comma separated."),
-    C: float = typer.Option(20.0, "--C", help="GMS attraction constant [N/s]."),
-    free: str = typer.Option("", "--free", help="Comma-separated parameters to fit (default sigma0,sigma1 or k)."),
-    compare: Optional[str] = typer.Option(None, "--compare", help="v or x (default: v if --velocity else x)."),
-    starts: int = typer.Option(1, "--starts", help="Number of start points (screened in one batch; "
-                               f"1 to {chk.MAX_OUTPUT_ERROR_STARTS:,})."),
+    C: Optional[float] = typer.Option(None, "--C", help="GMS attraction constant [N/s] (force drive default 20; "
+                                      "motion drive: a slip time constant of one sample)."),
+    elements: int = typer.Option(3, "--elements", help="Motion drive, GMS without --k/--xi: number of elements "
+                                 f"(1 to {chk.MAX_PRESLIDING_ELEMENTS})."),
+    free: str = typer.Option("", "--free", help="Comma-separated parameters to fit (default sigma0,sigma1 or k; "
+                             "motion drive: sigma0,sigma1 / k,C / sigma0, plus J or offset if named; _pos/_neg "
+                             "suffixes fit a direction alone)."),
+    compare: Optional[str] = typer.Option(None, "--compare", help="Force drive: v or x (default: v if --velocity "
+                                          "else x)."),
+    starts: Optional[int] = typer.Option(None, "--starts", help="Number of start points (force drive: screened in "
+                                         f"one batch, default 1; motion drive: default a grid of 7; 1 to "
+                                         f"{chk.MAX_OUTPUT_ERROR_STARTS:,})."),
+    max_presliding: Optional[float] = typer.Option(None, "--max-presliding", help="Motion drive: largest "
+                                                   "pre-sliding displacement the axis can have [m or rad], e.g. one "
+                                                   "encoder count; bounds sigma0 and k from below."),
+    no_profile: bool = typer.Option(False, "--no-profile", help="Motion drive: skip the likelihood profiles "
+                                    "(intervals then from the log-scale Jacobian only)."),
+    validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
+                                            "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated output as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
-    """Output-error fit of LuGre or GMS parameters by simulation (seed 002 eq. 12)."""
+    """Output-error fit of LuGre, GMS (or Dahl) parameters by simulation (seed 002 eq. 12).
+
+    --drive force (default): the measured force drives mass + friction, the simulated
+    velocity (or position) is compared. --drive motion: the measured motion drives the
+    friction law and the predicted force is compared, with resets at rests — the
+    direction that suits logs of position-controlled drives.
+    """
     from ..errors import DataError, ParameterError
 
     if position is None and velocity is None:
         raise DataError("give --position or --velocity")
+    chk.choice(drive, "--drive", ("force", "motion"))
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale"),
               "velocity": chk.scale(velocity_scale, "--velocity-scale")}
-    mass = chk.positive(mass, "--mass")
-    chk.choice(model, "--model", ("lugre", "gms"))
+    units = chk.units(rotary, force_unit, velocity_unit)
+    chk.where_items(where)
+    if mass is not None:
+        mass = chk.positive(mass, "--mass")
+    offset = chk._finite(offset, "--offset")
+    inertia = chk.optional(chk.nonnegative, inertia, "--inertia")
+    max_presliding = chk.optional(chk.positive, max_presliding, "--max-presliding")
+    chk.choice(model, "--model", ("lugre", "gms") if drive == "force" else ("lugre", "gms", "dahl"))
     if compare is not None:
         chk.choice(compare, "--compare", ("v", "x"))
-    starts = chk.integer(starts, "--starts", lo=1, hi=chk.MAX_OUTPUT_ERROR_STARTS,
-                         why="the screening simulates every start over the whole record, 1-2 ms each per 8,000 samples")
-    C = chk.positive(C, "--C")
-    chk.outputs([recording, static_json], files={"--json": json_out}, plots={"--plot": plot})
+    if starts is not None:
+        starts = chk.integer(starts, "--starts", lo=1, hi=chk.MAX_OUTPUT_ERROR_STARTS,
+                             why="the screening simulates every start over the whole record, 1-2 ms each per "
+                                 "8,000 samples")
+    if C is not None:
+        C = chk.positive(C, "--C")
+    chk.choice(rests, "--rests", ("auto", "none"))
+    chk.choice(velocity_integration, "--velocity-integration", ("held", "trapezoidal"))
+    min_rest = chk.integer(min_rest, "--min-rest", lo=1)
+    elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS)
+    if drive == "force":
+        if mass is None:
+            raise ParameterError("--drive force needs --mass (the moving mass the force accelerates)")
+        for opt, val, default in (("--mask", mask, None), ("--inertia", inertia, None), ("--no-profile", no_profile, False),
+                                  ("--max-presliding", max_presliding, None)):
+            if val != default:
+                raise ParameterError(f"{opt} applies to --drive motion only")
+    elif mass is not None or compare is not None:
+        raise ParameterError(f"{'--mass' if mass is not None else '--compare'} applies to --drive force only "
+                             "(--drive motion compares the force; give the inertia with --inertia)")
+    chk.outputs([recording, static_json, validate], files={"--json": json_out}, plots={"--plot": plot})
 
-    from ..data import load_recording
-    from ..identify.output_error import fit_output_error, initial_guess_lugre
-    from ..models import GMS, LuGre
-
-    compare = compare or ("v" if velocity is not None else "x")
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
     if law is None:
         raise ParameterError("give the static map: --static-json STATIC.json or --Fc (with --Fs, --vs, --sigma2)")
-    rec = load_recording(recording, time=time, position=position, velocity=velocity, force=force, scales=scales)
+    names = tuple(s.strip() for s in free.split(",") if s.strip())
+    kw = dict(time=time, position=position, velocity=velocity, force=force, scales=scales, units=units)
+
+    def loader(path):
+        return _load(path, group=group, where=where, **kw)
+
+    if drive == "motion":
+        res = _output_error_motion(loader(recording), law, model=model, names=names, position=position,
+                                   rests=rests, mask=mask, min_rest=min_rest, integration=velocity_integration,
+                                   inertia=inertia, offset=offset, sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C,
+                                   elements=elements, starts=starts, profile=not no_profile,
+                                   max_presliding=max_presliding,
+                                   mask_loader=lambda path: _load(path, group=group, where=where, time=time,
+                                                                  force=mask),
+                                   path=recording)
+        d = res.diagnostics
+        Fu = res.provenance["units"]["F"]
+        typer.echo(res.summary())
+        what = "torque" if "·m" in Fu else "force"
+        typer.echo(f"training {what} RMS {res.rms:.6g} {Fu} (motion-driven {res.model_name}) against "
+                   f"{d['static_rms']:.6g} {Fu} for the static map"
+                   + (f" with the same J·a + offset ({d['map_only_rms']:.6g} {Fu} for the map alone)"
+                      if any(n in res.names for n in ("J", "offset")) or res.diagnostics["J"] or res.diagnostics["offset"]
+                      else " alone")
+                   + f"; {res.n_obs} samples in {sum(len(s['segments']) for s in d['segments'].values())} "
+                   f"segment(s), {sum(s['rest_samples'] for s in d['segments'].values())} rest samples")
+        typer.echo(f"{d['nfev']} evaluations, {'converged' if res.success else 'NOT converged'}: {res.message}")
+        if res.flagged:
+            typer.echo("not identifiable: " + (", ".join(d["identifiability"]["not_identifiable"]) or "see warnings"))
+
+        def mask_loader(path):
+            return _load(path, group=group, where=where, time=time, force=mask)
+
+        res = _validation(res, validate, what, loader,
+                          how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path),
+                                            "min_rest": min_rest})
+        _write(res, json_out, plot, include_data=True)
+        return
+
+    from ..identify.output_error import fit_output_error, initial_guess_lugre
+    from ..models import GMS, LuGre
+
+    rec = _single(loader(recording), "--drive force")
+    compare = compare or ("v" if velocity is not None else "x")
     if model == "lugre":
         if sigma0 is None:
             if rec.x is None:
@@ -225,15 +392,16 @@ def output_error(
             sigma0 = g["sigma0"]
             if sigma1 is None:
                 sigma1 = g["sigma1"]
-            typer.echo(f"initial guess: sigma0 {sigma0:.6g} N/m, sigma1 {sigma1:.6g} N·s/m ({g['branches']} branches)")
+            typer.echo(f"initial guess: sigma0 {sigma0:.6g} {units['F']}/{units['x']}, sigma1 {sigma1:.6g} "
+                       f"{units['F']}·s/{units['x']} ({g['branches']} branches)")
         mdl = LuGre(law, sigma0=sigma0, sigma1=sigma1 if sigma1 is not None else 0.0)
-        names = tuple(s.strip() for s in free.split(",") if s.strip()) or ("sigma0", "sigma1")
+        names = names or ("sigma0", "sigma1")
     elif model == "gms":
         kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
         if kk is None or xx is None:
             raise ParameterError("--model gms needs start values --k and --xi (e.g. from 'identify presliding')")
-        mdl = GMS(law, k=kk, xi=xx, C=C)
-        names = tuple(s.strip() for s in free.split(",") if s.strip()) or ("k",)
+        mdl = GMS(law, k=kk, xi=xx, C=C if C is not None else 20.0)
+        names = names or ("k",)
     else:
         raise ParameterError(f"--model {model!r}: must be lugre or gms")
     from rich.console import Console
@@ -241,13 +409,66 @@ def output_error(
     console = Console(stderr=True)
     with console.status("output-error fit: starting") as status:
         res = fit_output_error(
-            rec, mdl, free=names, plant_mass=mass, compare=compare, starts=starts,
+            rec, mdl, free=names, plant_mass=mass, offset=offset, compare=compare, starts=starts or 1,
             progress=lambda nfev, nsim, cost: status.update(
                 f"output-error fit: evaluation {nfev}, {nsim} simulations, cost {cost:.6g}"),
         )
     typer.echo(res.summary())
     typer.echo(f"{res.diagnostics['nfev']} evaluations, status {res.diagnostics['status']}: {res.message}")
+    res = _validation(res, validate, {"v": "velocity", "x": "position"}[compare],
+                      lambda path: _single(loader(path), "--validate"))
     _write(res, json_out, plot, include_data=False)
+
+
+def _rest_option(rests: str, mask: Optional[str], mask_loader, path: Path):
+    """``rests=`` of the motion fit: "auto", None, or the mask column(s) (non-zero = drive disabled)."""
+    import numpy as np
+
+    from ..data import Recording
+
+    if mask is None:
+        return "auto" if rests == "auto" else None
+    m = mask_loader(path)
+    if isinstance(m, Recording):
+        return np.asarray(m.F) != 0
+    return {name: np.asarray(r.F) != 0 for name, r in m.items()}
+
+
+def _output_error_motion(data, law, *, model, names, position, rests, mask, min_rest, integration, inertia, offset,
+                         sigma0, sigma1, k, xi, C, elements, starts, profile, mask_loader, path,
+                         max_presliding=None):
+    """The ``--drive motion`` branch: segments, start model, fit."""
+    from ..errors import ParameterError
+    from ..identify.motion_error import fit_motion_error, motion_data, motion_start
+    from ..models import GMS, Dahl, Directional, LuGre
+
+    rest = _rest_option(rests, mask, mask_loader, path)
+    md = motion_data(data, drive="position" if position is not None else "velocity", integration=integration,
+                     rests=rest, min_rest=min_rest)
+    if model == "lugre":
+        start = motion_start("lugre", law, md, max_presliding=max_presliding)
+        mdl = LuGre(law, sigma0=sigma0 if sigma0 is not None else start.sigma0,
+                    sigma1=sigma1 if sigma1 is not None else start.sigma1)
+    elif model == "gms":
+        kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
+        if (kk is None) != (xx is None):
+            raise ParameterError("--model gms: give both --k and --xi, or neither (then --elements sets the start)")
+        start = motion_start("gms", law, md, elements=elements if kk is None else len(kk),
+                             max_presliding=max_presliding)
+        mdl = GMS(law, k=kk if kk is not None else start.k, xi=xx if xx is not None else start.xi,
+                  C=C if C is not None else start.C)
+    else:
+        start = motion_start("dahl", law, md, max_presliding=max_presliding)
+        if sigma0 is not None:
+            if isinstance(start, Directional):
+                start = Directional(positive=Dahl(Fc=start.positive.Fc, sigma0=sigma0, sigma2=start.positive.sigma2),
+                                    negative=Dahl(Fc=start.negative.Fc, sigma0=sigma0, sigma2=start.negative.sigma2))
+            else:
+                start = Dahl(Fc=start.Fc, sigma0=sigma0, sigma2=start.sigma2)
+        mdl = start
+    return fit_motion_error(md, mdl, free=names or None, inertia=inertia or 0.0, offset=offset,
+                            starts=starts if starts is not None else "auto", profile=profile,
+                            max_presliding=max_presliding)
 
 
 @identify_app.command("presliding")
@@ -269,6 +490,14 @@ def presliding(
     branch: str = typer.Option("auto", "--branch", help="auto, virgin or reversal."),
     C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
     no_refine: bool = typer.Option(False, "--no-refine", help="Skip the simulation-error refinement."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records (one may remain "
+                                              "after --where)."),
+    where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
+    rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
+    force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
+    velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Velocity unit label (default m/s)."),
+    validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
+                                            "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
@@ -280,20 +509,26 @@ def presliding(
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
     chk.choice(branch, "--branch", ("auto", "virgin", "reversal"))
     C = chk.optional(chk.positive, C, "--C")
-    chk.outputs([recording, static_json], files={"--json": json_out}, plots={"--plot": plot})
+    units = chk.units(rotary, force_unit, velocity_unit)
+    chk.where_items(where)
+    chk.outputs([recording, static_json, validate], files={"--json": json_out}, plots={"--plot": plot})
 
     from rich.console import Console
 
-    from ..data import load_recording
     from ..identify.presliding import fit_presliding
 
+    def loader(path):
+        return _single(_load(path, group=group, where=where, time=time, position=position, force=force,
+                             scales=scales, units=units), "identify presliding")
+
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
-    rec = load_recording(recording, time=time, position=position, force=force, scales=scales)
+    rec = loader(recording)
     with Console(stderr=True).status(f"pre-sliding fit: {elements} element(s)"
                                      + ("" if no_refine else ", then simulation-error refinement")):
         res = fit_presliding(rec, elements=elements, static=law, branch=branch, C=C, refine=not no_refine)
     typer.echo(res.summary())
     d = res.diagnostics
-    typer.echo(f"total stiffness {d['total_stiffness']:.6g} N/m, breakpoints "
-               + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" m, C {d['C']:.4g} N/s")
+    typer.echo(f"total stiffness {d['total_stiffness']:.6g} {units['F']}/{units['x']}, breakpoints "
+               + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" {units['x']}, C {d['C']:.4g} {units['F']}/s")
+    res = _validation(res, validate, "force", loader)
     _write(res, json_out, plot, include_data=False)

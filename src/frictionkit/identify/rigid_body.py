@@ -20,6 +20,8 @@ The identified model is a :class:`frictionkit.plants.RigidBody` (re-exported her
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 from ..data.recording import Recording
@@ -107,6 +109,18 @@ def rigid_body_regressors(
     return {"X": X, "y": np.asarray(y, dtype=float), "t": t, "names": names}
 
 
+def _as_list(recording) -> list[Recording]:
+    """One Recording, or several (a list, or a dict as from ``load_groups``) fitted jointly."""
+    if isinstance(recording, Recording):
+        return [recording]
+    items = list(recording.values()) if isinstance(recording, Mapping) else list(recording) \
+        if isinstance(recording, (list, tuple)) else None
+    if not items or not all(isinstance(r, Recording) for r in items):
+        raise DataError(f"fit_rigid_body: expected a Recording or a list/dict of Recordings, "
+                        f"got {type(recording).__name__}")
+    return items
+
+
 def fit_rigid_body(
     recording: Recording,
     *,
@@ -120,8 +134,10 @@ def fit_rigid_body(
 
     Parameters
     ----------
-    recording : Recording
+    recording : Recording, or a list / dict of Recordings
         Position ``x`` [m] and actuator force ``F`` [N] (load side), uniformly sampled.
+        Several records are fitted jointly: each is filtered, differentiated and
+        decimated on its own, then their regressor rows are stacked.
     asymmetric : bool
         Fit ``[M, Fv_pos, Fc_pos, Fv_neg, Fc_neg]`` (no offset) instead of
         ``[M, Fv, Fc, offset]``.
@@ -152,7 +168,20 @@ def fit_rigid_body(
     >>> round(res["M"], 1), round(res.relative_error_percent, 2)  # doctest: +SKIP
     (95.1, 4.12)
     """
-    reg = rigid_body_regressors(recording, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
+    recs = _as_list(recording)
+    regs = [rigid_body_regressors(r, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
+            for r in recs]
+    if len(recs) > 1:  # several records: their regressor rows stacked, times one after another
+        t_all, shift = [], 0.0
+        for g in regs:
+            t_all.append(g["t"] - g["t"][0] + shift)
+            shift = t_all[-1][-1] + 2 * (g["t"][1] - g["t"][0])
+        reg = {"X": np.vstack([g["X"] for g in regs]), "y": np.concatenate([g["y"] for g in regs]),
+               "t": np.concatenate(t_all), "names": regs[0]["names"]}
+        recording = recs[0]
+    else:
+        reg = regs[0]
+        recording = recs[0]
     X, y, names = reg["X"], reg["y"], reg["names"]
     n, p = X.shape
     if np.linalg.matrix_rank(X) < p:
@@ -190,7 +219,9 @@ def fit_rigid_body(
     visc = f"{Fu}·s/{xu}"
     units = tuple(unit.get(nm, visc if nm.startswith("Fv") else Fu) for nm in names)
     prov = dict(recording.provenance)
-    prov.update({"recording": recording.name, "units": {"F": Fu, "x": xu, "v": vu},
+    if len(recs) > 1:
+        prov["records"] = [dict(r.provenance, name=r.name) for r in recs]
+    prov.update({"recording": ", ".join(r.name for r in recs), "units": {"F": Fu, "x": xu, "v": vu},
                  "procedure": {"method": "IDIM-LS", "butterworth_order": order, "cutoff_hz": cutoff,
                                "derivative": "central differences", "skip": skip, "decimation": q,
                                "decimation_filter": "scipy.signal.decimate(ftype='iir', zero_phase=True)"}})

@@ -57,14 +57,25 @@ def plot_identification(result, ax=None):
         ax.set_title(f"static map, RMS residual {result.rms:.3g}")
     else:
         t = d.get("t", np.arange(d.get("y", np.zeros(0)).size))
-        ax.plot(t, d.get("y", []), "-", lw=0.8, color="C0", label="measured")
-        ax.plot(t, d.get("y_pred", []), "-", lw=0.8, color="C1", label="predicted")
+        y, y_pred, y_static = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0)), d.get("y_static")
+        if t.size > 2:  # break the lines across rests and between records (gaps in time)
+            gap = np.flatnonzero(np.diff(t) > 1.5 * np.median(np.diff(t))) + 1
+            t, y, y_pred = (np.insert(np.asarray(a, float), gap, np.nan) for a in (t[:], y, y_pred))
+            if y_static is not None:
+                y_static = np.insert(np.asarray(y_static, float), gap, np.nan)
+        ax.plot(t, y, "-", lw=0.8, color="C0", label="measured")
+        ax.plot(t, y_pred, "-", lw=0.8, color="C1", label="predicted")
+        if y_static is not None:
+            ax.plot(t, y_static, "--", lw=0.8, color="C2", label="static map")
         ax.set_xlabel("time [s]")
-        # output-error fits compare a velocity or a position; the others a force
+        # output-error fits compare a velocity or a position (force drive) or the force (motion drive)
         compare = prov.get("procedure", {}).get("compare") if result.kind == "output_error" else None
-        quantity = {"v": "velocity", "x": "position"}.get(compare, "force")
         unit = prov.get("units", {}).get(compare if compare in ("v", "x") else "F", "N")
+        quantity = {"v": "velocity", "x": "position"}.get(compare, "torque" if "·m" in unit else "force")
         ax.set_ylabel(f"{quantity} [{unit}]")
-        ax.set_title(f"{result.model_name}: relative error {result.relative_error_percent:.3g} %")
+        title = f"{result.model_name}: relative error {result.relative_error_percent:.3g} %"
+        if "static_rms" in result.diagnostics:
+            title += f", RMS {result.rms:.3g} (static map {result.diagnostics['static_rms']:.3g}) {unit}"
+        ax.set_title(title, fontsize="medium")
     ax.legend(loc="best", fontsize="small")
     return ax

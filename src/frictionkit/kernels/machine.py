@@ -142,79 +142,115 @@ def _lugre_mean(par, o, z0, ds, h, lam):
     return lam * (s0 * zbar + s1 * (z1 - z0) / h) + s2 * v, z1
 
 
+@njit(inline="always", error_model="numpy")
+def _gms_el(F0, mode, k, xi, g, C, ds, dur):
+    """One GMS element over ``dur`` at the constant velocity ``ds / dur``: ``(F1, mean, mode)``."""
+    v = ds / dur
+    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+    if mode != 0.0 and mode == sg:  # keeps slipping: relaxes to xi s(v) at rate C / g
+        Fst = sg * xi * g
+        if g <= 0.0:
+            return Fst, Fst, mode
+        x = C * dur / g
+        if x > 700.0:
+            e = 0.0
+            frac = 1.0 / x
+        elif x < 1e-3:  # series: (1 - e^-x) / x to O(x^4), one exp fewer
+            e = math.exp(-x)
+            frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
+        else:
+            e = math.exp(-x)
+            frac = (1.0 - e) / x
+        return Fst + (F0 - Fst) * e, Fst + (F0 - Fst) * frac, mode
+    # sticking (a slipping element sticks when the motion stops or reverses)
+    if sg == 0.0:
+        return F0, F0, 0.0
+    Fb = sg * xi * g
+    if sg * F0 >= xi * g:  # already at its limit: slips for the whole interval
+        return Fb, Fb, sg
+    tb = (Fb - F0) / (k * v)
+    if tb >= dur:
+        return F0 + k * ds, F0 + 0.5 * k * ds, 0.0
+    # breaks away at tb, then stays on xi s(v)
+    return Fb, ((F0 + 0.5 * k * v * tb) * tb + Fb * (dur - tb)) / dur, sg
+
+
 @njit(error_model="numpy")
-def _gms_mean(par, o, st, so, ds, h, commit, lam):
-    """Mean GMS force over ``h`` for ``v = ds / h``; element states updated when ``commit``.
+def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
+    """Mean GMS force over ``h`` for a site moving by ``ds`` from velocity ``v0``; element
+    states updated when ``commit``.
+
+    The site's velocity is taken as linear in time over the sub-step, from ``v0`` with mean
+    ``ds / h`` (end velocity ``v1 = 2 ds / h - v0``). When it changes sign inside the sub-step,
+    the reversal instant ``tr = h v0 / (v0 - v1)`` splits the sub-step into two
+    constant-velocity phases, so the slipping elements stick again at the reversal, not at a
+    sub-step boundary.
 
     Layout at ``o``: static rows (12), M, k+ (M), xi+ (M), k- (M), xi- (M), C+, C-.
     State at ``so``: F_i (M), mode_i (M: 0 sticking, +1/-1 slipping in that direction).
     """
     M = int(par[o + 12])
-    v = ds / h
-    if v >= 0.0:
-        ro = o
-        ko = o + 13
-        xo = o + 13 + M
-        C = par[o + 13 + 4 * M]
+    v1 = 2.0 * ds / h - v0  # end velocity of the linear-velocity model
+    two = v0 * v1 < 0.0
+    tr = h
+    if two:
+        tr = h * v0 / (v0 - v1)
+        if not (0.0 < tr < h):
+            two = False
+    if two:
+        d1 = 0.5 * v0 * tr
+        d2 = ds - d1
+        dur1 = tr
+        dur2 = h - tr
     else:
-        ro = o + N_ROW
-        ko = o + 13 + 2 * M
-        xo = o + 13 + 3 * M
-        C = par[o + 14 + 4 * M]
-    s2 = par[ro + 4]
-    av = abs(v)
-    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-    g = _g(par, ro, av)
-    total = 0.0
+        d1 = ds
+        dur1 = h
+        d2 = 0.0
+        dur2 = 0.0
+    # direction rows of the phases
+    if d1 >= 0.0:
+        ro1 = o
+        ko1 = o + 13
+        xo1 = o + 13 + M
+        C1 = par[o + 13 + 4 * M]
+    else:
+        ro1 = o + N_ROW
+        ko1 = o + 13 + 2 * M
+        xo1 = o + 13 + 3 * M
+        C1 = par[o + 14 + 4 * M]
+    g1 = _g(par, ro1, abs(d1) / dur1)
+    ro2 = ro1
+    ko2 = ko1
+    xo2 = xo1
+    C2 = C1
+    g2 = g1
+    if two:
+        if d2 >= 0.0:
+            ro2 = o
+            ko2 = o + 13
+            xo2 = o + 13 + M
+            C2 = par[o + 13 + 4 * M]
+        else:
+            ro2 = o + N_ROW
+            ko2 = o + 13 + 2 * M
+            xo2 = o + 13 + 3 * M
+            C2 = par[o + 14 + 4 * M]
+        g2 = _g(par, ro2, abs(d2) / dur2)
+    w1 = dur1 / h
+    w2 = dur2 / h
+    fric = 0.0
     for i in range(M):
-        F0 = st[so + i]
-        mode = st[so + M + i]
-        k = par[ko + i]
-        xi = par[xo + i]
-        if mode != 0.0 and mode == sg:  # keeps slipping: relaxes to xi s(v) at rate C / g
-            Fst = sg * xi * g
-            if g <= 0.0:
-                F1 = Fst
-                mean = Fst
-            else:
-                x = C * h / g
-                if x > 700.0:
-                    e = 0.0
-                    frac = 1.0 / x
-                elif x < 1e-3:
-                    e = math.exp(-x)
-                    frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
-                else:
-                    e = math.exp(-x)
-                    frac = (1.0 - e) / x
-                F1 = Fst + (F0 - Fst) * e
-                mean = Fst + (F0 - Fst) * frac
-            nmode = mode
-        else:  # sticking (a slipping element sticks when the motion stops or reverses)
-            nmode = 0.0
-            if sg == 0.0:
-                F1 = F0
-                mean = F0
-            else:
-                Fb = sg * xi * g
-                if sg * F0 >= xi * g:  # already at its limit: slips for the whole sub-step
-                    F1 = Fb
-                    mean = Fb
-                    nmode = sg
-                else:
-                    tb = (Fb - F0) / (k * v)
-                    if tb >= h:
-                        F1 = F0 + k * ds
-                        mean = F0 + 0.5 * k * ds
-                    else:  # breaks away at tb, then stays on xi s(v)
-                        F1 = Fb
-                        mean = ((F0 + 0.5 * k * v * tb) * tb + Fb * (h - tb)) / h
-                        nmode = sg
-        total += mean
+        F1, m1, mode = _gms_el(st[so + i], st[so + M + i], par[ko1 + i], par[xo1 + i], g1, C1, d1, dur1)
+        mean = m1 * w1
+        if two:
+            F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2)
+            mean += m2 * w2
+        fric += mean
         if commit:
             st[so + i] = F1
-            st[so + M + i] = nmode
-    return lam * total + s2 * v
+            st[so + M + i] = mode
+    visc = par[ro1 + 4] * d1 / h + (par[ro2 + 4] * d2 / h if two else 0.0)
+    return lam * fric + visc
 
 
 @njit(error_model="numpy")
@@ -249,7 +285,7 @@ def _elastic(kind, par, o, d):
 
 
 @njit(error_model="numpy")
-def _site_mean(kind, par, o, st, so, s0, ds, h, lam):
+def _site_mean(kind, par, o, st, so, s0, ds, h, lam, v0):
     """``(mean force, LuGre end state)`` over the sub-step for displacement ``ds`` from ``s0``.
 
     ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
@@ -261,7 +297,7 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, lam):
     if kind == S_GMS:
         # ``h < 0`` is False at run time but not a literal: one compiled _gms_mean serves both
         # this call and the committing one in run (a literal would compile a second copy)
-        return _gms_mean(par, o, st, so, ds, h, h < 0.0, lam), 0.0
+        return _gms_mean(par, o, st, so, ds, h, h < 0.0, lam, v0), 0.0
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
@@ -294,7 +330,7 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit(error_model="numpy")
-def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
+def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
     ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
@@ -303,7 +339,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
     Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, lam)
+        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, lam, v0)
         return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
@@ -347,7 +383,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
                 fhi = f1
     else:
         x0 = a - Gjj * Fguess
-        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, lam)
+        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, lam, v0)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
             return x0, F0, kt, z0e
@@ -367,7 +403,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         x1 = x0 - f0 / slope
         n = 0
         while n < 80:
-            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, lam)
+            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, lam, v0)
             f1 = x1 + Gjj * F1 - a
             n += 1
             if x1 != x0:
@@ -403,7 +439,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         if x1 != x0 and f1 != f0:
             x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
             if lo < x2 < hi:
-                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, lam)
+                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, lam, v0)
                 f2 = x2 + Gjj * F2 - a
                 if abs(f2) <= xtol:
                     return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt, z2e
@@ -424,7 +460,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt):
         if kind == S_STATIC:
             fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, lam)
+            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, lam, v0)
             fx = x + Gjj * Fx - a
         if fx == 0.0:
             break
@@ -539,6 +575,7 @@ def run(
     ds = np.zeros(ns)
     a = np.zeros(ns)
     s0 = np.zeros(ns)
+    v0s = np.zeros(ns)  # site velocities at the start of the sub-step
     Xf = np.empty(n2)
     w0 = np.zeros(nw)
     w1 = np.zeros(nw)
@@ -777,12 +814,16 @@ def run(
                             aj += Cq[j, b] * (Xf[b] - X[b])
                         for m in range(nmot):
                             aj += Cm[j, m] * (w1[nact + m] - w0[nact + m])
+                    vj = 0.0
                     for b in range(n):
                         sj += Cq[j, b] * X[b]
+                        vj += Cq[j, b] * X[n + b]
                     for m in range(nmot):
                         sj += Cm[j, m] * w0[nact + m]
+                        vj += Cm[j, m] * w0[nact + nmot + m]
                     a[j] = aj
                     s0[j] = sj
+                    v0s[j] = vj
                 # Gauss-Seidel over the sites
                 for sweep in range(60):
                     change = 0.0
@@ -801,7 +842,7 @@ def run(
                             Gjj = Gss[j, j]
                         tj = xtol[j] + 1e-13 * abs(aj)
                         dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
-                                                       Gjj, h, Fbar[j], tj, lam[j], kt[j])
+                                                       Gjj, h, Fbar[j], tj, lam[j], kt[j], v0s[j])
                         kt[j] = ktj
                         zend[j] = zj
                         dF = abs(Fj - Fbar[j]) * Gjj
@@ -822,7 +863,7 @@ def run(
                         else:
                             st[site_so[j]] = _lugre_mean(par, site_po[j], st[site_so[j]], ds[j], h, lam[j])[1]
                     elif site_kind[j] == S_GMS:
-                        _gms_mean(par, site_po[j], st, site_so[j], ds[j], h, h > 0.0, lam[j])
+                        _gms_mean(par, site_po[j], st, site_so[j], ds[j], h, h > 0.0, lam[j], v0s[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

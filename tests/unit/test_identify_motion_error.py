@@ -174,6 +174,17 @@ def test_velocity_log_held_vs_trapezoidal():
     assert trap.rms > 100 * max(res.rms, 1e-12)  # half a sample of lag
 
 
+def test_simulate_takes_a_held_velocity_log():
+    t, x = _stroke(2001)
+    v_avg = np.r_[0.0, np.diff(x) / DT]
+    held = fk.simulate(LUGRE, velocity=v_avg, dt=DT, velocity_integration="held")
+    np.testing.assert_allclose(held.F, fk.simulate(LUGRE, position=x, dt=DT).F, rtol=1e-9, atol=1e-9)
+    trap = fk.simulate(LUGRE, velocity=v_avg, dt=DT)  # the default: the velocity at the instant
+    assert np.max(np.abs(trap.x - x)) > 1e-3 * np.ptp(x)
+    with pytest.raises(ParameterError, match="velocity_integration"):
+        fk.simulate(LUGRE, velocity=v_avg, dt=DT, velocity_integration="euler")
+
+
 def test_coarse_sampling_is_reported_as_unidentifiable():
     """40 ms samples against a ~1 ms bristle time constant: the result says so, and how to fix it."""
     true = fk.LuGre(fk.Stribeck(Fc=3e-3, Fs=4e-3, vs=2.0, sigma2=5e-5), sigma0=0.3, sigma1=1e-4)  # N·m, rad

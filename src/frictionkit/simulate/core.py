@@ -197,6 +197,7 @@ def simulate(
     v0: float = 0.0,
     state0=None,
     options: SimOptions | None = None,
+    velocity_integration: str = "trapezoidal",
 ) -> SimulationResult:
     """Simulate a dynamic friction law, force-driven on a plant or motion-driven.
 
@@ -212,8 +213,8 @@ def simulate(
         Input force ``u(t_k)`` [N], interpolated linearly between samples.
     position, velocity : array_like, optional
         Motion-driven run: prescribed position [m] (interpolated linearly, so the
-        velocity is constant on each interval) or velocity [m/s] (integrated with
-        the trapezoidal rule to a position, then as above). Exactly one of
+        velocity is constant on each interval) or velocity [m/s] (integrated to a
+        position as ``velocity_integration`` says, then as above). Exactly one of
         ``force``, ``position``, ``velocity``.
     x0, v0 : float
         Initial position and velocity of a force-driven run (default: at rest at 0).
@@ -222,6 +223,13 @@ def simulate(
         (all sticking). Default: unloaded.
     options : SimOptions, optional
         Tolerances of the force-driven integrator.
+    velocity_integration : {"trapezoidal", "held"}
+        How ``velocity=`` becomes a position. ``"trapezoidal"`` (default): each
+        sample is the velocity *at* that instant, ``x_k = x_{k-1} + (v_{k-1} + v_k) dt / 2``
+        (simulated or instantaneous velocities). ``"held"``: each sample is the mean
+        velocity over the interval ending there, ``x_k = x_{k-1} + v_k dt`` — what
+        drives log (an encoder difference over one period, an "averaged velocity");
+        the trapezoidal rule would lag such a log by half a sample.
 
     Returns
     -------
@@ -281,13 +289,19 @@ def simulate(
             states = {"F_elements": Fel, "stick": stick}
         return _finish(t, x, v, F, states, st, at, nsub, model)
 
+    if velocity_integration not in ("trapezoidal", "held"):
+        raise ParameterError(f"simulate: velocity_integration = {velocity_integration!r}: "
+                             "must be 'trapezoidal' or 'held'")
     if plant is not None:
         raise ParameterError("simulate: plant= is only used with force= (a motion-driven run has no plant)")
     if position is not None:
         xpos = val.signal("position", position)
     else:
         vel = val.signal("velocity", velocity)
-        xpos = np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt)])
+        if velocity_integration == "held":
+            xpos = np.concatenate([[0.0], np.cumsum(vel[1:] * dt)])
+        else:
+            xpos = np.concatenate([[0.0], np.cumsum(0.5 * (vel[1:] + vel[:-1]) * dt)])
     N = xpos.size
     t = _times(N, dt)
     v = np.empty(N)

@@ -1,0 +1,145 @@
+"""Residuals, Jacobian, batched start costs, bounds and start points of the force-driven output-error fit.
+
+Part of :mod:`.output_error` (split from it without a change of behaviour)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..plants.mass import Mass
+from ..simulate.core import simulate, simulate_batch
+from ._oe_params import _NONNEG, _is_log
+
+class _Problem:
+    """Residuals of the transformed parameters; Jacobian by threaded simulations."""
+
+    def __init__(self, tmpl, free, u, dt, y, compare, w, options, x0_nat, workers):
+        self.tmpl, self.free, self.u, self.dt, self.y = tmpl, free, u, dt, y
+        self.compare, self.w, self.options, self.workers = compare, w, options, workers
+        self.is_log = np.array([_is_log(n) for n in free])
+        self.scale = np.where(self.is_log, 1.0, np.where(np.abs(x0_nat) > 0, np.abs(x0_nat), 1.0))
+        self.diff_step = 1e-3
+        self.nfev = 0
+        self.nsim = 0
+        self.cost_history: list[float] = []
+        self._cache: tuple[bytes, np.ndarray] | None = None
+        self.big = 10.0 * (np.max(np.abs(y)) + 1e-300)
+        self.progress = None
+
+    def to_nat(self, p: np.ndarray) -> np.ndarray:
+        return np.where(self.is_log, np.exp(np.clip(p, -700, 700)), p * self.scale)
+
+    def to_tr(self, theta: np.ndarray) -> np.ndarray:
+        with np.errstate(divide="ignore"):
+            return np.where(self.is_log, np.log(np.maximum(theta, 1e-300)), theta / self.scale)
+
+    def simulate_nat(self, theta):
+        try:
+            model, m, off = self.tmpl.build(self.free, theta)
+        except ParameterError:
+            return None
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = simulate(model, plant=Mass(m), force=self.u - off, dt=self.dt, options=self.options)
+        return res
+
+    def _resid_nat(self, theta) -> np.ndarray:
+        res = self.simulate_nat(theta)
+        if res is None:
+            return np.full(self.y.size, self.big) * self.w
+        yh = res.x if self.compare == "x" else res.v
+        r = (yh - self.y) * self.w
+        bad = ~np.isfinite(r)
+        if bad.any():
+            r[bad] = self.big
+        return r
+
+    def fun(self, p):
+        key = np.asarray(p, float).tobytes()
+        if self._cache is not None and self._cache[0] == key:
+            return self._cache[1]
+        r = self._resid_nat(self.to_nat(np.asarray(p, float)))
+        self.nfev += 1
+        self.nsim += 1
+        self.cost_history.append(0.5 * float(r @ r))
+        self._cache = (key, r)
+        if self.progress is not None:
+            self.progress(self.nfev, self.nsim, self.cost_history[-1])
+        return r
+
+    def jac(self, p, h: float | None = None):
+        h = self.diff_step if h is None else h
+        p = np.asarray(p, float)
+        r0 = self.fun(p)
+        steps = []
+        for j in range(p.size):
+            q = p.copy()
+            hj = h * max(1.0, abs(p[j])) if not self.is_log[j] else h
+            q[j] += hj
+            steps.append((q, hj))
+        self.nsim += p.size
+        with ThreadPoolExecutor(max_workers=self.workers) as ex:
+            cols = list(ex.map(lambda s: self._resid_nat(self.to_nat(s[0])), steps))
+        J = np.empty((r0.size, p.size))
+        for j, (c, (_, hj)) in enumerate(zip(cols, steps)):
+            J[:, j] = (c - r0) / hj
+        return J
+
+
+def _batch_costs(prob, points, w, options) -> np.ndarray:
+    """``0.5 * SSE`` of each transformed point, from :func:`simulate_batch` (one call per offset value)."""
+    costs = np.full(len(points), np.inf)
+    built, idx = [], []
+    for i, p in enumerate(points):
+        try:
+            mdl, m, off = prob.tmpl.build(prob.free, prob.to_nat(p))
+        except ParameterError:
+            continue
+        built.append((mdl, m, off))
+        idx.append(i)
+    for off_val in {b[2] for b in built}:
+        sel = [j for j, b in enumerate(built) if b[2] == off_val]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            br = simulate_batch([built[j][0] for j in sel], masses=[built[j][1] for j in sel],
+                                force=prob.u - off_val, dt=prob.dt, target=prob.y, compare=prob.compare,
+                                weight=w, options=options)
+        prob.nsim += len(sel)
+        for j, sse in zip(sel, br.sse):
+            costs[idx[j]] = 0.5 * sse
+    return costs
+
+
+def _bounds_tr(free, tmpl, bounds, prob):
+    lo = np.empty(len(free))
+    hi = np.empty(len(free))
+    for j, n in enumerate(free):
+        base = n.split("_")[0]
+        if bounds is not None and n in bounds:
+            a, b = bounds[n]
+        else:
+            a = 0.0 if (base in _NONNEG or base.startswith("xi") or prob.is_log[j]) else -np.inf
+            b = np.inf
+        if prob.is_log[j]:
+            lo[j] = math.log(a) if a > 0 else -np.inf
+            hi[j] = math.log(b) if np.isfinite(b) else np.inf
+        else:
+            lo[j] = a / prob.scale[j]
+            hi[j] = b / prob.scale[j]
+    return lo, hi
+
+
+def _start_points(x0, lo, hi, is_log, starts, rng):
+    pts = [x0.copy()]
+    for _ in range(starts - 1):
+        p = x0 + np.where(is_log, rng.uniform(-1.5, 1.5, x0.size), rng.uniform(-0.5, 0.5, x0.size))
+        pts.append(p)
+    with np.errstate(invalid="ignore"):
+        a = np.where(np.isfinite(lo), lo + 1e-9 * np.maximum(1, np.abs(lo)), -np.inf)
+        b = np.where(np.isfinite(hi), hi - 1e-9 * np.maximum(1, np.abs(hi)), np.inf)
+    return [np.clip(p, a, b) for p in pts]

@@ -143,8 +143,14 @@ def _lugre_mean(par, o, z0, ds, h, lam):
 
 
 @njit(inline="always", error_model="numpy")
-def _gms_el(F0, mode, k, xi, g, C, ds, dur):
-    """One GMS element over ``dur`` at the constant velocity ``ds / dur``: ``(F1, mean, mode)``."""
+def _gms_el(F0, mode, k, xi, g, C, ds, dur, va, vb):
+    """One GMS element over ``dur``: ``(F1, mean, mode)``.
+
+    The site moves by ``ds`` with its velocity linear from ``va`` to ``vb`` (one sign; mean
+    ``ds / dur``), so a sticking element's force is quadratic in time and its breakaway
+    instant is the root of a quadratic. A slipping element relaxes towards ``xi s(v)`` at the
+    rate ``C / g``, with ``g`` at the mean speed.
+    """
     v = ds / dur
     sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
     if mode != 0.0 and mode == sg:  # keeps slipping: relaxes to xi s(v) at rate C / g
@@ -168,11 +174,30 @@ def _gms_el(F0, mode, k, xi, g, C, ds, dur):
     Fb = sg * xi * g
     if sg * F0 >= xi * g:  # already at its limit: slips for the whole interval
         return Fb, Fb, sg
-    tb = (Fb - F0) / (k * v)
+    # direction-normalised: speeds a (start), b (end) >= 0, reach xb >= 0 to break away
+    a = sg * va
+    b = sg * vb
+    if a < 0.0:
+        a = 0.0
+    if b < 0.0:
+        b = 0.0
+    if a + b <= 0.0:
+        a = sg * v
+        b = a
+    c2 = (b - a) / (2.0 * dur)  # x(t) = a t + c2 t^2 (x(dur) = |ds| when a + b = 2|v|)
+    xb = (xi * g - sg * F0) / k
+    disc = a * a + 4.0 * c2 * xb
+    tb = dur
+    if disc >= 0.0:
+        den = a + math.sqrt(disc)
+        if den > 0.0:
+            tb = 2.0 * xb / den
     if tb >= dur:
-        return F0 + k * ds, F0 + 0.5 * k * ds, 0.0
+        # mean of x over the interval: a dur / 2 + c2 dur^2 / 3
+        return F0 + k * ds, F0 + sg * k * (0.5 * a * dur + c2 * dur * dur / 3.0), 0.0
     # breaks away at tb, then stays on xi s(v)
-    return Fb, ((F0 + 0.5 * k * v * tb) * tb + Fb * (dur - tb)) / dur, sg
+    xint = 0.5 * a * tb * tb + c2 * tb * tb * tb / 3.0  # integral of x over [0, tb]
+    return Fb, (F0 * tb + sg * k * xint + Fb * (dur - tb)) / dur, sg
 
 
 @njit(error_model="numpy")
@@ -202,11 +227,15 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
         d2 = ds - d1
         dur1 = tr
         dur2 = h - tr
+        va1 = v0
+        vb1 = 0.0
     else:
         d1 = ds
         dur1 = h
         d2 = 0.0
         dur2 = 0.0
+        va1 = v0
+        vb1 = v1
     # direction rows of the phases
     if d1 >= 0.0:
         ro1 = o
@@ -240,10 +269,11 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
     w2 = dur2 / h
     fric = 0.0
     for i in range(M):
-        F1, m1, mode = _gms_el(st[so + i], st[so + M + i], par[ko1 + i], par[xo1 + i], g1, C1, d1, dur1)
+        F1, m1, mode = _gms_el(st[so + i], st[so + M + i], par[ko1 + i], par[xo1 + i], g1, C1, d1, dur1,
+                               va1, vb1)
         mean = m1 * w1
         if two:
-            F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2)
+            F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2, 0.0, v1)
             mean += m2 * w2
         fric += mean
         if commit:

@@ -24,8 +24,8 @@ wall time):
 
 Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is faster):
 
-* ``ballscrew_old_kernel``: the private kernel ``kernels/ballscrew.py`` through
-  ``control.loop.simulate_closed_loop`` on the same run (same controller, sensors, noise).
+* (The private kernel ``kernels/ballscrew.py`` this stage ran on before is deleted; its last
+  measurement: 224-529x real time on a quiet machine, issue 8.)
 * ``lugre_stickslip_numbalsoda``: Canudas de Wit et al. (1995) stick-slip (1 kg, 2 N/m spring
   pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
   ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
@@ -49,7 +49,6 @@ import time
 import numpy as np
 
 import frictionkit as fk
-from frictionkit.control.loop import simulate_closed_loop
 from frictionkit.control.pid import PID as PIDDesign
 from frictionkit.control.trajectories import cosine_reference
 from frictionkit.machines import PID, Machine, Sum, simulate_machine
@@ -86,11 +85,8 @@ def bench_ballscrew(duration, repeat):
         plant = paper_plant(nut_model)
         u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
         t_new, r_new = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens), repeat)
-        t_old, r_old = best_of(lambda: simulate_closed_loop(plant, ctrl, ref, compensation=u_f, sensors=sens),
-                               repeat)
-        assert r_new.success and r_old.success, (r_new.message, r_old.message)
-        out[nut_model] = {"core_s": t_new, "old_s": t_old, "rt": duration / t_new, "old_rt": duration / t_old,
-                          "max_dxt_um": float(np.abs(r_new.x_t - r_old.x_t).max() * 1e6)}
+        assert r_new.success, r_new.message
+        out[nut_model] = {"core_s": t_new, "rt": duration / t_new}
     plant = paper_plant()
     u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
     nut, guide = gms4(plant.nut_friction), gms4(plant.guide_friction)
@@ -286,12 +282,10 @@ import frictionkit as fk
 from frictionkit.control.trajectories import cosine_reference
 from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
 from frictionkit.presets.ballscrew import simulate_stage
-from frictionkit.control.loop import simulate_closed_loop
 t_import = time.perf_counter() - t0
 ref = cosine_reference(duration=0.01)
 which = sys.argv[1]
-f = (lambda: simulate_stage(paper_plant(), paper_controller(), ref, sensors=paper_sensors())) if which == "core" \
-    else (lambda: simulate_closed_loop(paper_plant(), paper_controller(), ref, sensors=paper_sensors()))
+f = lambda: simulate_stage(paper_plant(), paper_controller(), ref, sensors=paper_sensors())
 t0 = time.perf_counter(); f(); t1 = time.perf_counter(); f(); t2 = time.perf_counter()
 extra = float("nan")
 if which == "core":
@@ -305,11 +299,11 @@ print(t_import, (t1 - t0) - (t2 - t1), t2 - t1, extra)
 
 
 def compile_times():
-    """First-call compile time of the machine kernel (and of the old kernel) in fresh processes:
-    empty NUMBA_CACHE_DIR (compile + write the cache), then the same dir again (cache load)."""
+    """First-call compile time of the machine kernel in fresh processes: empty NUMBA_CACHE_DIR
+    (compile + write the cache), then the same dir again (cache load)."""
     out = {}
     here = os.path.dirname(os.path.abspath(__file__))
-    for which in ("core", "old"):
+    for which in ("core",):
         with tempfile.TemporaryDirectory(prefix="bs_numba_cache_") as d:
             env = dict(os.environ, NUMBA_CACHE_DIR=d)
             row = {}
@@ -349,8 +343,7 @@ def main() -> None:
     print(f"\n{'workload':58s} {'real-time x':>12s} {'wall [s]':>9s}  notes")
     for nm in ("sliding", "flank", "hertz"):
         r = bs[nm]
-        print(f"{'ball screw, Dahl, ' + nm + ' nut, 0.5 ms, 10 sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}  "
-              f"old kernel {r['old_rt']:,.0f}x ({r['old_s']:.3f} s); max|dx_t| core-old {r['max_dxt_um'] * 1e3:.1f} nm")
+        print(f"{'ball screw, Dahl, ' + nm + ' nut, 0.5 ms, 10 sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}")
     r = bs["gms4"]
     print(f"{'ball screw, GMS-4 at nut and guide (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f}  "
           f"max|e| {r['max_err_um']:.2f} um; {r['message']}")
@@ -373,7 +366,7 @@ def main() -> None:
             print(s)
     if ct is not None:
         print("\nfirst-call compile time (fresh process, NUMBA_CACHE_DIR = empty temp dir, then the same dir):")
-        for which, label in (("core", "machine kernel (ball-screw stage)"), ("old", "old private kernel")):
+        for which, label in (("core", "machine kernel (ball-screw stage)"),):
             c = ct[which]
             print(f"  {label:36s} cold {c['cold']['first_call_minus_second_s']:6.1f} s, cached "
                   f"{c['cached']['first_call_minus_second_s']:6.2f} s (import {c['cold']['import_s']:.1f} s)"
@@ -384,14 +377,12 @@ def main() -> None:
         "ballscrew_gms4_realtime": bs["gms4"]["rt"],
         "two_shaft_gms_realtime": ts["rt"],
         "emps_realtime": em[40]["rt"],
-        "peer_ratio": {"ballscrew_old_kernel": bs["sliding"]["old_s"] / bs["sliding"]["core_s"]},
+        "peer_ratio": {},
         "details": {"ballscrew": bs, "two_shaft": ts, "emps": {str(k): v for k, v in em.items()},
                     "lugre_numbalsoda": {str(k): v for k, v in lg.items()}, "compile": ct,
                     "cpu_count": os.cpu_count(), "loadavg_start": load0, "loadavg_end": load1,
                     "note": "2-core machine shared with other jobs"},
     }
-    for nm in ("flank", "hertz"):
-        summary["peer_ratio"][f"ballscrew_old_kernel_{nm}"] = bs[nm]["old_s"] / bs[nm]["core_s"]
     if "skipped" not in lg and "ratio" in lg[10]:
         summary["peer_ratio"]["lugre_stickslip_numbalsoda"] = lg[10]["ratio"]
     if args.json:

@@ -10,12 +10,15 @@ approaching the zero-speed point, positive after) and ``d`` the new direction:
   speed, then the sinc rise over ``xs`` (compensation *after* the zero-speed point);
 * ``sigmoid`` (eq. 5, Fig. 11): ``d * sigmoid_compensation(xi)`` — already falls to 0 while
   approaching zero speed ("helps brake"), then rises to ``F0`` (compensation *before*);
+* ``sigmoid_post_only``: the sigmoid law with its pre-zero reduction removed — previous-direction
+  ``F0`` until the zero-speed instant, then the sigmoid rise ``d * sigmoid_compensation(xi)``
+  (a control experiment: does the reduction *before* zero speed, the paper's point, help?);
 * ``coulomb`` (eq. 7, sign corrected): ``F0 sgn(v)``, switching at the zero-speed point;
 * ``hold``: non-reverse crossing, friction keeps its direction: ``d * F0``;
 * ``none``: no compensation.
 
-For a non-reverse crossing ``sinc`` and ``coulomb`` reduce to ``hold`` and ``sigmoid`` to
-``d * |sigmoid(xi)|``. Samples at rest before the first motion get no compensation.
+For a non-reverse crossing ``sinc`` and ``coulomb`` reduce to ``hold``, ``sigmoid`` to
+``d * |sigmoid(xi)|`` and ``sigmoid_post_only`` to ``d * F0`` before, ``d * sigmoid(xi)`` after. Samples at rest before the first motion get no compensation.
 Values are torques [N·m] (``F0`` as the paper gives it); divide by ``K_tau`` for current.
 """
 
@@ -30,7 +33,7 @@ from ..errors import ParameterError
 from ..models.rolling import coulomb_compensation, sigmoid_compensation, sinc_compensation
 from .zero_speed import find_crossings
 
-LAWS = ("sinc", "coulomb", "sigmoid", "hold", "none")
+LAWS = ("sinc", "coulomb", "sigmoid", "sigmoid_post_only", "hold", "none")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -104,6 +107,9 @@ class RollingCompensator:
             elif name == "sigmoid":
                 s = sigmoid_compensation(xi, F0=F0, sigma=self.sigma)
                 val_ = d * (s if c.reverse else np.abs(s))
+            elif name == "sigmoid_post_only":
+                s = sigmoid_compensation(np.maximum(xi, 0.0), F0=F0, sigma=self.sigma)
+                val_ = d * np.where(xi < 0.0, -F0 if c.reverse else F0, s)
             elif name == "sinc":
                 val_ = d * sinc_compensation(xi, F0=F0, xs=self.xs)
             else:  # coulomb

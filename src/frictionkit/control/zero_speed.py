@@ -6,6 +6,10 @@
   -> deformation Pattern II at zero speed, slow -> Pattern I (§3.2, Figs. 8-9).
 * :func:`deformation_ratio` — ``l_d = Δx_t / Δθ_m`` over a window ``T_p`` (eqs. 3-4).
 * :func:`select_compensators` — Table 2: which compensation each crossing needs.
+* :func:`reversal_lead` — how long before zero speed a signal (motor input, drive force)
+  turned against the motion and stayed so (Fig. 5(b), Pattern II).
+* :func:`pattern_i_stop_segments` — the redesigned deceleration Table 2 asks for in a fast
+  non-reverse motion: the fastest stop whose drive force keeps the direction of motion.
 """
 
 from __future__ import annotations
@@ -248,3 +252,86 @@ def min_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float)
 def max_ratio_before_zero(d: DeformationRatio, *, t_start: float, t_zero: float) -> float:
     """``max(l_d)/R`` over the same windows as :func:`min_ratio_before_zero`."""
     return float(np.max(_decel_windows(d, t_start, t_zero)))
+
+
+def reversal_lead(t, u, crossing: Crossing, *, since: float | None = None) -> float | None:
+    """How long before the zero-speed instant ``crossing.t0`` the signal ``u`` turned against
+    the motion and stayed so until ``t0`` [s]; ``None`` if ``u`` still has the direction of
+    motion at the last sample before ``t0``.
+
+    ``u`` is e.g. the motor input (seed 001 Fig. 5(b): "the control input ... changed its
+    direction before the velocity comes to zero-speed point") or the drive force ``F_bn``
+    (eq. 2, Pattern II). The lead is ``t0 - t_k`` for the first sample ``t_k`` of the final run
+    of samples before ``t0`` with ``sgn(u) = -crossing.before``; ``since`` [s] bounds the search
+    from below (default: the start of the record).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from frictionkit.control.zero_speed import Crossing, reversal_lead
+    >>> t = np.arange(10) * 1e-3; u = np.array([3, 2, 1, -1, 1, -1, -2, -3, -2, 1.])
+    >>> c = Crossing(index=8, t0=8e-3, x0=0.0, before=1, after=-1)
+    >>> round(reversal_lead(t, u, c) * 1e3, 6)
+    3.0
+    """
+    t = val.signal("t", t)
+    u = val.signal("u", u)
+    if u.size != t.size:
+        raise DataError(f"u has {u.size} samples: must match t ({t.size})")
+    lo = -np.inf if since is None else float(since)
+    idx = np.flatnonzero((t < crossing.t0) & (t >= lo))
+    if idx.size == 0:
+        raise DataError(f"no sample before the zero-speed instant t0 = {crossing.t0!r} s")
+    against = crossing.before * u[idx] < 0.0
+    if not against[-1]:
+        return None
+    keep = np.flatnonzero(~against)
+    first = idx[keep[-1] + 1] if keep.size else idx[0]
+    return float(crossing.t0 - t[first])
+
+
+def pattern_i_stop_segments(*, speed: float, decel: float, table_mass: float, guide_friction: float,
+                            guide_viscosity: float = 0.0, margin: float = 0.5) -> list[tuple[float, float]]:
+    """Redesigned stop for a fast non-reverse motion (seed 001 Table 2: "redesign of trajectory
+    reference is necessary"): the deceleration segments ``[(duration, -a), ...]`` from ``speed``
+    to rest (positive direction) for which the drive force on the table predicted by eq. 2,
+    ``F_bn = -M_t a + f_g + C_t v``, keeps the direction of motion until zero speed — the stop
+    ends in Pattern I, so the following acceleration in the same direction is Pattern I ->
+    Pattern I (the case the conventional compensation handles) instead of Pattern II -> I.
+
+    The stop decelerates at ``decel`` down to the speed ``v1 = (M_t decel - f_g) / C_t`` below
+    which ``decel`` would turn ``F_bn`` into braking, then at the constant rate
+    ``a_s = (1 - margin) f_g / M_t`` to rest, where ``F_bn >= margin f_g > 0`` is left.
+    Without guide viscosity the whole stop is at ``a_s``. If ``decel`` already keeps
+    ``F_bn >= margin f_g`` at rest, the single segment ``[(speed / decel, -decel)]`` is returned.
+    The price is time: the example's stop takes 126 ms instead of 51 ms.
+
+    Examples
+    --------
+    >>> from frictionkit.control.zero_speed import pattern_i_stop_segments
+    >>> segs = pattern_i_stop_segments(speed=50e-3, decel=0.987, table_mass=273.0, guide_friction=100.0,
+    ...                                guide_viscosity=1e4)
+    >>> [(round(d * 1e3, 1), round(a, 3)) for d, a in segs]
+    [(33.5, -0.987), (92.5, -0.183)]
+    """
+    from .. import _validate as _v
+
+    V = _v.positive("pattern_i_stop_segments", "speed", speed)
+    a_f = _v.positive("pattern_i_stop_segments", "decel", decel)
+    M = _v.positive("pattern_i_stop_segments", "table_mass", table_mass)
+    Fg = _v.positive("pattern_i_stop_segments", "guide_friction", guide_friction)
+    Ct = _v.nonnegative("pattern_i_stop_segments", "guide_viscosity", guide_viscosity)
+    mg = _v.nonnegative("pattern_i_stop_segments", "margin", margin)
+    if not mg < 1.0:
+        raise DataError(f"pattern_i_stop_segments margin = {margin!r}: must be < 1")
+    if M * a_f <= Fg * (1.0 - mg):  # already Pattern I at rest
+        return [(V / a_f, -a_f)]
+    a_s = (1.0 - mg) * Fg / M
+    v1 = min(V, (M * a_f - Fg) / Ct) if Ct > 0.0 else V
+    v1 = max(v1, 0.0)
+    segs = []
+    if V > v1:
+        segs.append(((V - v1) / a_f, -a_f))
+    if v1 > 0.0:
+        segs.append((v1 / a_s, -a_s))
+    return segs

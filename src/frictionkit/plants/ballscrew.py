@@ -1,10 +1,11 @@
 """Ball-screw-driven stage (seed 001): rigid model eq. 1 and the elastic chain of Fig. 7.
 
 Both plants are frozen, keyword-only, validated parameter objects. They do not simulate by
-themselves: :meth:`linear_chain` returns the mechanical chain as matrices
-(``M q'' + D q' + K q = Bu u - sum_i c_i F_i``) that
-:func:`frictionkit.control.loop.simulate_closed_loop` discretises exactly and runs in the
-numba kernel :mod:`frictionkit.kernels.ballscrew`.
+themselves: :func:`frictionkit.presets.ballscrew.ballscrew_machine` builds them as a machine
+of the core and :func:`frictionkit.presets.ballscrew.simulate_stage` runs it in closed loop.
+:meth:`linear_chain` returns the same mechanical chain as matrices
+(``M q'' + D q' + K q = Bu u - sum_i c_i F_i``) for the frequency response, the modes and
+the tests' continuous-time twins.
 
 Elastic model (Fig. 7), generalised coordinates ``q = [theta_m, theta_s, x_l, x_m, x_r, x_t]``:
 
@@ -59,9 +60,8 @@ one set and the lost preload deflection appears as lost motion at the flank chan
 The flank friction levels are ``mu_f`` times the Hertz loads ``c (d0 +- d)_+^1.5`` (instead
 of the linearised split). In the chain the contact keeps its linear part ``k_nut d`` (and its
 Rayleigh damping ``beta k_nut d'``); the rest ``F_bn(d) - k_nut d`` is a nonlinear
-generalised force along the contact row, held over each plant sub-step like the friction
-forces (evaluated at the predicted mid-sub-step deflection, see
-:mod:`frictionkit.kernels.ballscrew`).
+generalised force along the contact row (on the machine core: a
+:class:`~frictionkit.machines.HertzContact` compliance).
 """
 
 from __future__ import annotations
@@ -149,12 +149,9 @@ class LinearChain:
         """Number of friction sites (all sites but the contact correction)."""
         return self.C.shape[0] - (1 if self.contact_site >= 0 else 0)
 
-    def hertz_array(self) -> np.ndarray:
-        """``[site, c, d0, k]`` for the kernel (``site = -1``: linear contact)."""
-        return np.array([float(self.contact_site), self.hertz_c, self.hertz_d0, self.hertz_k])
-
     def flank_arrays(self):
-        """``(sign, mu, P, lam)`` per site for the kernel (zeros without flank sites)."""
+        """``(sign, mu, P, lam)`` per site (zeros without flank sites): flank sign, ``mu_f``,
+        preload [N] and the Dahl rate ``DAHL_SPAN / presliding_length`` [1/m]."""
         nf = self.C.shape[0]
         z = np.zeros(nf)
         if self.flank_sign is None:
@@ -188,37 +185,6 @@ class LinearChain:
         aug[:n2, n2:] = Bw * h
         E = expm(aug)
         return np.ascontiguousarray(E[:n2, :n2]), np.ascontiguousarray(E[:n2, n2:])
-
-    def lifted(self, T: float, n_sub: int):
-        """Sub-stepping over one period ``T`` in lifted form, for the kernel.
-
-        With ``(Phi, Gam) = discretize(T / n_sub)``, ``Cv`` the site-velocity rows on ``X``
-        followed by one row giving the linear drive force ``F_bn`` (``drive_force_q``,
-        ``drive_force_v``; used by flank sites) and one giving the contact deflection
-        ``contact_q @ q`` (zeros without it; used by the ``"hertz"`` contact):
-        ``PhiN = Phi^n``, ``GN[s] = Phi^(n-1-s) Gam``, ``CvP[s] = Cv Phi^s``,
-        ``CvG[s, r] = Cv Phi^(s-1-r) Gam`` (``r < s``, zero otherwise).
-        """
-        Phi, Gam = self.discretize(T / n_sub)
-        n = self.M.shape[0]
-        nf = self.C.shape[0]
-        Cv = np.zeros((nf + 2, 2 * n))
-        Cv[:nf, n:] = self.C
-        Cv[nf, :n] = self.drive_force_q
-        Cv[nf, n:] = self.drive_force_v
-        if self.contact_q is not None:
-            Cv[nf + 1, :n] = self.contact_q
-        P = [np.eye(2 * n)]
-        for _ in range(n_sub):
-            P.append(P[-1] @ Phi)
-        GN = np.stack([P[n_sub - 1 - s] @ Gam for s in range(n_sub)])
-        CvP = np.stack([Cv @ P[s] for s in range(n_sub)])
-        CvG = np.zeros((n_sub, n_sub, nf + 2, Gam.shape[1]))
-        for s in range(n_sub):
-            for r in range(s):
-                CvG[s, r] = Cv @ P[s - 1 - r] @ Gam
-        c = np.ascontiguousarray
-        return c(P[n_sub]), c(GN), c(CvP), c(CvG)
 
 
 def _dahl_arrays(levels, length):

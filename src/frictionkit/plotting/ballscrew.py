@@ -1,5 +1,5 @@
-"""Plots for the ball-screw reproduction (seed 001 Figs. 10 and 15). matplotlib is imported
-inside the functions; each takes ``ax=`` and returns it."""
+"""Plots for the ball-screw reproduction (seed 001 Figs. 5, 10 and 15, Table 2's redesigned
+stop). matplotlib is imported inside the functions; each takes ``ax=`` and returns it."""
 
 from __future__ import annotations
 
@@ -65,15 +65,76 @@ def plot_deformation_ratio(fig10_result, case: str, *, after: float = 0.03, ax=N
     return ax
 
 
+def _around(runs, crossings, span):
+    for key, res in runs.items():
+        c = crossings[key][0]
+        sel = (res.t >= c.t0 + span[0]) & (res.t <= c.t0 + span[1])
+        yield key, res, sel, c
+
+
+def plot_fig5(fig5_result, *, span=(-0.06, 0.08), signal: str = "error", ax=None):
+    """Fig. 5-like: conventional (sinc) compensation after a slow and a fast deceleration —
+    tracking error [µm] (``signal="error"``) or motor current [A] (``"input"``) against the
+    time from zero speed."""
+    ax = _ax(ax)
+    for case, res, sel, c in _around(fig5_result.runs, fig5_result.crossings, span):
+        x = (res.t[sel] - c.t0) * 1e3
+        if signal == "error":
+            ax.plot(x, res.error[sel] * 1e6, label=f"{case.replace('_', ' ')} (max {fig5_result.max_error_um[case]:.2f} µm)")
+        else:
+            lead = fig5_result.leads_ms[case]["motor_input"]
+            ax.plot(x, res.i[sel], label=f"{case.replace('_', ' ')} (turns {'never' if lead is None else f'{lead:.0f} ms'} "
+                                         "before zero speed)")
+    ax.axvline(0.0, color="0.5", lw=0.8)
+    if signal != "error":
+        ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xlabel("time from zero speed [ms]")
+    ax.set_ylabel("tracking error [µm]" if signal == "error" else "motor current [A]")
+    ax.set_title("Fig. 5: sinc compensation, slow vs fast deceleration")
+    ax.legend(fontsize="small")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_redesign(redesign_result, *, span=(-0.13, 0.08), signal: str = "error", ax=None):
+    """Table 2, fast non-reverse: the original fast stop against the redesigned Pattern I stop —
+    tracking error [µm] (``signal="error"``) or drive force ``F_bn`` [N] (``"drive_force"``)."""
+    ax = _ax(ax)
+    for key, res, sel, c in _around(redesign_result.runs, redesign_result.crossings, span):
+        x = (res.t[sel] - c.t0) * 1e3
+        if signal == "error":
+            ax.plot(x, res.error[sel] * 1e6, label=f"{key} stop, {redesign_result.stop_ms[key]:.0f} ms "
+                                                   f"(max {redesign_result.max_error_um[key]:.2f} µm)")
+        else:
+            ax.plot(x, res.drive_force[sel], label=f"{key} ({redesign_result.kind[key].replace('_', ' ')})")
+    ax.axvline(0.0, color="0.5", lw=0.8)
+    if signal != "error":
+        ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xlabel("time from zero speed [ms]")
+    ax.set_ylabel("tracking error [µm]" if signal == "error" else "drive force F_bn [N]")
+    ax.set_title("Table 2, fast non-reverse: redesigned stop")
+    ax.legend(fontsize="small")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
 def reproduction_figure(result):
-    """One figure with Fig. 15 (errors, compensation) and the four Fig. 10 panels."""
+    """One figure with Fig. 15 (errors, compensation), the four Fig. 10 panels, Fig. 5 and
+    Table 2's redesigned fast non-reverse stop (when the result has them)."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(3, 2, figsize=(11, 11))
+    extra = result.fig5 is not None and result.redesign is not None
+    rows = 5 if extra else 3
+    fig, axes = plt.subplots(rows, 2, figsize=(11, 3.7 * rows))
     plot_reversal_errors(result.table3, ax=axes[0, 0])
     plot_compensation(result.table3, ax=axes[0, 1])
-    for ax, case in zip(axes[1:].ravel(), ("slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse")):
+    for ax, case in zip(axes[1:3].ravel(), ("slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse")):
         plot_deformation_ratio(result.fig10, case, ax=ax)
-    fig.suptitle("Zhu & Fujimoto (seed 001) on the simulated elastic stage")
+    if extra:
+        plot_fig5(result.fig5, ax=axes[3, 0])
+        plot_fig5(result.fig5, signal="input", ax=axes[3, 1])
+        plot_redesign(result.redesign, ax=axes[4, 0])
+        plot_redesign(result.redesign, signal="drive_force", ax=axes[4, 1])
+    fig.suptitle(f"Zhu & Fujimoto (seed 001) on the simulated elastic stage (stage {result.stage!r})")
     fig.tight_layout()
     return fig, np.asarray(axes)

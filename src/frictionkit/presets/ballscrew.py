@@ -8,9 +8,10 @@ Provenance
   §2.1 sensors. The parameter values and every assumption live in
   :mod:`frictionkit.presets.zhu_fujimoto`; the plant objects in
   :mod:`frictionkit.plants.ballscrew`.
-* This module builds *the same* stage as :func:`frictionkit.control.loop.simulate_closed_loop`
-  (the private kernel :mod:`frictionkit.kernels.ballscrew`) with the machine API, so the
-  stage can carry any friction law at the nut and the guide (issue 8, part 6).
+* This module builds the stage the private kernel ``kernels/ballscrew.py`` used to run, with
+  the machine API, so the stage can carry any friction law at the nut and the guide (issue 8,
+  part 6); that kernel is deleted and :func:`frictionkit.control.loop.simulate_closed_loop`
+  is now a thin wrapper over :func:`simulate_stage`.
 
 Mechanics (elastic stage, one DOF per chain coordinate)
 -------------------------------------------------------
@@ -54,8 +55,8 @@ DOB (seed 001 §2.2; :class:`~frictionkit.control.dob.DisturbanceObserver`):
 ``raw_k = K_tau_n (i_{k-1} - u_f,{k-1}) - B_n omega_k - J_n (omega_k - omega_{k-1}) / T``,
 ``d_k = a d_{k-1} + (1 - a) raw_k`` — a 4-state :class:`~frictionkit.machines.StateSpace`
 ``x = [enc_{k-1}, omega_{k-1}, d_{k-1}, u_f,{k-1}]`` reading ``motor.applied`` before the
-actuator writes it (last sample's applied current). One difference from the private kernel:
-that kernel skips the observer at ``k = 0`` (``enc_{-1} := enc_0``); here ``enc_{-1} = 0``,
+actuator writes it (last sample's applied current). One difference from the deleted private
+kernel: it skipped the observer at ``k = 0`` (``enc_{-1} := enc_0``); here ``enc_{-1} = 0``,
 which differs only if the first encoder sample is not 0 (noise at a stage at rest).
 """
 
@@ -248,7 +249,7 @@ def simulate_stage(plant: ElasticBallScrew | RigidBallScrew, controller: TwoDofC
                    nut_law=None, guide_law=None, flank_law=None, raise_on_failure: bool = False) -> ClosedLoopResult:
     """Run the stage of :func:`ballscrew_machine` in closed loop on the machine core.
 
-    Same inputs and result as :func:`frictionkit.control.loop.simulate_closed_loop`
+    :func:`frictionkit.control.loop.simulate_closed_loop` is a wrapper over this function
     (``compensation``: friction compensation torque ``u_f`` [N·m] per sample, divided by the
     PTC's ``K_tau`` into a current; ``substeps`` plant sub-steps per control period).
     ``ClosedLoopResult.friction`` has rows ``[guide, nut]`` (elastic, ``"sliding"``),
@@ -257,7 +258,7 @@ def simulate_stage(plant: ElasticBallScrew | RigidBallScrew, controller: TwoDofC
     ``F(d) + beta k_nut d'`` (``F = k_nut d`` or the Hertz law; zeros for the rigid stage).
     ``nut_law``, ``guide_law``, ``flank_law``: see :func:`ballscrew_machine`.
 
-    Sensor noise: the same draws as the old loop (encoder first, then scale, one
+    Sensor noise: the same draws as the deleted private loop (encoder first, then scale, one
     ``default_rng(seed)``) when both noises are non-zero; the core draws only for sensors
     with noise, so with a noiseless encoder and a noisy scale the scale's draws differ.
 

@@ -1,18 +1,44 @@
 """Reproduction of seed 001 (Zhu & Fujimoto) on the simulated elastic stage.
 
 * :func:`table3` — the §5 reference ``25 (1 - cos 2 pi t)`` mm with the sinc, Coulomb and
-  sigmoid compensators: maximum tracking error during the reverse motion (Table 3, Fig. 15).
+  sigmoid compensators (and the control experiment ``sigmoid_post_only``): maximum tracking
+  error during the reverse motion (Table 3, Fig. 15) and when the motor input and the drive
+  force turn to braking before zero speed (Fig. 5(b)).
 * :func:`fig10` — ``l_d / R`` through slow/fast, reverse/non-reverse zero-speed motions.
+* :func:`fig5` — conventional (sinc) compensation after a slow vs a fast deceleration (Fig. 5).
 * :func:`selector` — Table 2 selector vs each fixed compensator on a mixed trajectory.
+* :func:`fast_non_reverse_redesign` — Table 2's redesigned reference for a fast non-reverse
+  motion (:func:`redesigned_non_reverse_reference`) against the original fast stop.
 * :func:`fig2` — frequency response current -> motor angle against the eq. 1 fit (Fig. 2).
 * :func:`run` — all of them, the JSON-ready summary used by ``frictionkit reproduce zhu-fujimoto``.
 
+Everything runs on the machine core (:func:`frictionkit.presets.ballscrew.simulate_stage`).
 The plant is :class:`~frictionkit.plants.ballscrew.ElasticBallScrew` built from
 :mod:`frictionkit.presets.zhu_fujimoto` (paper values + recorded assumptions, all chosen
-before any run; none tuned towards a finding).
+before any run; none tuned towards a finding), in one of two stages: ``"fig2"`` (default,
+inertia calibrated to the measured response of eq. 1 / Fig. 2) or ``"table1"`` (Table 1's
+inertias as printed); the preset's docstring says why ``"fig2"`` is the default. The README
+"Reproductions" table lists every finding for both stages with its numbers.
 
-What the simulation shows (quick and full, 3 noise seeds, each assumed stiffness ±30 %)
+What the simulation shows on the ``"fig2"`` stage (quick, 13 variants, every nut model)
 -------------------------------------------------------------------------------------
+* Fig. 2 within 1 dB (-0.19 to +0.09 dB); Fig. 5(b) reproduced: the motor input turns to
+  braking 53-55.5 ms before zero speed in the §5 reversal (F_bn 16.5-17 ms before).
+* Table 3 in the paper's order, sigmoid 1.98-2.65 < sinc 2.13-2.83 < Coulomb 2.65-2.92 µm,
+  but by 0.01-0.25 µm only, and *not* because of the reduction before zero speed: the
+  post-only sigmoid is 0.50-0.98 µm better than the sigmoid in every run.
+* Fig. 5: the conventional compensation is not worse after the fast deceleration (fast - slow
+  -1.07 to -0.59 µm); l_d rises before zero speed in fast decelerations (the overrun), no drop;
+  the selector does not beat sinc on the mixed run (wins 1 of 13); the redesigned fast
+  non-reverse stop ends in Pattern I and lowers the error by 1.5-1.9 µm for 75 ms more.
+
+What the simulation shows on the ``"table1"`` stage (quick and full, 13 variants)
+-------------------------------------------------------------------------------
+* Fig. 2 level +6.2 to +7.2 dB; Fig. 5(b) not reproduced: the motor input keeps the direction
+  of motion until zero speed (F_bn turns 16-17.5 ms before). Fig. 5 reproduced: the sinc
+  compensation is worse after the fast deceleration (fast - slow +1.09 to +1.70 µm). The
+  post-only sigmoid beats the sigmoid by
+  0.47-0.80 µm; the redesigned fast non-reverse stop lowers the error by 2.3-2.6 µm.
 * Table 3: every law within a factor 3 of the paper and sinc < Coulomb, but the sigmoid
   is *not* best: sinc ≈ 2.4 < sigmoid ≈ 3.0 < Coulomb ≈ 3.2 µm (paper 4.24 / 1.65 / 5.44).
   In this model both friction sites are rate-form (Dahl) laws of their own sliding
@@ -59,9 +85,11 @@ Fig. 2 (:func:`fig2`)
 ---------------------
 The seed prints no resonance; the figure is not in the text, only that eq. 1 (J = 0.01,
 B = 0.1) is the fitted line. The model's first anti-resonance/resonance of current ->
-``theta_m`` are 139.9 / 165.9 Hz (±30 % stiffness variants 128-148 / 151-176 Hz), above the
-80 Hz DOB built on the rigid model; the level in 5-50 Hz is +6.2 to +7.2 dB above the
-fitted line because Table 1's inertias add to 4.3e-3 kg·m², not 0.01 (mass, not stiffness).
+``theta_m`` are 139.9 / 165.9 Hz on the table1 stage, 139.9 / 149.7 Hz on the fig2 stage
+(±30 % stiffness variants 128-148 / 137-176 Hz), above the 80 Hz DOB built on the rigid
+model. The level in 5-50 Hz is +6.2 to +7.2 dB above the fitted line on the table1 stage
+because Table 1's inertias add to 4.3e-3 kg·m², not 0.01 (mass, not stiffness); the fig2
+stage is calibrated to it (-0.19 to +0.09 dB).
 """
 
 from __future__ import annotations
@@ -73,36 +101,59 @@ import numpy as np
 
 from ..control.compensators import RollingCompensator
 from ..control.dob import DisturbanceObserver
-from ..control.loop import ClosedLoopResult, Sensors, TwoDofController, simulate_closed_loop
+from ..control.loop import ClosedLoopResult, Sensors, TwoDofController
 from ..control.pid import PID
 from ..control.ptc import PerfectTrackingControl
-from ..control.trajectories import Reference, cosine_reference, mixed_reference, zero_speed_reference
+from ..control.trajectories import (
+    Reference,
+    cosine_reference,
+    mixed_reference,
+    piecewise_reference,
+    zero_speed_reference,
+)
 from ..control.zero_speed import (
     classify_crossings,
     deformation_ratio,
     max_ratio_before_zero,
     min_ratio_before_zero,
+    pattern_i_stop_segments,
+    reversal_lead,
     select_compensators,
 )
 from ..errors import ParameterError, SimulationError
 from ..plants.ballscrew import ElasticBallScrew
 from ..presets import zhu_fujimoto as zf
+from ..presets.ballscrew import simulate_stage
 
 LAWS3 = ("sinc", "coulomb", "sigmoid")
+#: Table 3's laws plus the control experiment ``sigmoid_post_only`` (the sigmoid without its
+#: reduction before zero speed, :mod:`frictionkit.control.compensators`).
+TABLE3_LAWS = LAWS3 + ("sigmoid_post_only",)
 LD_CASES = ("slow_reverse", "fast_reverse", "slow_non_reverse", "fast_non_reverse")
+STAGES = zf.STAGES
 
 
-def paper_plant(nut_model: str = zf.NUT_MODEL, **changes) -> ElasticBallScrew:
+def paper_plant(nut_model: str = zf.NUT_MODEL, stage: str = zf.STAGE, **changes) -> ElasticBallScrew:
     """The elastic stage of the preset with nut model ``nut_model``
-    (``"sliding"``/``"flank"``/``"hertz"``); keyword ``changes`` replace fields."""
-    return dataclasses.replace(ElasticBallScrew(**zf.plant_kwargs(nut_model)), **changes)
+    (``"sliding"``/``"flank"``/``"hertz"``) and ``stage`` (``"fig2"``, the default: inertia
+    calibrated to the measured response; ``"table1"``: Table 1 as printed; see
+    :mod:`frictionkit.presets.zhu_fujimoto`); keyword ``changes`` replace fields."""
+    return dataclasses.replace(ElasticBallScrew(**zf.plant_kwargs(nut_model, stage)), **changes)
 
 
-def scaled_plant(name: str, factor: float, nut_model: str = zf.NUT_MODEL) -> ElasticBallScrew:
+def stage_of(plant: ElasticBallScrew) -> str:
+    """``"table1"`` or ``"fig2"`` when the plant's motor inertia is that stage's, else ``"custom"``."""
+    for name, J in (("table1", zf.J_m), ("fig2", zf.J_m_FIG2)):
+        if abs(plant.J_m - J) <= 1e-12 * J:
+            return name
+    return "custom"
+
+
+def scaled_plant(name: str, factor: float, nut_model: str = zf.NUT_MODEL, stage: str = zf.STAGE) -> ElasticBallScrew:
     """The paper plant with one assumed stiffness (``zf.ASSUMED_STIFFNESSES``) scaled by ``factor``."""
     if name not in zf.ASSUMED_STIFFNESSES:
         raise ParameterError(f"name = {name!r}: must be one of {zf.ASSUMED_STIFFNESSES}")
-    p = paper_plant(nut_model)
+    p = paper_plant(nut_model, stage)
     if name == "k_axial":
         return dataclasses.replace(p, k_axial=p.k_axial * factor, k_axial_right=p.k_axial_right * factor)
     return dataclasses.replace(p, **{name: getattr(p, name) * factor})
@@ -135,31 +186,54 @@ def _classify(ref: Reference, plant: ElasticBallScrew):
 
 
 def _run(plant, ref, u_f, seed) -> ClosedLoopResult:
-    res = simulate_closed_loop(plant, paper_controller(), ref, compensation=u_f, sensors=paper_sensors(),
-                               seed=seed, n_substeps=zf.N_SUBSTEPS)
+    res = simulate_stage(plant, paper_controller(), ref, compensation=u_f, sensors=paper_sensors(),
+                         seed=seed, substeps=zf.N_SUBSTEPS)
     if not res.success:
         raise SimulationError(res.message)
     return res
 
 
-def reversal_errors(res: ClosedLoopResult, crossings, window=zf.REVERSAL_WINDOW) -> np.ndarray:
-    """Max ``|r - x_t,meas|`` [m] in ``[t0 + window[0], t0 + window[1]]`` for each reversal."""
+def reversal_errors(res: ClosedLoopResult, crossings, window=zf.REVERSAL_WINDOW, *,
+                    reverse_only: bool = True) -> np.ndarray:
+    """Max ``|r - x_t,meas|`` [m] in ``[t0 + window[0], t0 + window[1]]`` for each reversal
+    (each zero-speed point with ``reverse_only=False``)."""
     out = []
     for c in crossings:
-        if not c.reverse:
+        if reverse_only and not c.reverse:
             continue
         sel = (res.t >= c.t0 + window[0]) & (res.t <= c.t0 + window[1])
         out.append(np.max(np.abs(res.error[sel])))
     return np.array(out)
 
 
+def _decel_start(ref: Reference, c) -> float:
+    """Start of the deceleration that ends at the zero-speed point ``c`` [s]."""
+    idx = np.flatnonzero((ref.t < c.t0) & (c.before * ref.a >= 0.0))
+    return float(ref.t[idx[-1] + 1]) if idx.size and idx[-1] + 1 < ref.t.size else float(ref.t[0])
+
+
+def leads_ms(res: ClosedLoopResult, ref: Reference, c) -> dict:
+    """How long before the zero-speed point ``c`` [ms] the motor input (applied current, with
+    the compensation) and the drive force ``F_bn`` turned against the motion and stayed so
+    (searched from the start of the deceleration); ``None`` where they did not."""
+    since = _decel_start(ref, c)
+    out = {}
+    for key, sig in (("motor_input", res.i), ("drive_force", res.drive_force)):
+        lead = reversal_lead(res.t, sig, c, since=since)
+        out[key] = None if lead is None else lead * 1e3
+    return out
+
+
 @dataclass(frozen=True, eq=False)
 class Table3Result:
-    """Max tracking error [µm] during the reverse motion per law, and the runs behind it."""
+    """Max tracking error [µm] during the reverse motion per law (:data:`TABLE3_LAWS`), the
+    lead [ms] of the motor-input and drive-force reversals before the first zero-speed point
+    per law (:func:`leads_ms`), and the runs behind them."""
 
     max_error_um: dict
     runs: dict = field(repr=False)
     crossings: list = field(repr=False)
+    leads_ms: dict = field(default_factory=dict)
 
     def plot(self, *, crossing: int = 0, ax=None):
         """Fig. 15-like error traces around one reversal; returns the axes."""
@@ -173,18 +247,21 @@ def table3(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool 
 
     The §5 reference runs through its reversals at 0.5, 1.0, 1.5 and 2.0 s (2.15 s); quick
     mode stops after the first (0.65 s). Each law's value is the max over the reversals.
+    Besides the paper's three laws, ``sigmoid_post_only`` (the sigmoid without its reduction
+    before zero speed) tests whether that reduction is what lowers the error.
     """
     plant = paper_plant() if plant is None else plant
     ref = cosine_reference(amplitude=zf.REF_AMPLITUDE, period=zf.REF_PERIOD,
                            duration=0.65 if quick else 2.15, T=zf.T_CONTROL)
     cs = _classify(ref, plant)
     comp = paper_compensator()
-    runs, err = {}, {}
-    for law in LAWS3:
+    runs, err, leads = {}, {}, {}
+    for law in TABLE3_LAWS:
         res = _run(plant, ref, comp.signal(ref, law, cs), seed)
         runs[law] = res
         err[law] = float(reversal_errors(res, cs).max() * 1e6)
-    return Table3Result(max_error_um=err, runs=runs, crossings=cs)
+        leads[law] = leads_ms(res, ref, cs[0])
+    return Table3Result(max_error_um=err, runs=runs, crossings=cs, leads_ms=leads)
 
 
 @dataclass(frozen=True, eq=False)
@@ -197,6 +274,10 @@ class Fig10Result:
     ratios: dict = field(repr=False)
     crossings: dict = field(repr=False)
     decel_start: dict = field(repr=False)
+    #: the same from the true (unquantised, noiseless) x_t and theta_m of the runs
+    true_min_ratio: dict = field(default_factory=dict)
+    true_max_ratio: dict = field(default_factory=dict)
+    references: dict = field(default_factory=dict, repr=False)
 
     def plot(self, case: str = "fast_reverse", *, ax=None):
         """Fig. 10-like ``l_d / R - 1`` through one case; returns the axes."""
@@ -210,7 +291,7 @@ def fig10(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool =
     after zero speed, as in the paper's experiments)."""
     plant = paper_plant() if plant is None else plant
     comp = paper_compensator()
-    ratios, runs, mins, maxs, css, starts = {}, {}, {}, {}, {}, {}
+    ratios, runs, mins, maxs, css, starts, tmins, tmaxs, refs = {}, {}, {}, {}, {}, {}, {}, {}, {}
     for case in LD_CASES:
         fast = case.startswith("fast")
         decel = zf.LD_FAST_DECEL if fast else zf.LD_SLOW_DECEL
@@ -222,10 +303,107 @@ def fig10(*, plant: ElasticBallScrew | None = None, seed: int = 0, quick: bool =
         d = deformation_ratio(res.t, res.x_t_meas, res.theta_m_meas, R=plant.R, Tp=zf.LD_WINDOW)
         c = cs[0]
         t_start = c.t0 - zf.LD_SPEED / decel
-        runs[case], ratios[case], css[case], starts[case] = res, d, cs, t_start
+        runs[case], ratios[case], css[case], starts[case], refs[case] = res, d, cs, t_start, ref
         mins[case] = min_ratio_before_zero(d, t_start=t_start, t_zero=c.t0)
         maxs[case] = max_ratio_before_zero(d, t_start=t_start, t_zero=c.t0)
-    return Fig10Result(min_ratio=mins, max_ratio=maxs, runs=runs, ratios=ratios, crossings=css, decel_start=starts)
+        dt = deformation_ratio(res.t, res.x_t, res.theta_m, R=plant.R, Tp=zf.LD_WINDOW)
+        tmins[case] = min_ratio_before_zero(dt, t_start=t_start, t_zero=c.t0)
+        tmaxs[case] = max_ratio_before_zero(dt, t_start=t_start, t_zero=c.t0)
+    return Fig10Result(min_ratio=mins, max_ratio=maxs, runs=runs, ratios=ratios, crossings=css, decel_start=starts,
+                       true_min_ratio=tmins, true_max_ratio=tmaxs, references=refs)
+
+
+@dataclass(frozen=True, eq=False)
+class Fig5Result:
+    """Seed 001 Fig. 5: conventional (sinc, from the reverse point) compensation after a slow
+    and after a fast deceleration: max error [µm] in ``zf.ZERO_SPEED_WINDOW`` around the
+    reversal and the leads [ms] of the motor-input and drive-force reversals before zero speed
+    (``None``: no reversal)."""
+
+    max_error_um: dict
+    leads_ms: dict
+    runs: dict = field(repr=False)
+    crossings: dict = field(repr=False)
+
+    def plot(self, *, signal: str = "error", ax=None):
+        """Fig. 5-like traces of the slow and the fast reversal against the time from zero speed:
+        tracking error (``signal="error"``) or motor current (``"input"``); returns the axes."""
+        from ..plotting.ballscrew import plot_fig5
+
+        return plot_fig5(self, signal=signal, ax=ax)
+
+
+def fig5(fig10_result: Fig10Result) -> Fig5Result:
+    """Seed 001 Fig. 5 from the slow- and fast-reverse runs of :func:`fig10` (the same
+    references and the same conventional sinc compensation from the reverse point)."""
+    err, leads, runs, css = {}, {}, {}, {}
+    for case in ("slow_reverse", "fast_reverse"):
+        res, cs = fig10_result.runs[case], fig10_result.crossings[case]
+        err[case] = float(reversal_errors(res, cs, zf.ZERO_SPEED_WINDOW).max() * 1e6)
+        leads[case] = leads_ms(res, fig10_result.references[case], cs[0])
+        runs[case], css[case] = res, cs
+    return Fig5Result(max_error_um=err, leads_ms=leads, runs=runs, crossings=css)
+
+
+def redesigned_non_reverse_reference(plant: ElasticBallScrew, *, quick: bool = False,
+                                     margin: float = zf.REDESIGN_MARGIN) -> Reference:
+    """The Fig. 10 fast non-reverse motion with its stop redesigned (Table 2: "redesign of
+    trajectory reference is necessary"): the same cruise and re-acceleration, the stop from
+    :func:`~frictionkit.control.zero_speed.pattern_i_stop_segments` (fast deceleration while
+    eq. 2 keeps the drive force in the direction of motion, then ``(1 - margin) f_g / M_t``
+    to rest), so the zero-speed point is reached in Pattern I."""
+    a = zf.LD_FAST_DECEL
+    stop = pattern_i_stop_segments(speed=zf.LD_SPEED, decel=a, table_mass=plant.M_t,
+                                   guide_friction=plant.guide_friction, guide_viscosity=plant.C_t, margin=margin)
+    segs = [(zf.LD_SPEED / a, a), (0.1 if quick else 0.3, 0.0), *stop, (zf.LD_SPEED / a, a), (0.05, 0.0)]
+    return piecewise_reference(segs, T=zf.T_CONTROL)
+
+
+@dataclass(frozen=True, eq=False)
+class RedesignResult:
+    """Table 2, fast non-reverse: the original fast stop (``"original"``, the Fig. 10 run with
+    the ``hold`` compensation) against the redesigned Pattern I stop (``"redesigned"``, same
+    compensation). Per variant: Table 2 kind of the zero-speed point, max error [µm] in
+    ``zf.ZERO_SPEED_WINDOW`` around it, leads [ms] of the motor-input / drive-force reversals
+    before it (``None``: none) and the stop's duration [ms]."""
+
+    kind: dict
+    max_error_um: dict
+    leads_ms: dict
+    stop_ms: dict
+    runs: dict = field(repr=False)
+    crossings: dict = field(repr=False)
+
+    def summary(self) -> dict:
+        return {k: {"kind": self.kind[k], "max_error_um": self.max_error_um[k], "stop_ms": self.stop_ms[k],
+                    "motor_input_reverses_before_zero_ms": self.leads_ms[k]["motor_input"],
+                    "drive_force_reverses_before_zero_ms": self.leads_ms[k]["drive_force"]}
+                for k in ("original", "redesigned")}
+
+
+def fast_non_reverse_redesign(fig10_result: Fig10Result, *, plant: ElasticBallScrew | None = None, seed: int = 0,
+                              quick: bool = False) -> RedesignResult:
+    """Table 2's answer for a fast non-reverse motion, run: the redesigned reference
+    (:func:`redesigned_non_reverse_reference`) against the original Fig. 10 fast non-reverse
+    run, both with the ``hold`` compensation the selector falls back to."""
+    plant = paper_plant() if plant is None else plant
+    new_ref = redesigned_non_reverse_reference(plant, quick=quick)
+    cs_new = _classify(new_ref, plant)
+    res_new = _run(plant, new_ref, paper_compensator().signal(new_ref, "hold", cs_new), seed)
+    res_old, cs_old = fig10_result.runs["fast_non_reverse"], fig10_result.crossings["fast_non_reverse"]
+    refs = {"original": fig10_result.references["fast_non_reverse"], "redesigned": new_ref}
+    out = {k: {} for k in ("kind", "err", "leads", "stop")}
+    runs = {"original": res_old, "redesigned": res_new}
+    css = {"original": cs_old, "redesigned": cs_new}
+    for k in ("original", "redesigned"):
+        c = css[k][0]
+        out["kind"][k] = c.kind
+        err = reversal_errors(runs[k], css[k], zf.ZERO_SPEED_WINDOW, reverse_only=False)
+        out["err"][k] = float(err[0] * 1e6)
+        out["leads"][k] = leads_ms(runs[k], refs[k], c)
+        out["stop"][k] = (c.t0 - _decel_start(refs[k], c)) * 1e3
+    return RedesignResult(kind=out["kind"], max_error_um=out["err"], leads_ms=out["leads"], stop_ms=out["stop"],
+                          runs=runs, crossings=css)
 
 
 @dataclass(frozen=True, eq=False)
@@ -324,16 +502,28 @@ class ReproductionResult:
     seed: int
     nut_model: str = zf.NUT_MODEL
     fig2: Fig2Result | None = None
+    stage: str = zf.STAGE
+    fig5: Fig5Result | None = None
+    redesign: RedesignResult | None = None
 
     def summary(self) -> dict:
-        return {
+        t3 = self.table3
+        out = {
             "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
             "quick": self.quick,
             "seed": self.seed,
+            "stage": self.stage,
             "nut_model": self.nut_model,
-            "table3": {k: {"max_error_um": v, "paper_um": TABLE3_PAPER_UM[k]} for k, v in self.table3.max_error_um.items()},
+            "table3": {k: {"max_error_um": v, "paper_um": TABLE3_PAPER_UM.get(k)} for k, v in t3.max_error_um.items()},
+            # Fig. 5(b): the §5 fast reversal with the conventional compensation (sinc, from the
+            # reverse point): does the motor input turn to braking before zero speed?
+            "fig5b": {"motor_input_reverses_before_zero_ms": t3.leads_ms["sinc"]["motor_input"],
+                      "drive_force_reverses_before_zero_ms": t3.leads_ms["sinc"]["drive_force"],
+                      "reference": "§5 cosine, first reversal (t0 = 0.5 s), sinc compensation"},
             "ld": {k: {"min_ratio_before_zero": self.fig10.min_ratio[k],
-                       "max_ratio_before_zero": self.fig10.max_ratio[k]} for k in LD_CASES},
+                       "max_ratio_before_zero": self.fig10.max_ratio[k],
+                       "true_min_ratio_before_zero": self.fig10.true_min_ratio.get(k),
+                       "true_max_ratio_before_zero": self.fig10.true_max_ratio.get(k)} for k in LD_CASES},
             "selector": {
                 "laws": [s.law for s in self.selector.selected],
                 "kinds": [s.crossing.kind for s in self.selector.selected],
@@ -341,49 +531,71 @@ class ReproductionResult:
                 "best_fixed_max_error_um": self.selector.best_fixed_max_error_um,
                 "fixed_max_error_um": self.selector.fixed_max_error_um,
             },
-            **({"fig2": self.fig2.summary()} if self.fig2 is not None else {}),
         }
+        if self.fig5 is not None:
+            out["fig5"] = {k: {"max_error_um": self.fig5.max_error_um[k],
+                               "motor_input_reverses_before_zero_ms": self.fig5.leads_ms[k]["motor_input"],
+                               "drive_force_reverses_before_zero_ms": self.fig5.leads_ms[k]["drive_force"]}
+                           for k in self.fig5.max_error_um}
+        if self.redesign is not None:
+            out["table2_fast_non_reverse"] = self.redesign.summary()
+        if self.fig2 is not None:
+            out["fig2"] = self.fig2.summary()
+        return out
 
 
 def run(*, quick: bool = False, seed: int = 0, plant: ElasticBallScrew | None = None,
-        nut_model: str | None = None, progress=None) -> ReproductionResult:
-    """Table 3, Fig. 10 and the Table 2 selector. ``progress(label)`` is called before each part.
+        nut_model: str | None = None, stage: str | None = None, progress=None) -> ReproductionResult:
+    """Table 3, Fig. 10, Fig. 5, the Table 2 selector and the fast non-reverse redesign.
+    ``progress(label)`` is called before each part.
 
     Also returns the Fig. 2 frequency-response check (:func:`fig2`, no simulation).
 
-    ``nut_model`` (``"sliding"``/``"flank"``/``"hertz"``) selects the preset plant's nut friction model
-    when ``plant`` is not given (default ``zf.NUT_MODEL``); with ``plant`` it must match it.
+    ``nut_model`` (``"sliding"``/``"flank"``/``"hertz"``) and ``stage`` (``"fig2"``/``"table1"``)
+    select the preset plant when ``plant`` is not given (defaults ``zf.NUT_MODEL``,
+    ``zf.STAGE``); with ``plant`` they must match it.
     """
     step = progress or (lambda label: None)
+    if stage is not None and stage not in zf.STAGES:
+        raise ParameterError(f"stage = {stage!r}: must be one of {zf.STAGES}")
     if plant is None:
-        plant = paper_plant(zf.NUT_MODEL if nut_model is None else nut_model)
-    elif nut_model is not None and nut_model != plant.nut_model:
-        raise ParameterError(f"nut_model = {nut_model!r} but plant.nut_model = {plant.nut_model!r}")
-    step("Table 3 / Fig. 15: sinc, Coulomb, sigmoid")
+        plant = paper_plant(zf.NUT_MODEL if nut_model is None else nut_model,
+                            zf.STAGE if stage is None else stage)
+    else:
+        if nut_model is not None and nut_model != plant.nut_model:
+            raise ParameterError(f"nut_model = {nut_model!r} but plant.nut_model = {plant.nut_model!r}")
+        if stage is not None and stage != stage_of(plant):
+            raise ParameterError(f"stage = {stage!r} but the plant's motor inertia J_m = {plant.J_m!r} is "
+                                 f"that of stage {stage_of(plant)!r}")
+    step("Table 3 / Fig. 15: sinc, Coulomb, sigmoid, post-only sigmoid")
     t3 = table3(plant=plant, seed=seed, quick=quick)
-    step("Fig. 10: l_d in four zero-speed cases")
+    step("Fig. 10 / Fig. 5: l_d in four zero-speed cases")
     f10 = fig10(plant=plant, seed=seed, quick=quick)
-    step("Table 2 selector on a mixed trajectory")
+    f5 = fig5(f10)
+    step("Table 2: selector on a mixed trajectory, redesigned fast non-reverse stop")
     sel = selector(plant=plant, seed=seed, quick=quick)
+    red = fast_non_reverse_redesign(f10, plant=plant, seed=seed, quick=quick)
     return ReproductionResult(table3=t3, fig10=f10, selector=sel, quick=quick, seed=seed,
-                              nut_model=plant.nut_model, fig2=fig2(plant=plant))
+                              nut_model=plant.nut_model, fig2=fig2(plant=plant), stage=stage_of(plant),
+                              fig5=f5, redesign=red)
 
 
-def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL):
+def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL,
+                        stage: str = zf.STAGE):
     """``(label, seed, plant)`` for each noise seed (paper plant) and each assumed stiffness
     scaled by each factor (seed 0)."""
-    out = [(f"seed={s}", s, paper_plant(nut_model)) for s in seeds]
+    out = [(f"seed={s}", s, paper_plant(nut_model, stage)) for s in seeds]
     for name in zf.ASSUMED_STIFFNESSES:
         for f in factors:
-            out.append((f"{name}x{f:g}", 0, scaled_plant(name, f, nut_model)))
+            out.append((f"{name}x{f:g}", 0, scaled_plant(name, f, nut_model, stage)))
     return out
 
 
 def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL,
-               progress=None) -> dict:
+               stage: str = zf.STAGE, progress=None) -> dict:
     """:func:`run` summary per variant of :func:`robustness_variants` (label -> summary)."""
     out = {}
-    for label, seed, plant in robustness_variants(seeds, factors, nut_model):
+    for label, seed, plant in robustness_variants(seeds, factors, nut_model, stage):
         if progress is not None:
             progress(label)
         out[label] = run(quick=quick, seed=seed, plant=plant).summary()

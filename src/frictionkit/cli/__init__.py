@@ -38,7 +38,7 @@ def _root(
 
 def _register() -> None:
     """Import the command modules; each adds its commands to ``app``."""
-    for name in ("demo", "identify", "reproduce"):
+    for name in ("demo", "identify", "reproduce", "fleet"):
         try:
             __import__(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # command group not built yet

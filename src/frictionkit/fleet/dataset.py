@@ -1,0 +1,170 @@
+"""Find the log files of a fleet and give each its axis, period and fingerprint.
+
+A dataset is a folder (searched recursively), a glob (``"plant/*/2026-*.parquet"``) or a
+list of files. Axis and period come from each path relative to the dataset folder
+through the configuration's patterns (:attr:`FleetConfig.patterns`): by default
+``AXIS/PERIOD.ext`` and Hive-style partitions ``axis=AXIS/date=PERIOD/part.parquet``.
+
+The fingerprint of a file is a hash of its relative path, size, modification time, the
+configuration and the frictionkit version: a result part carrying it is still valid
+(the rerun skips the file); any change recomputes it. Checking it costs one ``stat`` per
+file — no file is read to decide what is done. The content hash (SHA-256) is computed by
+the task that reads the file and stored with its result.
+"""
+
+from __future__ import annotations
+
+import glob as _glob
+import hashlib
+import os
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..data.loaders import SUFFIXES
+from ..errors import DataError
+from .config import FleetConfig
+
+#: Suffix of the folder of per-task result parts beside a results file.
+PARTS_SUFFIX = ".parts"
+
+
+@dataclass(frozen=True, kw_only=True)
+class LogFile:
+    """One log file of the fleet: one task.
+
+    Attributes
+    ----------
+    axis, period : str
+        From the path (see :attr:`FleetConfig.patterns`).
+    path : str
+        Absolute path.
+    file : str
+        Path relative to the dataset folder (``/`` separated).
+    size, mtime_ns : int
+        From ``stat``.
+    fingerprint : str
+        Hash of ``file``, ``size``, ``mtime_ns``, the configuration and the frictionkit version.
+    """
+
+    axis: str
+    period: str
+    path: str
+    file: str
+    size: int
+    mtime_ns: int
+    fingerprint: str
+
+    @property
+    def part_name(self) -> str:
+        """File name of this task's result part (unique per axis, period and fingerprint)."""
+        return f"{_safe(self.axis)}__{_safe(self.period)}__{self.fingerprint[:20]}.parquet"
+
+    @property
+    def key(self) -> str:
+        """Dask task key."""
+        return "fleet-identify-" + self.part_name[: -len(".parquet")]
+
+
+def _safe(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9._-]", "_", text)[:80]
+
+
+def _magic(s: str) -> bool:
+    return any(c in s for c in "*?[")
+
+
+def _candidates(dataset) -> tuple[Path, list[Path]]:
+    if isinstance(dataset, (list, tuple)):
+        paths = [Path(p).absolute() for p in dataset]
+        if not paths:
+            raise DataError("fleet dataset: the list of files is empty")
+        for p in paths:
+            if not p.is_file():
+                raise DataError(f"fleet dataset: file '{p}' not found")
+        root = Path(os.path.commonpath([str(p.parent) for p in paths]))
+        return root, paths
+    text = str(dataset)
+    if _magic(text):
+        parts = Path(text).parts
+        k = next(i for i, s in enumerate(parts) if _magic(s))
+        root = Path(*parts[:k]) if k else Path(".")
+        paths = [Path(p).absolute() for p in sorted(_glob.glob(text, recursive=True)) if Path(p).is_file()]
+        if not paths:
+            raise DataError(f"fleet dataset '{text}': the pattern matches no file")
+        return root.absolute(), paths
+    root = Path(text)
+    if not root.exists():
+        raise DataError(f"fleet dataset '{root}': not found")
+    if root.is_file():
+        raise DataError(f"fleet dataset '{root}': is a file; give the folder of the logs, a glob or a list of files")
+    paths = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith(".") and not d.endswith(PARTS_SUFFIX))
+        paths += [Path(dirpath, f).absolute() for f in sorted(filenames) if not f.startswith(".")]
+    return root.absolute(), paths
+
+
+def discover(dataset, config: FleetConfig, *, exclude: Iterable[str | Path] = ()) -> tuple[list[LogFile], list[str]]:
+    """Log files of a dataset with axis, period and fingerprint.
+
+    Parameters
+    ----------
+    dataset : str, Path or list of paths
+        Folder, glob or files.
+    config : FleetConfig
+        Patterns for axis and period.
+    exclude : iterable of paths
+        Files never taken as logs (the results file of the run).
+
+    Returns
+    -------
+    logs : list of LogFile
+        Sorted by axis, period, file.
+    unmatched : list of str
+        Data files (by suffix) whose path matches no pattern, relative to the folder.
+
+    Raises
+    ------
+    DataError
+        The dataset does not exist, or no file in it matches the patterns.
+    """
+    from .. import __version__
+
+    root, paths = _candidates(dataset)
+    skip = {os.path.realpath(p) for p in exclude if p is not None}
+    cfg_hash = config.sha256
+    logs, unmatched = [], []
+    for p in paths:
+        if p.suffix.lower() not in SUFFIXES or os.path.realpath(p) in skip:
+            continue
+        if any(part.endswith(PARTS_SUFFIX) for part in p.parts):
+            continue
+        try:
+            rel = p.relative_to(root).as_posix()
+        except ValueError:
+            rel = p.as_posix()
+        hit = config.match(rel)
+        if hit is None:
+            unmatched.append(rel)
+            continue
+        st = p.stat()
+        fp = hashlib.sha256(f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0{cfg_hash}\0{__version__}".encode()).hexdigest()
+        logs.append(LogFile(axis=hit[0], period=hit[1], path=str(p), file=rel, size=int(st.st_size),
+                            mtime_ns=int(st.st_mtime_ns), fingerprint=fp))
+    if not logs:
+        shown = ", ".join(unmatched[:3]) + (" ..." if len(unmatched) > 3 else "")
+        why = f"; {len(unmatched)} data file(s) match no [layout] pattern (e.g. {shown})" if unmatched else ""
+        raise DataError(f"fleet dataset '{dataset}': no log file found{why}; patterns: {list(config.patterns)}")
+    logs.sort(key=lambda g: (g.axis, g.period, g.file))
+    return logs, unmatched
+
+
+def parts_dir(out: str | Path) -> Path:
+    """Folder of the result parts of a results file: ``R.parquet`` → ``R.parquet.parts``."""
+    out = Path(out)
+    return out.with_name(out.name + PARTS_SUFFIX)
+
+
+__all__ = ["LogFile", "PARTS_SUFFIX", "discover", "parts_dir"]

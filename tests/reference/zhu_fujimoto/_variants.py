@@ -25,9 +25,31 @@ NUT_MODELS = zf.NUT_MODELS
 STAGES = zf.STAGES
 
 
+#: Set by ``conftest.py`` under pytest-xdist: a directory shared by the workers of the session.
+SHARED_DIR = None
+
+
+def _compute(nut_model: str, stage: str) -> dict:
+    return rep.robustness(quick=True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model=nut_model, stage=stage)
+
+
 @functools.lru_cache(maxsize=len(NUT_MODELS) * len(STAGES))
 def summaries(nut_model: str = "sliding", stage: str = zf.STAGE) -> dict:
-    return rep.robustness(quick=True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model=nut_model, stage=stage)
+    if SHARED_DIR is None:
+        return _compute(nut_model, stage)
+    import fcntl
+    import json
+
+    path = SHARED_DIR / f"{nut_model}-{stage}.json"
+    with open(SHARED_DIR / f"{nut_model}-{stage}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if path.exists():
+            return json.loads(path.read_text())
+        out = _compute(nut_model, stage)
+        tmp = path.with_suffix(".tmp")
+        tmp.write_text(json.dumps(out))
+        tmp.replace(path)
+        return out
 
 
 def values(nut_model: str, stage: str, get) -> dict:

@@ -5,8 +5,8 @@ Measures (printed, and as JSON with ``--json PATH``):
 * simulation time of the fleet (``simulate_fleet``);
 * wall time of ``identify_fleet`` on a LocalCluster of 1 and of 2 single-threaded workers
   (each from scratch: no parts), and the speed-up;
-* where the time goes: the tasks' own time (read + hash, segmentation, fit — split on a
-  sample in this process), and the scheduler overhead per task, measured two ways: the
+* where the time goes: the tasks' own time (hash, read, segmentation, static fit, LuGre
+  fit — split on a sample in this process), and the scheduler overhead per task, measured two ways: the
   wall time × workers not spent inside tasks, per task, in the real run; and the wall time
   per task of 2,000 empty tasks on the same cluster;
 * peak resident memory of each worker process (``ru_maxrss``) and of an idle worker;
@@ -82,13 +82,14 @@ def _split(root: Path, n: int = 40) -> dict:
     from frictionkit.data.segmentation import steady_state_points
     from frictionkit.fleet import discover, load_config
     from frictionkit.fleet.task import _recording, _sha256
-    from frictionkit.identify.static_map import fit_static_map
+    from frictionkit.fleet.dynamic import fit_lugre_reversals
+    from frictionkit.identify.static_map import fit_static_map, stribeck_model
 
     cfg = load_config(root / "fleet.toml")
     logs, _ = discover(root, cfg)
     broken = set((root / "broken.txt").read_text().split())
     logs = [g for g in logs if g.file not in broken][:n]
-    t = {"hash": [], "read": [], "segment": [], "fit": []}
+    t = {"hash": [], "read": [], "segment": [], "fit": [], "lugre": []}
     for g in logs:
         t0 = time.perf_counter()
         row = {"file_sha256": _sha256(g.path)}
@@ -97,9 +98,11 @@ def _split(root: Path, n: int = 40) -> dict:
         t2 = time.perf_counter()
         pts = steady_state_points(rec, **cfg.segmentation)
         t3 = time.perf_counter()
-        fit_static_map(pts, units=dict(cfg.si_units), **cfg.fit)
+        res = fit_static_map(pts, units=dict(cfg.si_units), **cfg.fit)
         t4 = time.perf_counter()
-        for k, a, b in (("hash", t0, t1), ("read", t1, t2), ("segment", t2, t3), ("fit", t3, t4)):
+        fit_lugre_reversals(rec, stribeck_model(res))
+        t5 = time.perf_counter()
+        for k, a, b in (("hash", t0, t1), ("read", t1, t2), ("segment", t2, t3), ("fit", t3, t4), ("lugre", t4, t5)):
             t[k].append(b - a)
     return {k: statistics.median(v) for k, v in t.items()}
 

@@ -82,6 +82,19 @@ def test_bad_config_is_one_line(tmp_path, small_fleet):
 
 
 def test_help_has_an_example():
-    for verb in ("simulate", "identify", "monitor"):
+    for verb in ("simulate", "identify", "monitor", "report"):
         res = runner.invoke(app, ["fleet", verb, "--help"])
         assert res.exit_code == 0 and "Example" in res.output and f"frictionkit fleet {verb}" in res.output
+
+
+def test_report_page(dask_run, tmp_path):
+    out = tmp_path / "fleet.html"
+    res = runner.invoke(app, ["fleet", "report", str(dask_run.out), "--out", str(out), "--json", "-"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    assert (doc["axes"], doc["rows"], doc["errors"]) == (6, 18, 4)
+    page = out.read_text(encoding="utf-8")
+    assert "fleet report" in page and page.count("data:image/png;base64,") == 1 + len(doc["drawn"])
+    assert "Files that failed (4)" in page and "not finite" in page
+    bad = runner.invoke(app, ["fleet", "report", str(dask_run.out), "--out", str(tmp_path / "x.png")])
+    assert bad.exit_code == 2 and ".html" in _stderr(bad)

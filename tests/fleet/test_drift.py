@@ -88,3 +88,13 @@ def test_slope_method_runs_and_flags_the_wearing_axis():
     axes = drift_summary(monitor_drift(df, method="slope", n_null=500)).set_index("axis")
     assert axes.loc["axis-0000", "drift_flag"] and (axes["drift_method"] == "slope").all()
     assert axes.loc["axis-0000", "drift_detail"].startswith("drift from")
+
+
+def test_report_draws_flagged_axes_over_time(tmp_path):
+    from frictionkit.fleet import fleet_report
+
+    df = monitor_drift(results_table(4, 15, seed=10, drifting=(1,), rate=0.01, onset=3), n_null=1000)
+    df["unit_F"], df["unit_v"], df["frictionkit_version"], df["file"], df["error"] = "N", "m/s", "x", "f", None
+    doc = fleet_report(df, tmp_path / "f.html")
+    assert doc["flagged"] == ["axis-0001"] and doc["drawn"] == ["axis-0001"]
+    assert "axis-0001" in (tmp_path / "f.html").read_text(encoding="utf-8")

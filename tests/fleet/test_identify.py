@@ -66,6 +66,14 @@ def test_true_parameters_recovered(single_run, small_fleet):
         rel = np.abs(j[p] / j[f"{p}_true"] - 1.0)
         assert rel.max() < 0.02, p  # 2 % on every day of every axis
     assert np.abs(j["Fs_pos"] / j["Fs_pos_true"] - 1.0).median() < 0.05
+    # LuGre through the reversals, where the data allow (every good log here): mass and sigma0
+    axes = small_fleet.truth[["axis", "mass", "sigma0", "sigma1"]]
+    k = j.merge(axes, on="axis", suffixes=("", "_true"))
+    assert k["n_reversals"].ge(2).all() and k["sigma0"].notna().all()
+    assert np.abs(k["mass"] / k["mass_true"] - 1.0).max() < 0.05
+    assert np.abs(k["sigma0"] / k["sigma0_true"] - 1.0).max() < 0.10
+    assert np.abs(k["sigma1"] / k["sigma1_true"] - 1.0).median() < 0.30
+    assert ((k["sigma0_lo"] < k["sigma0"]) & (k["sigma0"] < k["sigma0_hi"])).all()
 
 
 def test_rerun_recomputes_only_deleted_parts(dask_run, cluster, small_fleet, tmp_path):

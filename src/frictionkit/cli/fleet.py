@@ -205,3 +205,37 @@ def monitor_cmd(
     lines += [f"  {r['axis']}: {r['drift_detail']}" for _, r in flagged.iterrows()]
     lines.append(f"wrote {target}")
     _summary(doc, json_out, "\n".join(lines))
+
+
+@fleet_app.command("report", epilog="\b\nExample:\n  frictionkit fleet report results.parquet --out fleet.html")
+def report_cmd(
+    results: Path = typer.Argument(..., help="Results Parquet file of 'fleet identify'."),
+    out: Path = typer.Option(..., "--out", help="HTML file to write (self-contained, plots embedded)."),
+    max_axes: int = typer.Option(20, "--max-axes", help="Flagged axes drawn over time (all are listed)."),
+    json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary (- for stdout)."),
+) -> None:
+    """The fleet page: parameter distributions, flagged axes and their history, failed files."""
+    import pandas as pd
+
+    from ..errors import DataError
+    from ..fleet import fleet_report
+
+    max_axes = chk.integer(max_axes, "--max-axes", lo=0, hi=10_000)
+    if not results.is_file():
+        raise DataError(f"'{results}': results file not found")
+    chk.outputs([results], files={"--out": out}, make_parents=True)
+    if out.suffix.lower() not in (".html", ".htm"):
+        raise DataError(f"--out '{out}': the report is HTML; use a .html file name")
+    _json_option(json_out, [results, out])
+    try:
+        df = pd.read_parquet(results)
+    except Exception as exc:  # pyarrow raises several unrelated types
+        raise DataError(f"'{results}': cannot be read as Parquet ({str(exc).splitlines()[0]})") from None
+    for col in ("axis", "period", "ok"):
+        if col not in df:
+            raise DataError(f"'{results}': not a fleet results table (no column '{col}')")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    doc = fleet_report(df, out, max_axes=max_axes)
+    text = (f"{doc['axes']} axes, {doc['rows']} axis-periods ({doc['errors']} failed), "
+            f"{len(doc['flagged'])} flagged; wrote {out}")
+    _summary(doc, json_out, text)

@@ -36,6 +36,9 @@ Example (``frictionkit fleet simulate`` writes one like it beside the logs)::
     model = "auto"
     criterion = "aic"
 
+    [dynamic]              # LuGre sigma0, sigma1 through the reversals, where the data allow
+    lugre = true
+
     [monitor]              # keywords of frictionkit.fleet.monitor_drift
     alpha = 0.01
 """
@@ -79,10 +82,11 @@ DEFAULT_PATTERNS = (
     r"(?:^|/)(?P<axis>[^/]+)/(?P<period>[^/]+)\.(?:csv|txt|tsv|parquet|pq|h5|hdf5|hdf|mat)$",
 )
 
-_SECTIONS = {"layout", "columns", "units", "scales", "schedule", "segmentation", "fit", "monitor"}
+_SECTIONS = {"layout", "columns", "units", "scales", "schedule", "segmentation", "fit", "dynamic", "monitor"}
 _SEGMENTATION_KEYS = {"window", "rel_tol", "abs_tol", "min_speed", "min_duration", "min_samples", "trim"}
 _FIT_KEYS = {"model", "criterion", "loss", "f_scale", "delta", "direction"}
-_MONITOR_KEYS = {"alpha", "min_periods", "parameters", "n_null", "seed", "se_floor"}
+_MONITOR_KEYS = {"alpha", "min_periods", "parameters", "n_null", "seed", "se_floor", "method", "weights", "scale"}
+_DYNAMIC_KEYS = {"lugre"}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -107,6 +111,9 @@ class FleetConfig:
     segmentation, fit, monitor : dict
         Keywords of :func:`~frictionkit.data.find_plateaus`,
         :func:`~frictionkit.identify.fit_static_map` and :func:`~frictionkit.fleet.monitor_drift`.
+    dynamic : dict
+        ``{"lugre": bool}``: fit LuGre σ0, σ1 through the reversals where the data allow
+        (:mod:`frictionkit.fleet.dynamic`; default true).
     source : str, optional
         File the configuration came from.
     """
@@ -119,6 +126,7 @@ class FleetConfig:
     segmentation: dict = field(default_factory=dict)
     fit: dict = field(default_factory=dict)
     monitor: dict = field(default_factory=dict)
+    dynamic: dict = field(default_factory=lambda: {"lugre": True})
     source: str | None = None
 
     def __post_init__(self) -> None:
@@ -153,7 +161,10 @@ class FleetConfig:
             if not {"axis", "period"} <= set(rx.groupindex):
                 raise DataError(f"{where}: [layout] pattern {p!r} needs the named groups (?P<axis>...) and (?P<period>...)")
         object.__setattr__(self, "patterns", pats)
-        for sec, keys in (("segmentation", _SEGMENTATION_KEYS), ("fit", _FIT_KEYS), ("monitor", _MONITOR_KEYS)):
+        if not isinstance(self.dynamic.get("lugre", True), bool):
+            raise DataError(f"{where}: [dynamic] lugre = {self.dynamic.get('lugre')!r}: must be true or false")
+        for sec, keys in (("segmentation", _SEGMENTATION_KEYS), ("fit", _FIT_KEYS), ("monitor", _MONITOR_KEYS),
+                          ("dynamic", _DYNAMIC_KEYS)):
             bad = set(getattr(self, sec)) - keys
             if bad:
                 raise DataError(f"{where}: [{sec}] unknown key(s) {sorted(bad)}; allowed: {sorted(keys)}")
@@ -163,7 +174,8 @@ class FleetConfig:
         """The configuration as plain data (the fingerprint of results depends on it)."""
         return {"columns": dict(self.columns), "scales": dict(self.scales), "si_units": dict(self.si_units),
                 "schedule": {k: dict(v) for k, v in self.schedule.items()}, "patterns": list(self.patterns),
-                "segmentation": dict(self.segmentation), "fit": dict(self.fit), "monitor": dict(self.monitor)}
+                "segmentation": dict(self.segmentation), "fit": dict(self.fit), "monitor": dict(self.monitor),
+                "dynamic": dict(self.dynamic)}
 
     @property
     def sha256(self) -> str:
@@ -240,7 +252,8 @@ def config_from_dict(doc: dict, *, source: str | None = None) -> FleetConfig:
         schedule[name] = {"column": spec.get("column"), "unit": str(spec.get("unit", ""))}
     return FleetConfig(columns=columns, scales=scales, si_units=si, schedule=schedule, patterns=patterns,
                        segmentation=_table(doc, "segmentation", where), fit=_table(doc, "fit", where),
-                       monitor=_table(doc, "monitor", where), source=source)
+                       monitor=_table(doc, "monitor", where),
+                       dynamic={"lugre": True, **_table(doc, "dynamic", where)}, source=source)
 
 
 def load_config(path: str | Path) -> FleetConfig:

@@ -42,7 +42,7 @@ nominal rate (1.7–2.7 % at ``alpha = 1 %``), so it is not the default.
 
 Columns added (per row; axis-level values repeated on each row of the axis):
 ``drift_flag`` (the axis has alarmed at or before this period), ``drift_alarm_period``,
-``drift_detail`` (one line), ``drift_method``, ``drift_threshold`` (``h`` or the p-value
+``drift_detail`` (one line), ``drift_method``, ``drift_scale``, ``drift_threshold`` (``h`` or the p-value
 threshold), ``drift_statistic`` (largest CUSUM or smallest p); per tracked parameter ``P``:
 ``drift_P_wear_per_day`` and ``_se`` (relative per day on the log scale), ``drift_P_p_value``
 (of ``w``, descriptive), ``drift_P_cusum`` (largest), ``drift_P_<u>_coef`` and ``_se`` per
@@ -510,6 +510,7 @@ def monitor_drift(
         "drift_alarm_period": np.full(len(df), None, object),
         "drift_detail": np.full(len(df), None, object),
         "drift_method": np.full(len(df), method, object),
+        "drift_scale": np.full(len(df), scale, object),
         "drift_threshold": np.full(len(df), np.nan),
         "drift_statistic": np.full(len(df), np.nan),
     }

@@ -1,7 +1,8 @@
 """Identify every log of a fleet on Dask, resumably, into one Parquet table.
 
 One task per log file (:func:`~frictionkit.fleet.task.identify_log`: segmentation, the
-static map with intervals and model choice, SHA-256 and provenance). Each finished task
+static map with intervals and model choice, LuGre σ0/σ1 through the reversals where the
+data allow, SHA-256 and provenance). Each finished task
 writes its row as a one-row Parquet part, atomically, into ``R.parquet.parts/`` beside
 the results file ``R.parquet``; the results file is then consolidated from the parts.
 Hence:

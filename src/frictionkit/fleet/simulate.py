@@ -252,6 +252,7 @@ def fleet_config_toml() -> str:
         "schedule": {"temperature": {"column": "temperature_C", "unit": "degC"}},
         "segmentation": {"min_speed": 2e-4, "min_duration": 0.3},
         "fit": {"model": "auto", "criterion": "aic"},
+        "dynamic": {"lugre": True},
         "monitor": {"alpha": 0.01, "min_periods": 5},
     }, header="frictionkit fleet configuration: how to read every log of this fleet (written by\n"
               "'frictionkit fleet simulate'). Units are those of the files; frictionkit converts to SI.")

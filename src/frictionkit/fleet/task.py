@@ -30,8 +30,13 @@ from .dataset import LogFile
 PARAMS = ("Fc", "Fs", "vs", "delta", "sigma2")
 DIRECTIONS = ("pos", "neg")
 
-#: Parameter columns: ``Fc_pos``, ``Fc_pos_se``, ``Fc_pos_lo``, ``Fc_pos_hi`` ... (95 % intervals).
-PARAM_COLUMNS = tuple(f"{p}_{d}{s}" for d in DIRECTIONS for p in PARAMS for s in ("", "_se", "_lo", "_hi"))
+#: Static-map columns: ``Fc_pos``, ``Fc_pos_se``, ``Fc_pos_lo``, ``Fc_pos_hi`` ... (95 % intervals).
+STATIC_COLUMNS = tuple(f"{p}_{d}{s}" for d in DIRECTIONS for p in PARAMS for s in ("", "_se", "_lo", "_hi"))
+#: Dynamic (LuGre) columns, NaN where the data do not allow the fit.
+DYNAMIC_COLUMNS = ("mass", "mass_se", *(f"{p}{s}" for p in ("sigma0", "sigma1") for s in ("", "_se", "_lo", "_hi")),
+                   "lugre_rms")
+#: Every identified parameter column.
+PARAM_COLUMNS = STATIC_COLUMNS + DYNAMIC_COLUMNS
 
 
 def result_schema(config: FleetConfig):
@@ -43,6 +48,7 @@ def result_schema(config: FleetConfig):
         ("axis", s), ("period", s), ("ok", b), ("error", s), ("error_type", s),
         ("model_pos", s), ("model_neg", s),
         *[(c, f64) for c in PARAM_COLUMNS],
+        ("n_reversals", i64),
         ("n_samples", i64), ("duration_s", f64), ("n_points_pos", i64), ("n_points_neg", i64),
         ("rms_pos", f64), ("rms_neg", f64), ("warnings", s),
         *[(name, f64) for name in config.schedule],
@@ -60,7 +66,7 @@ def _blank_row(log: LogFile, config: FleetConfig) -> dict[str, Any]:
     row: dict[str, Any] = {"axis": log.axis, "period": log.period, "ok": False, "error": None, "error_type": None,
                            "model_pos": None, "model_neg": None}
     row.update({c: float("nan") for c in PARAM_COLUMNS})
-    row.update({"n_samples": None, "duration_s": float("nan"), "n_points_pos": 0, "n_points_neg": 0,
+    row.update({"n_reversals": 0, "n_samples": None, "duration_s": float("nan"), "n_points_pos": 0, "n_points_neg": 0,
                 "rms_pos": float("nan"), "rms_neg": float("nan"), "warnings": None})
     row.update({name: float("nan") for name in config.schedule})
     row.update({"unit_F": config.si_units.get("F"), "unit_v": config.si_units.get("v"),
@@ -113,6 +119,26 @@ def _fill(row: dict[str, Any], res) -> None:
             row[f"{name}_{d}_hi"] = float(ci[1])
 
 
+def _dynamic(row: dict[str, Any], rec, res) -> list[str]:
+    """LuGre σ0, σ1 through the reversals into ``row``; what went wrong as notes (never an error row)."""
+    from ..identify.static_map import stribeck_model
+    from .dynamic import fit_lugre_reversals
+
+    try:
+        with np.errstate(all="ignore"):
+            d = fit_lugre_reversals(rec, stribeck_model(res))
+    except Exception as exc:  # noqa: BLE001 - the static map stands without the dynamics
+        return [f"LuGre not fitted: {_one_line(exc)[0]}"]
+    if not d["ok"]:
+        return [f"LuGre not fitted: {d['message']}"]
+    for c in DYNAMIC_COLUMNS:
+        if c in d:
+            row[c] = float(d[c])
+    row["lugre_rms"] = float(d["rms"])
+    row["n_reversals"] = int(d["n_reversals"])
+    return list(d["warnings"])
+
+
 def _recording(log: LogFile, config: FleetConfig, row: dict[str, Any], notes: list[str]):
     from ..data.loaders import _build, _column, read_table
 
@@ -138,7 +164,8 @@ def _recording(log: LogFile, config: FleetConfig, row: dict[str, Any], notes: li
 
 
 def identify_log(log: LogFile, config: FleetConfig, parts: str | None = None) -> dict[str, Any]:
-    """Identify the static friction map of one log; one results row, never an exception for bad data.
+    """Identify the static friction map (and LuGre σ0, σ1 where the data allow) of one log; one
+    results row, never an exception for bad data.
 
     Parameters
     ----------
@@ -174,6 +201,8 @@ def identify_log(log: LogFile, config: FleetConfig, parts: str | None = None) ->
                 pts = steady_state_points(rec, **config.segmentation)
                 res = fit_static_map(pts, units=dict(config.si_units), **config.fit)
         _fill(row, res)
+        if config.dynamic.get("lugre", True):
+            notes += _dynamic(row, rec, res)
         notes += [" ".join(str(w.message).split()) for w in caught
                   if not issubclass(w.category, RuntimeWarning) or "encountered" not in str(w.message)]
         notes += list(res.warnings)
@@ -220,4 +249,5 @@ def _pin_threads() -> None:
         pass
 
 
-__all__ = ["DIRECTIONS", "PARAMS", "PARAM_COLUMNS", "identify_log", "result_schema", "write_part"]
+__all__ = ["DIRECTIONS", "DYNAMIC_COLUMNS", "PARAMS", "PARAM_COLUMNS", "STATIC_COLUMNS", "identify_log",
+           "result_schema", "write_part"]

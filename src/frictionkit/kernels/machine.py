@@ -200,6 +200,14 @@ def _gms_el(F0, mode, k, xi, g, C, ds, dur, va, vb):
     return Fb, (F0 * tb + sg * k * xint + Fb * (dur - tb)) / dur, sg
 
 
+@njit(inline="always", error_model="numpy")
+def _gms_rows(par, o, M, d):
+    """Offsets of the static row and of k, xi, and C for motion ``d`` (row 0: ``d >= 0``)."""
+    if d >= 0.0:
+        return o, o + 13, o + 13 + M, par[o + 13 + 4 * M]
+    return o + N_ROW, o + 13 + 2 * M, o + 13 + 3 * M, par[o + 14 + 4 * M]
+
+
 @njit(error_model="numpy")
 def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
     """Mean GMS force over ``h`` for a site moving by ``ds`` from velocity ``v0``; element
@@ -237,33 +245,12 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
         va1 = v0
         vb1 = v1
     # direction rows of the phases
-    if d1 >= 0.0:
-        ro1 = o
-        ko1 = o + 13
-        xo1 = o + 13 + M
-        C1 = par[o + 13 + 4 * M]
-    else:
-        ro1 = o + N_ROW
-        ko1 = o + 13 + 2 * M
-        xo1 = o + 13 + 3 * M
-        C1 = par[o + 14 + 4 * M]
+    ro1, ko1, xo1, C1 = _gms_rows(par, o, M, d1)
     g1 = _g(par, ro1, abs(d1) / dur1)
-    ro2 = ro1
-    ko2 = ko1
-    xo2 = xo1
-    C2 = C1
+    ro2, ko2, xo2, C2 = ro1, ko1, xo1, C1
     g2 = g1
     if two:
-        if d2 >= 0.0:
-            ro2 = o
-            ko2 = o + 13
-            xo2 = o + 13 + M
-            C2 = par[o + 13 + 4 * M]
-        else:
-            ro2 = o + N_ROW
-            ko2 = o + 13 + 2 * M
-            xo2 = o + 13 + 3 * M
-            C2 = par[o + 14 + 4 * M]
+        ro2, ko2, xo2, C2 = _gms_rows(par, o, M, d2)
         g2 = _g(par, ro2, abs(d2) / dur2)
     w1 = dur1 / h
     w2 = dur2 / h

@@ -72,7 +72,7 @@ from ..errors import DataError, ParameterError, SimulationError
 from ..models.pack import pack_gms, pack_lugre
 from .elements import HertzContact, PiecewiseLinearSpring, SineLoad
 from .machine import Machine
-from .simulate import discretise, law_family
+from .simulate import TraceAccess, discretise, law_family
 
 __all__ = ["ReferenceResult", "reference_machine"]
 
@@ -179,7 +179,7 @@ class _ElasticSite:
 
 
 @dataclass(frozen=True, eq=False)
-class ReferenceResult:
+class ReferenceResult(TraceAccess):
     """Samples of a :func:`reference_machine` run, with the fields of :class:`MachineResult`.
 
     Attributes
@@ -217,27 +217,6 @@ class ReferenceResult:
     @property
     def success(self) -> bool:
         return self.status == 0
-
-    def _index(self, names, name, what):
-        if name not in names:
-            raise DataError(f"no {what} named {name!r}; available: {list(names)}")
-        return names.index(name)
-
-    def position(self, at) -> np.ndarray:
-        """Position of a DOF (by name) or of any coordinate (motions excluded)."""
-        if isinstance(at, str):
-            return self.q[:, self._index(self.dof_names, at, "degree of freedom")]
-        c, _ = self.machine.row(at)
-        return self.q @ c
-
-    def velocity(self, at) -> np.ndarray:
-        if isinstance(at, str):
-            return self.v[:, self._index(self.dof_names, at, "degree of freedom")]
-        c, _ = self.machine.row(at)
-        return self.v @ c
-
-    def force(self, site: str) -> np.ndarray:
-        return self.F[:, self._index(self.site_names, site, "site")]
 
 
 # --------------------------------------------------------------------------- the twin

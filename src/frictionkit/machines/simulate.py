@@ -57,8 +57,36 @@ def _pack_law(law) -> tuple[int, list[float], list[float]]:
     return _k.S_GMS, par, [0.0] * (2 * M)
 
 
+class TraceAccess:
+    """Named access to machine traces (``q``, ``v``, ``F`` and the name tuples), shared by
+    :class:`MachineResult` and the twin's result."""
+
+    def _index(self, names, name, what):
+        if name not in names:
+            raise DataError(f"no {what} named {name!r}; available: {list(names)}")
+        return names.index(name)
+
+    def position(self, at) -> np.ndarray:
+        """Position of a DOF (by name) or of any coordinate (motions excluded) [m or rad]."""
+        if isinstance(at, str):
+            return self.q[:, self._index(self.dof_names, at, "degree of freedom")]
+        c, _ = self.machine.row(at)
+        return self.q @ c
+
+    def velocity(self, at) -> np.ndarray:
+        """Velocity of a DOF (by name) or of any coordinate [m/s or rad/s]."""
+        if isinstance(at, str):
+            return self.v[:, self._index(self.dof_names, at, "degree of freedom")]
+        c, _ = self.machine.row(at)
+        return self.v @ c
+
+    def force(self, site: str) -> np.ndarray:
+        """Force of a friction site, compliance or load [N or N·m]."""
+        return self.F[:, self._index(self.site_names, site, "site")]
+
+
 @dataclass(frozen=True, eq=False)
-class MachineResult:
+class MachineResult(TraceAccess):
     """Time series of one machine run (SI units). ``status`` 0 = ok; else ``message`` says why.
 
     Attributes
@@ -90,28 +118,6 @@ class MachineResult:
     @property
     def success(self) -> bool:
         return self.status == 0
-
-    def _index(self, names, name, what):
-        if name not in names:
-            raise DataError(f"no {what} named {name!r}; available: {list(names)}")
-        return names.index(name)
-
-    def position(self, at) -> np.ndarray:
-        """Position of a DOF (by name) or of any coordinate (motions excluded) [m or rad]."""
-        if isinstance(at, str):
-            return self.q[:, self._index(self.dof_names, at, "degree of freedom")]
-        c, _ = self.machine.row(at)
-        return self.q @ c
-
-    def velocity(self, at) -> np.ndarray:
-        if isinstance(at, str):
-            return self.v[:, self._index(self.dof_names, at, "degree of freedom")]
-        c, _ = self.machine.row(at)
-        return self.v @ c
-
-    def force(self, site: str) -> np.ndarray:
-        """Force of a friction site, compliance or load [N or N·m]."""
-        return self.F[:, self._index(self.site_names, site, "site")]
 
     def signal(self, name: str) -> np.ndarray:
         return self.signals[:, self._index(self.signal_names, name, "signal")]

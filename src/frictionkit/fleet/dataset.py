@@ -145,7 +145,7 @@ def discover(dataset, config: FleetConfig, *, exclude: Iterable[str | Path] = ()
             rel = p.relative_to(root).as_posix()
         except ValueError:
             rel = p.as_posix()
-        hit = config.match(rel)
+        hit = config.match(rel) or config.match(p.as_posix())  # e.g. a list of one axis's files
         if hit is None:
             unmatched.append(rel)
             continue

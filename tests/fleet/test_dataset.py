@@ -1,0 +1,88 @@
+"""Datasets: Hive-style partitions, globs, lists of files, HDF5 logs, and the TOML configuration's checks."""
+
+from __future__ import annotations
+
+import shutil
+
+import h5py
+import pandas as pd
+import pytest
+
+from frictionkit.errors import DataError
+from frictionkit.fleet import PARAM_COLUMNS, config_from_dict, discover, identify_fleet, load_config
+from frictionkit.fleet.config import DEFAULT_PATTERNS
+
+
+def _good(small_fleet, fmt):
+    broken = {p for p, _ in small_fleet.broken}
+    return [p for p in small_fleet.files if p.endswith(fmt) and p not in broken]
+
+
+def test_hive_partitions_glob_and_hdf5_give_the_same_rows(small_fleet, single_run, tmp_path):
+    src = _good(small_fleet, ".parquet")[:2]
+    cfg = load_config(small_fleet.config)
+    cfg = config_from_dict({**_doc(cfg), "layout": {"patterns": list(DEFAULT_PATTERNS)}})
+    hive = tmp_path / "hive"
+    for rel in src:
+        axis, name = rel.split("/")
+        d = hive / f"axis={axis}" / f"date={name.split('.')[0]}"
+        d.mkdir(parents=True)
+        shutil.copy(small_fleet.root / rel, d / "part-0.parquet")
+    h5 = tmp_path / "h5"
+    for rel in src:
+        axis, name = rel.split("/")
+        (h5 / axis).mkdir(parents=True, exist_ok=True)
+        df = pd.read_parquet(small_fleet.root / rel)
+        with h5py.File(h5 / axis / (name.split(".")[0] + ".h5"), "w") as f:
+            for c in df.columns:
+                f[c] = df[c].to_numpy()
+    ref = single_run.table.set_index(["axis", "period"]).loc[[tuple(r.split("/")[0:1] + [r.split("/")[1][:10]])
+                                                              for r in src], list(PARAM_COLUMNS)]
+    for dataset in (hive, str(small_fleet.root / "*" / "*.parquet"), h5,
+                    [small_fleet.root / r for r in src]):
+        logs, _ = discover(dataset, cfg)
+        if isinstance(dataset, str):  # the glob takes every Parquet log, broken ones too
+            logs = [g for g in logs if g.file in src]
+            assert len(logs) == 2
+            dataset = [g.path for g in logs]
+        run = identify_fleet(dataset, out=tmp_path / f"r{id(dataset)}.parquet", config=cfg, scheduler="none",
+                             progress=False, monitor=False)
+        got = run.table.set_index(["axis", "period"])[list(PARAM_COLUMNS)]
+        pd.testing.assert_frame_equal(got, ref, check_exact=True)
+
+
+def _doc(cfg):
+    d = cfg.to_dict()
+    units = {"time": "s", "position": "mm", "velocity": "mm/s", "force": "N"}
+    return {"columns": d["columns"], "units": units, "schedule": d["schedule"], "segmentation": d["segmentation"],
+            "fit": d["fit"], "dynamic": d["dynamic"]}
+
+
+@pytest.mark.parametrize("doc, match", [
+    ({"colums": {}}, "unknown section"),
+    ({"columns": {"time": "t"}}, "force"),
+    ({"columns": {"time": "t", "force": "F"}}, "velocity"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "units": {"force": "furlong"}}, "unknown unit"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "layout": {"pattern": "(?P<axis>x)"}}, "period"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "layout": {"pattern": "(["}}, "regular expression"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "fit": {"modle": "auto"}}, "unknown key"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "dynamic": {"lugre": "yes"}}, "true or false"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "scales": {"force": 0}}, "non-zero"),
+    ({"columns": {"time": "t", "force": "F", "velocity": "v"}, "schedule": {"oil temp": "T"}}, "letters"),
+])
+def test_config_mistakes_are_named(doc, match):
+    with pytest.raises(DataError, match=match):
+        config_from_dict(doc, source="fleet.toml")
+
+
+def test_config_file_errors(tmp_path):
+    with pytest.raises(DataError, match="not found"):
+        load_config(tmp_path / "none.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[columns\n")
+    with pytest.raises(DataError, match="not valid TOML"):
+        load_config(bad)
+    ok = tmp_path / "ok.toml"
+    ok.write_text('[columns]\ntime = "t"\nforce = "T"\nvelocity = "w"\n[units]\nforce = "N·m"\nvelocity = "rpm"\n')
+    cfg = load_config(ok)
+    assert cfg.si_units == {"v": "rad/s", "F": "N·m"} and abs(cfg.scales["velocity"] - 0.10471975511965977) < 1e-15

@@ -140,6 +140,7 @@ def local_cluster(workers: int | None = None, **kwargs):
 class _Progress:
     def __init__(self, enabled: bool, total: int, label: str) -> None:
         self.bar = None
+        self.label = label
         if enabled and total:
             from rich.console import Console
             from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, \
@@ -153,7 +154,8 @@ class _Progress:
 
     def advance(self, errors: int) -> None:
         if self.bar is not None:
-            self.bar.update(self.task, advance=1, description=f"identify ({errors} error(s))" if errors else "identify")
+            self.bar.update(self.task, advance=1,
+                            description=f"{self.label} ({errors} error(s))" if errors else self.label)
 
     def close(self) -> None:
         if self.bar is not None:

@@ -1,0 +1,348 @@
+"""Monte-Carlo robustness studies on Dask: parameter spreads × compensators × noise seeds.
+
+A study is one positioning axis on the machine core (``fk.Machine``: a mass, a friction site
+holding the plant's law, an actuator with a force limit, a linear scale with resolution and
+noise, a PID on the position error), driven along a reference, with a friction compensator
+that knows only the *nominal* friction: ``none``, ``coulomb`` (Coulomb + viscous
+feed-forward on the reference velocity) or ``static`` (the nominal Stribeck map as
+feed-forward). Each run draws the plant's friction parameters from uniform spreads around
+the nominal ones (±20–30 % in the robustness studies of the reproductions), simulates with
+``fk.simulate_machine`` (one noise seed per run) and keeps the tracking-error statistics.
+
+Runs are Dask tasks (the same cluster choices as :func:`frictionkit.fleet.identify_fleet`:
+a LocalCluster of one-thread workers, a scheduler address, or ``scheduler="none"``); each
+finished run is written atomically as a one-row Parquet part beside the results file, so a
+rerun computes only what is missing; the results are one row per run.
+
+The study is described by a TOML file::
+
+    [machine]                      # SI units
+    mass = 20.0                    # kg
+    law = "lugre"                  # "lugre" or "stribeck" (static)
+    Fc = 20.0                      # N
+    Fs = 30.0                      # N
+    vs = 2e-3                      # m/s
+    sigma2 = 200.0                 # N·s/m
+    sigma0 = 1e6                   # N/m (LuGre)
+    sigma1 = 2e3                   # N·s/m (LuGre)
+    Kp = 2e5                       # N/m
+    Ki = 2e6                       # N/(m·s)
+    Kd = 2e3                       # N·s/m
+    tau_d = 1e-3                   # s
+    limit = 2000.0                 # N
+    resolution = 1e-7              # m
+    noise = 5e-8                   # m (std)
+
+    [reference]                    # a sine: amplitude [m], frequency [Hz], duration [s], dt [s]
+    amplitude = 1e-3
+    frequency = 0.5
+    duration = 4.0
+    dt = 5e-4
+
+    [spread]                       # relative half-widths of the uniform parameter spreads
+    Fc = 0.3
+    Fs = 0.3
+    sigma2 = 0.2
+    sigma0 = 0.3
+
+    [study]
+    draws = 20
+    seeds = 2
+    compensators = ["none", "coulomb", "static"]
+    seed = 0
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import DataError, ParameterError
+
+COMPENSATORS = ("none", "coulomb", "static")
+_MACHINE = {"mass": 20.0, "law": "lugre", "Fc": 20.0, "Fs": 30.0, "vs": 2e-3, "sigma2": 200.0, "sigma0": 1e6,
+            "sigma1": 2e3, "Kp": 2e5, "Ki": 2e6, "Kd": 2e3, "tau_d": 1e-3, "limit": 2000.0, "resolution": 1e-7,
+            "noise": 5e-8}
+_REFERENCE = {"amplitude": 1e-3, "frequency": 0.5, "duration": 4.0, "dt": 5e-4}
+_SPREADABLE = ("Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "mass")
+_STUDY = {"draws": 20, "seeds": 1, "compensators": list(COMPENSATORS), "seed": 0}
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudySpec:
+    """A Monte-Carlo study (see the module docstring for the TOML form)."""
+
+    machine: dict = field(default_factory=lambda: dict(_MACHINE))
+    reference: dict = field(default_factory=lambda: dict(_REFERENCE))
+    spread: dict = field(default_factory=lambda: {"Fc": 0.3, "Fs": 0.3, "sigma2": 0.2, "sigma0": 0.3})
+    study: dict = field(default_factory=lambda: dict(_STUDY))
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        where = f"study '{self.source}'" if self.source else "study"
+        for sec, defaults in (("machine", _MACHINE), ("reference", _REFERENCE), ("study", _STUDY)):
+            d = getattr(self, sec)
+            bad = set(d) - set(defaults)
+            if bad:
+                raise DataError(f"{where}: [{sec}] unknown key(s) {sorted(bad)}; allowed: {sorted(defaults)}")
+            object.__setattr__(self, sec, {**defaults, **d})
+        m = self.machine
+        if m["law"] not in ("lugre", "stribeck"):
+            raise DataError(f"{where}: [machine] law = {m['law']!r}: must be 'lugre' or 'stribeck'")
+        for k, v in {**m, **self.reference}.items():
+            if k == "law":
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
+                raise DataError(f"{where}: {k} = {v!r}: must be a finite number >= 0")
+        for k in ("mass", "Fc", "Fs", "vs", "sigma0", "dt", "duration", "frequency"):
+            if k in m and m[k] <= 0 or k in self.reference and self.reference[k] <= 0:
+                raise DataError(f"{where}: {k} must be > 0")
+        for k, v in self.spread.items():
+            if k not in _SPREADABLE:
+                raise DataError(f"{where}: [spread] {k!r}: spreadable parameters are {list(_SPREADABLE)}")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < 1:
+                raise DataError(f"{where}: [spread] {k} = {v!r}: a relative half-width in [0, 1)")
+        s = self.study
+        for k in ("draws", "seeds"):
+            if isinstance(s[k], bool) or not isinstance(s[k], int) or not 1 <= s[k] <= 100_000:
+                raise DataError(f"{where}: [study] {k} = {s[k]!r}: an integer from 1 to 100000")
+        comps = s["compensators"]
+        if not isinstance(comps, list) or not comps or any(c not in COMPENSATORS for c in comps):
+            raise DataError(f"{where}: [study] compensators = {comps!r}: a list of {list(COMPENSATORS)}")
+        if self.reference["duration"] / self.reference["dt"] > 2_000_000:
+            raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
+
+    @property
+    def sha256(self) -> str:
+        doc = {"machine": self.machine, "reference": self.reference, "spread": self.spread, "study": self.study}
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+    def runs(self) -> list[dict[str, Any]]:
+        """Every run: draw × compensator × seed, with the drawn parameters (same draws for every compensator)."""
+        s = self.study
+        rng = np.random.default_rng([int(s["seed"]), 7])
+        out = []
+        for d in range(s["draws"]):
+            u = {k: float(rng.uniform(-1.0, 1.0)) for k in _SPREADABLE}  # one draw of every parameter, in order
+            params = {k: self.machine[k] * (1.0 + self.spread.get(k, 0.0) * u[k]) for k in _SPREADABLE}
+            for comp in s["compensators"]:
+                for seed in range(s["seeds"]):
+                    out.append({"run": f"d{d:05d}-{comp}-s{seed:03d}", "draw": d, "compensator": comp,
+                                "noise_seed": int(s["seed"]) * 1000 + seed, **params})
+        return out
+
+
+def load_study(path: str | Path) -> StudySpec:
+    """Read a study TOML file (every mistake is one :class:`~frictionkit.DataError`)."""
+    p = Path(path)
+    if not p.is_file():
+        raise DataError(f"study '{p}': not found")
+    try:
+        doc = tomllib.loads(p.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise DataError(f"study '{p}': not valid TOML ({exc})") from None
+    bad = set(doc) - {"machine", "reference", "spread", "study"}
+    if bad:
+        raise DataError(f"study '{p}': unknown section(s) {sorted(bad)}; allowed: machine, reference, spread, study")
+    for sec in doc:
+        if not isinstance(doc[sec], dict):
+            raise DataError(f"study '{p}': [{sec}] must be a table")
+    return StudySpec(**{k: dict(v) for k, v in doc.items()}, source=str(p))
+
+
+def _machine(spec: StudySpec, run: dict):
+    import frictionkit as fk
+    from frictionkit.machines import PID, FrictionFeedforward, Sum
+
+    m0 = spec.machine
+    plant = fk.Stribeck(Fc=run["Fc"], Fs=run["Fs"], vs=run["vs"], sigma2=run["sigma2"])
+    law = fk.LuGre(plant, sigma0=run["sigma0"], sigma1=run["sigma1"]) if m0["law"] == "lugre" else plant
+    m = fk.Machine("study axis")
+    x = m.dof("table", inertia=run["mass"])
+    m.friction("guide", x, law=law)
+    m.actuator("drive", x, gain=1.0, limit=m0["limit"] if m0["limit"] > 0 else math.inf, command="u")
+    m.sensor("scale", x, resolution=m0["resolution"], noise=m0["noise"])
+    blocks = [Sum("e", {"r": 1.0, "scale": -1.0}),
+              PID("pid", "e", Kp=m0["Kp"], Ki=m0["Ki"], Kd=m0["Kd"], tau_d=m0["tau_d"], antiwindup="drive")]
+    comp = run["compensator"]
+    if comp == "none":
+        blocks.append(Sum("u", {"pid": 1.0}))
+    else:
+        nominal = (fk.CoulombViscous(Fc=m0["Fc"], sigma2=m0["sigma2"]) if comp == "coulomb" else
+                   fk.Stribeck(Fc=m0["Fc"], Fs=m0["Fs"], vs=m0["vs"], sigma2=m0["sigma2"]))
+        blocks += [FrictionFeedforward("ff", "vref", law=nominal), Sum("u", {"pid": 1.0, "ff": 1.0})]
+    m.add(*blocks)
+    return m
+
+
+def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, Any]:
+    """Simulate one run; one row (``ok``/``error`` instead of an exception), written to ``parts`` if given."""
+    import frictionkit as fk
+
+    t0 = time.perf_counter()
+    row = dict(run)
+    row.update({"ok": False, "error": None, "max_error": float("nan"), "rms_error": float("nan"),
+                "max_error_measured": float("nan"), "max_force": float("nan"), "study_sha256": spec.sha256,
+                "frictionkit_version": fk.__version__})
+    try:
+        ref = spec.reference
+        dt = float(ref["dt"])
+        t = np.arange(int(round(ref["duration"] / dt)) + 1) * dt
+        w = 2.0 * math.pi * ref["frequency"]
+        r = ref["amplitude"] * np.sin(w * t)
+        vr = ref["amplitude"] * w * np.cos(w * t)
+        res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs={"r": r, "vref": vr}, seed=int(run["noise_seed"]))
+        if res.status != 0:
+            raise fk.SimulationError(res.message)
+        skip = int(0.1 * t.size)  # the first 10 %: the loop settles from rest
+        e_true = r - res.q[:, 0]
+        row.update(ok=True, max_error=float(np.max(np.abs(e_true[skip:]))),
+                   rms_error=float(np.sqrt(np.mean(e_true[skip:] ** 2))),
+                   max_error_measured=float(np.max(np.abs(res.signal("e")[skip:]))),
+                   max_force=float(np.max(np.abs(res.signal("u")))))
+    except (KeyboardInterrupt, SystemExit, MemoryError):
+        raise
+    except Exception as exc:  # noqa: BLE001 - a failing run is a row
+        row["error"] = f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+    row["run_seconds"] = time.perf_counter() - t0
+    if parts is not None:
+        import pandas as pd
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        from ._io import atomic_open
+
+        with atomic_open(Path(parts) / f"{run['run']}__{spec.sha256[:16]}.parquet", "wb") as f:
+            pq.write_table(pa.Table.from_pandas(pd.DataFrame([row]), preserve_index=False), f)
+    return row
+
+
+@dataclass(frozen=True, kw_only=True)
+class StudyResult:
+    """Rows (one per run), what ran, and the summary per compensator."""
+
+    out: Path
+    table: Any = field(repr=False)
+    runs: int
+    computed: int
+    skipped: int
+    elapsed: float
+
+    def summary(self) -> dict[str, Any]:
+        """Per compensator: runs, failures, median and 95th percentile of the max and RMS tracking error [m]."""
+        df = self.table
+        per = {}
+        for comp, g in df.groupby("compensator", sort=False):
+            ok = g[g["ok"]]
+            per[comp] = {"runs": int(len(g)), "failed": int((~g["ok"]).sum()),
+                         "max_error_median_m": float(ok["max_error"].median()) if len(ok) else None,
+                         "max_error_p95_m": float(ok["max_error"].quantile(0.95)) if len(ok) else None,
+                         "rms_error_median_m": float(ok["rms_error"].median()) if len(ok) else None}
+        return {"out": str(self.out), "runs": self.runs, "computed": self.computed, "skipped": self.skipped,
+                "elapsed_s": round(self.elapsed, 3), "compensators": per}
+
+
+def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, workers: int | None = None,
+              progress: bool = True) -> StudyResult:
+    """Run every draw × compensator × seed of a study on Dask; one row per run in ``out`` (Parquet).
+
+    Parameters
+    ----------
+    spec : StudySpec, str or Path
+        The study or its TOML file.
+    out : str or Path
+        Results Parquet file; parts go to ``<out>.parts/`` (a rerun computes only what is missing).
+    scheduler, workers
+        As in :func:`frictionkit.fleet.identify_fleet` (None: a LocalCluster; ``"none"`` or
+        ``workers=0``: this process; an address or a Client).
+    progress : bool
+        Progress bar on stderr.
+
+    Returns
+    -------
+    StudyResult
+
+    Examples
+    --------
+    >>> from frictionkit.study import run_study
+    >>> res = run_study("study.toml", out="study.parquet", workers=2)  # doctest: +SKIP
+    >>> res.summary()["compensators"]["static"]["max_error_p95_m"]  # doctest: +SKIP
+    """
+    import pandas as pd
+
+    from ._io import atomic_open
+    from .fleet.identify import _Progress, local_cluster
+
+    t_start = time.perf_counter()
+    if not isinstance(spec, StudySpec):
+        spec = load_study(spec)
+    if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 0):
+        raise ParameterError(f"run_study.workers = {workers!r}: must be an integer >= 0")
+    single = scheduler == "none" or workers == 0
+    if not single and scheduler is not None and workers is not None:
+        raise ParameterError("run_study: workers= starts a local cluster; with a scheduler the cluster decides")
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    parts = out.with_name(out.name + ".parts")
+    parts.mkdir(exist_ok=True)
+    runs = spec.runs()
+    done = {f.name for f in parts.glob("*.parquet")}
+    tag = spec.sha256[:16]
+    todo = [r for r in runs if f"{r['run']}__{tag}.parquet" not in done]
+    bar = _Progress(progress, len(todo), "study")
+    rows: list[dict] = []
+    try:
+        if todo and single:
+            for r in todo:
+                rows.append(run_one(spec, r, str(parts)))
+                bar.advance(sum(not x["ok"] for x in rows))
+        elif todo:
+            from dask.distributed import Client, as_completed
+
+            cluster = client = None
+            try:
+                if scheduler is None:
+                    cluster = local_cluster(workers)
+                    client = Client(cluster)
+                elif isinstance(scheduler, str):
+                    client = Client(scheduler, timeout=15)
+                else:
+                    client = scheduler
+                futs = [client.submit(run_one, spec, r, str(parts), key=f"study-{r['run']}-{tag}", pure=False)
+                        for r in todo]
+                for fut in as_completed(futs):
+                    if fut.status == "finished":
+                        rows.append(fut.result())
+                    fut.release()
+                    bar.advance(sum(not x["ok"] for x in rows))
+            finally:
+                if client is not None and client is not scheduler:
+                    client.close()
+                if cluster is not None:
+                    cluster.close()
+    finally:
+        bar.close()
+    have = {r["run"] for r in rows}
+    frames = [pd.DataFrame(rows)] if rows else []
+    for r in runs:
+        f = parts / f"{r['run']}__{tag}.parquet"
+        if r["run"] not in have and f.is_file():
+            frames.append(pd.read_parquet(f))
+    df = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    if len(df):
+        df = df.drop_duplicates("run", keep="last").sort_values("run").reset_index(drop=True)
+    with atomic_open(out, "wb") as f:
+        df.to_parquet(f, index=False)
+    return StudyResult(out=out, table=df, runs=len(runs), computed=len(rows), skipped=len(runs) - len(todo),
+                       elapsed=time.perf_counter() - t_start)
+
+
+__all__ = ["COMPENSATORS", "StudyResult", "StudySpec", "load_study", "run_one", "run_study"]

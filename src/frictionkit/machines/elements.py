@@ -7,7 +7,7 @@ assembles them and :func:`~frictionkit.machines.simulate_machine` packs them for
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 

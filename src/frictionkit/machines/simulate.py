@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 
@@ -13,8 +12,8 @@ from .. import _validate as val
 from ..errors import DataError, ParameterError, SimulationError
 from ..kernels import machine as _k
 from ..models.static import Directional
-from .elements import (FrictionFeedforward, HertzContact, NormalLoad, PID, PiecewiseLinearSpring,
-                       Saturation, SineLoad, StateSpace, Sum)
+from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
+                       StateSpace, Sum)
 from .machine import Machine
 
 

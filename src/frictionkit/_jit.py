@@ -26,3 +26,8 @@ def njit(*args, simd: bool = False, **kwargs):
     if simd:
         kwargs.setdefault("error_model", "numpy")
     return numba.njit(*args, **kwargs)
+
+
+def set_threads(n: int) -> None:
+    """Set numba's thread-pool size for this process (fleet workers run one thread each)."""
+    numba.set_num_threads(n)

@@ -279,7 +279,7 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
     import pandas as pd
 
     from ._io import atomic_open
-    from .fleet.identify import _Progress, local_cluster
+    from .fleet.identify import _Progress, dask_client
 
     t_start = time.perf_counter()
     if not isinstance(spec, StudySpec):
@@ -305,17 +305,9 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
                 rows.append(run_one(spec, r, str(parts)))
                 bar.advance(sum(not x["ok"] for x in rows))
         elif todo:
-            from dask.distributed import Client, as_completed
+            from dask.distributed import as_completed
 
-            cluster = client = None
-            try:
-                if scheduler is None:
-                    cluster = local_cluster(workers)
-                    client = Client(cluster)
-                elif isinstance(scheduler, str):
-                    client = Client(scheduler, timeout=15)
-                else:
-                    client = scheduler
+            with dask_client(scheduler, workers, timeout=15) as (client, _mode):
                 futs = [client.submit(run_one, spec, r, str(parts), key=f"study-{r['run']}-{tag}", pure=False)
                         for r in todo]
                 for fut in as_completed(futs):
@@ -323,11 +315,6 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
                         rows.append(fut.result())
                     fut.release()
                     bar.advance(sum(not x["ok"] for x in rows))
-            finally:
-                if client is not None and client is not scheduler:
-                    client.close()
-                if cluster is not None:
-                    cluster.close()
     finally:
         bar.close()
     have = {r["run"] for r in rows}

@@ -29,6 +29,7 @@ from __future__ import annotations
 import logging
 import os
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -135,6 +136,33 @@ def local_cluster(workers: int | None = None, **kwargs):
                 dashboard_address=":0", silence_logs=logging.ERROR, env=dict(PIN_ENV))
     opts.update(kwargs)
     return LocalCluster(**opts)
+
+
+@contextmanager
+def dask_client(scheduler=None, workers: int | None = None, *, timeout=None):
+    """``(client, mode)`` for a job: a :func:`local_cluster` when ``scheduler`` is None, a
+    cluster by scheduler address (str), or the given ``Client``; what is opened here is closed
+    on leaving (a given client is left open)."""
+    from dask.distributed import Client
+
+    cluster = client = None
+    try:
+        if scheduler is None:
+            cluster = local_cluster(workers)
+            client = Client(cluster)
+            mode = "local"
+        elif isinstance(scheduler, str):
+            client = Client(scheduler) if timeout is None else Client(scheduler, timeout=timeout)
+            mode = scheduler
+        else:
+            client = scheduler
+            mode = str(getattr(client, "scheduler", None) and client.scheduler.address)
+        yield client, mode
+    finally:
+        if client is not None and client is not scheduler:
+            client.close()
+        if cluster is not None:
+            cluster.close()
 
 
 class _Progress:
@@ -369,27 +397,9 @@ def identify_fleet(
         if todo and single:
             rows, failed = _run_local(todo, cfg, parts, bar)
         elif todo:
-            from dask.distributed import Client
-
-            cluster = client = None
-            try:
-                if scheduler is None:
-                    cluster = local_cluster(workers)
-                    client = Client(cluster)
-                    mode = "local"
-                elif isinstance(scheduler, str):
-                    client = Client(scheduler)
-                    mode = scheduler
-                else:
-                    client = scheduler
-                    mode = str(getattr(client, "scheduler", None) and client.scheduler.address)
+            with dask_client(scheduler, workers) as (client, mode):
                 n_workers = len(client.nthreads())
                 rows, failed = _run_dask(todo, cfg, parts, bar, client, int(batch))
-            finally:
-                if client is not None and client is not scheduler:
-                    client.close()
-                if cluster is not None:
-                    cluster.close()
     finally:
         bar.close()
     compute = time.perf_counter() - t_compute if todo else 0.0
@@ -413,5 +423,5 @@ def identify_fleet(
                     compute_seconds=compute, task_seconds=task_s, monitored=monitored)
 
 
-__all__ = ["CONFIG_NAME", "FleetRun", "PIN_ENV", "consolidate", "default_workers", "identify_batch", "identify_fleet",
+__all__ = ["CONFIG_NAME", "FleetRun", "PIN_ENV", "consolidate", "dask_client", "default_workers", "identify_batch", "identify_fleet",
            "local_cluster", "resolve_config", "write_table"]

@@ -242,10 +242,10 @@ def _pin_threads() -> None:
         return
     _PINNED = True
     try:
-        import numba
+        from .._jit import set_threads
 
-        numba.set_num_threads(1)
-    except (ImportError, ValueError):  # pragma: no cover
+        set_threads(1)
+    except ValueError:  # pragma: no cover
         pass
 
 

@@ -103,6 +103,18 @@ def _static_force(par, o, v, lam):
 
 
 # --------------------------------------------------------------------------- site laws
+@njit(inline="always", error_model="numpy")
+def _relax(x):
+    """``(exp(-x), (1 - exp(-x)) / x)`` for ``x > 0``: end and mean factor of an exponential
+    relaxation over an interval; one ``exp``, a series for small ``x``, none past underflow."""
+    if x > 700.0:
+        return 0.0, 1.0 / x
+    e = math.exp(-x)
+    if x < 1e-3:  # (1 - e^-x) / x to O(x^4)
+        return e, 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
+    return e, (1.0 - e) / x
+
+
 @njit(error_model="numpy")
 def _lugre_mean(par, o, z0, ds, h, lam):
     """Mean force over ``h`` and end state for a site moving at ``v = ds / h``.
@@ -127,16 +139,7 @@ def _lugre_mean(par, o, z0, ds, h, lam):
     if g <= 0.0:  # no friction level: the bristles relax at once
         return lam * s1 * (0.0 - z0) / h + s2 * v, 0.0
     zss = sg * g / s0
-    x = s0 * av * h / g
-    if x > 700.0:
-        e = 0.0
-        frac = 1.0 / x
-    elif x < 1e-3:  # series: (1 - e^-x) / x to O(x^4), one exp fewer
-        e = math.exp(-x)
-        frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
-    else:
-        e = math.exp(-x)
-        frac = (1.0 - e) / x
+    e, frac = _relax(s0 * av * h / g)
     z1 = zss + (z0 - zss) * e
     zbar = zss + (z0 - zss) * frac
     return lam * (s0 * zbar + s1 * (z1 - z0) / h) + s2 * v, z1
@@ -157,16 +160,7 @@ def _gms_el(F0, mode, k, xi, g, C, ds, dur, va, vb):
         Fst = sg * xi * g
         if g <= 0.0:
             return Fst, Fst, mode
-        x = C * dur / g
-        if x > 700.0:
-            e = 0.0
-            frac = 1.0 / x
-        elif x < 1e-3:  # series: (1 - e^-x) / x to O(x^4), one exp fewer
-            e = math.exp(-x)
-            frac = 1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0)))
-        else:
-            e = math.exp(-x)
-            frac = (1.0 - e) / x
+        e, frac = _relax(C * dur / g)
         return Fst + (F0 - Fst) * e, Fst + (F0 - Fst) * frac, mode
     # sticking (a slipping element sticks when the motion stops or reverses)
     if sg == 0.0:

@@ -73,6 +73,7 @@ def fit_output_error(
     free: Sequence[str] = ("sigma0", "sigma1"),
     plant_mass: float,
     offset: float = 0.0,
+    external_load=None,
     compare: str = "v",
     bounds: Mapping[str, tuple[float, float]] | None = None,
     starts: int = 1,
@@ -112,6 +113,13 @@ def fit_output_error(
         Moving mass [kg] (start value when ``"m"`` is free).
     offset : float
         Constant force [N] (start value when ``"offset"`` is free).
+    external_load : array_like, optional
+        A known load force [N] per sample, e.g. gravity evaluated on the measured
+        position (seed 002 eq. 13: ``G2 = m g X sin(theta)``); it acts like friction,
+        ``m a = u - F - offset - external_load``. It is taken as given (not fed back from
+        the simulated position): the single-axis kernels stay usable, and the error
+        this makes is the load's change over the simulated-vs-measured position
+        difference, small wherever the fit is good.
     compare : {"v", "x"}
         Compared signal.
     bounds : mapping, optional
@@ -197,6 +205,12 @@ def fit_output_error(
         raise ParameterError(f"{owner}: starts = {starts!r}: must be an integer >= 1")
     refine = max(1, min(int(refine), int(starts)))
     t, u, x, v, prov, name = _arrays(data)
+    if external_load is not None:
+        load = val.signal("external_load", external_load)
+        if load.size != u.size:
+            raise DataError(f"{owner}: external_load has {load.size} samples, the recording {u.size}")
+        u = u - load
+        prov["external_load"] = "given per sample (subtracted from the input force)"
     y = x if compare == "x" else v
     if y is None:
         raise DataError(f"recording '{name}': compare = {compare!r} needs the signal {compare!r}")

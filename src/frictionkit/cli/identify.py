@@ -29,7 +29,7 @@ from . import _common as chk
 
 identify_app = typer.Typer(
     name="identify",
-    help="Identify friction models from recordings (CSV, .mat, HDF5, Parquet).",
+    help="Identify friction models from recordings (CSV, .mat, HDF5, Parquet, TDMS).",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -95,7 +95,7 @@ def _validation(res, path: Optional[Path], label: str, loader, how=None) -> obje
 
 @identify_app.command("rigid-body")
 def rigid_body(
-    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
     position: str = typer.Option(..., "--position", help="Position column [m]."),
     force: str = typer.Option(..., "--force", help="Force column (scaled by --force-scale to N)."),
@@ -140,7 +140,7 @@ def rigid_body(
 
 @identify_app.command("static")
 def static(
-    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
     velocity: Optional[str] = typer.Option(None, "--velocity", help="Velocity column."),
     position: Optional[str] = typer.Option(None, "--position", help="Position column (velocity by differences)."),
@@ -220,7 +220,7 @@ def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[f
 
 @identify_app.command("output-error")
 def output_error(
-    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
     position: Optional[str] = typer.Option(None, "--position", help="Position column (force drive: compared with "
                                            "--compare x; motion drive: drives the model)."),
@@ -473,7 +473,7 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
 
 @identify_app.command("presliding")
 def presliding(
-    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet)."),
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
     position: str = typer.Option(..., "--position", help="Position column."),
     force: str = typer.Option(..., "--force", help="Friction force column."),

@@ -1,4 +1,4 @@
-"""Read recordings from CSV, MATLAB ``.mat`` (v5 and v7.3), HDF5 and Parquet files.
+"""Read recordings from CSV, MATLAB ``.mat`` (v5 and v7.3), HDF5, Parquet and NI ``.tdms`` files.
 
 Columns are mapped explicitly to signals (``time=``, ``position=``, ``velocity=``,
 ``force=``, ...), and each may be multiplied by a scale factor to reach SI units,
@@ -6,6 +6,12 @@ e.g. the EMPS force ``F = gtau * vir`` with ``gtau = 35.15065188248547 N/V``::
 
     rec = load_recording("DATA_EMPS.csv", time="t_s", position="qm_m", force="vir_V",
                          scales={"force": 35.15065188248547})
+
+National Instruments TDMS files (LabVIEW, DAQmx; read with npTDMS) name their columns
+``"<group>/<channel>"``, like HDF5 dataset paths; a waveform channel (one with the
+``wf_increment`` property) also gives its time track as ``"<group>/<channel>/time"`` [s]
+(``wf_start_offset + i * wf_increment``); a timestamp channel becomes seconds since its
+first sample.
 
 Input files are opened read-only and never modified; the SHA-256 of the bytes read
 is stored in ``Recording.provenance["sha256"]``.
@@ -45,7 +51,11 @@ SUFFIXES = {
     ".hdf": "hdf5",
     ".parquet": "parquet",
     ".pq": "parquet",
+    ".tdms": "tdms",
 }
+
+#: Suffix of the time-track column of a TDMS waveform channel: ``"<group>/<channel>/time"``.
+TDMS_TIME_SUFFIX = "/time"
 
 
 # --------------------------------------------------------------------------- tables
@@ -133,6 +143,65 @@ def _read_mat(p: Path) -> dict[str, np.ndarray]:
     return {k: v for k, v in raw.items() if not k.startswith("__")}
 
 
+def _read_tdms(p: Path) -> dict[str, np.ndarray]:
+    """Every channel of a TDMS file as ``"<group>/<channel>"``, plus the time tracks of waveforms.
+
+    The file is read whole (``TdmsFile.read``, read-only; an ``.tdms_index`` beside it is
+    used if present). A file whose last segment announces more data than it holds (a
+    logger that stopped mid-write) is refused rather than read short, so a truncated
+    log never passes for a shorter one.
+    """
+    import logging
+
+    from nptdms import TdmsFile
+
+    class _Catch(logging.Handler):  # npTDMS reports a short last segment by logging, not raising
+        def __init__(self) -> None:
+            super().__init__(logging.WARNING)
+            self.messages: list[str] = []
+
+        def emit(self, record: logging.LogRecord) -> None:
+            self.messages.append(record.getMessage())
+
+    with p.open("rb") as fh:
+        lead = fh.read(4)
+    if lead and lead != b"TDSm":  # every TDMS segment starts with the tag "TDSm"
+        raise DataError(f"file '{p}': cannot be read as TDMS (it starts with {lead!r}, not b'TDSm')")
+    catch = _Catch()
+    loggers = [logging.getLogger(n) for n in ("nptdms", "nptdms.reader", "nptdms.tdms_segment")]
+    saved = [(lg, lg.propagate) for lg in loggers]
+    for lg in loggers:
+        lg.addHandler(catch)
+        lg.propagate = False
+    try:
+        f = TdmsFile.read(p)
+        channels = [(f"{g.name}/{c.name}", c, np.asarray(c[:])) for g in f.groups() for c in g.channels()]
+    except Exception as exc:  # npTDMS raises many unrelated types on damaged files (struct.error, ...)
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise DataError(f"file '{p}': cannot be read as TDMS ({text})") from None
+    finally:
+        for lg, prop in saved:
+            lg.removeHandler(catch)
+            lg.propagate = prop
+    short = [m for m in catch.messages if "less data than expected" in m or "not a multiple" in m]
+    if short:
+        raise DataError(f"file '{p}': truncated TDMS file ({short[0]}); the logger stopped mid-write — "
+                        "repair or re-export it")
+    out: dict[str, np.ndarray] = {}
+    for name, c, data in channels:
+        if data.dtype.kind == "M":  # timestamps: seconds since the channel's first sample
+            data = (data - data[0]) / np.timedelta64(1, "ns") * 1e-9 if data.size else data.astype(float)
+        out[name] = data
+        if "wf_increment" in c.properties:
+            try:
+                out[name + TDMS_TIME_SUFFIX] = np.asarray(c.time_track(), dtype=float)
+            except Exception as exc:  # noqa: BLE001 (bad property values of any type)
+                raise DataError(f"file '{p}', column '{name}': waveform time properties unusable ({exc})") from None
+    if not out:
+        raise DataError(f"file '{p}': the TDMS file holds no channels")
+    return out
+
+
 def read_table(path: str | Path, *, delimiter: str | None = None) -> dict[str, np.ndarray]:
     """All columns (variables, datasets) of a data file as a name → array dict.
 
@@ -140,7 +209,8 @@ def read_table(path: str | Path, *, delimiter: str | None = None) -> dict[str, n
     ----------
     path : str or Path
         ``.csv``/``.txt``/``.tsv``, ``.mat`` (v5 or v7.3), ``.h5``/``.hdf5`` (dataset
-        paths such as ``"axis/velocity"`` are the names) or ``.parquet``.
+        paths such as ``"axis/velocity"`` are the names), ``.parquet`` or ``.tdms``
+        (``"<group>/<channel>"``; waveforms add ``"<group>/<channel>/time"``).
     delimiter : str, optional
         CSV field separator; default: detected.
 
@@ -164,6 +234,8 @@ def read_table(path: str | Path, *, delimiter: str | None = None) -> dict[str, n
         return _read_parquet(p)
     if kind == "hdf5":
         return _read_hdf5(p)
+    if kind == "tdms":
+        return _read_tdms(p)
     return _read_mat(p)
 
 
@@ -196,6 +268,9 @@ def _select_rows(
         if col not in table:
             raise DataError(f"file '{p}': column '{col}' (given in where) not found; available columns: {', '.join(table)}")
         vals = np.asarray(table[col])
+        if mask is not None and vals.shape != mask.shape:
+            raise DataError(f"file '{p}': column '{col}' (given in where) has {vals.size} rows, the other "
+                            f"where column(s) {mask.size}; the columns differ in length")
         if vals.dtype.kind in "biuf":
             try:
                 m = vals == float(want)
@@ -234,6 +309,10 @@ def _build(
             continue
         arr = _column(table, p, role, col)
         if rows is not None:
+            need = rows.size if rows.dtype == bool else (int(rows.max()) + 1 if rows.size else 0)
+            if (arr.size != need) if rows.dtype == bool else (arr.size < need):
+                raise DataError(f"file '{p}': column '{col}' (given for {role}) has {arr.size} rows but the "
+                                f"row selection (where/group) spans {need}; the columns differ in length")
             arr = arr[rows]
         arr = arr * float(scales.get(role, 1.0))
         sig = ROLE_TO_SIGNAL[role]
@@ -260,7 +339,7 @@ def load_recording(
     name: str | None = None,
     delimiter: str | None = None,
 ) -> Recording:
-    """Load one :class:`Recording` from a CSV, ``.mat``, HDF5 or Parquet file.
+    """Load one :class:`Recording` from a CSV, ``.mat``, HDF5, Parquet or TDMS file.
 
     Parameters
     ----------

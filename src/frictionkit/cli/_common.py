@@ -271,3 +271,25 @@ def load_static_json(path: Path, option: str = "--static-json") -> Any:
                             f"parts.{side}.model ({field} = {want:g}); the file was edited in one place only "
                             "— make them agree")
     return law
+
+
+# --------------------------------------------------------------------------- --json PATH|-
+def check_json_target(json_out: str | None, inputs: Iterable[Path | None]) -> None:
+    """Check a ``--json PATH`` up front (``-`` means stdout and needs no check)."""
+    if json_out is not None and json_out != "-":
+        outputs(inputs, files={"--json": Path(json_out)})
+
+
+def emit(doc: Any, json_out: str | None, text: str) -> None:
+    """The verb's output: ``text`` on stdout, or with ``--json -`` the JSON ``doc`` instead;
+    with ``--json PATH`` the text and the JSON written atomically to PATH."""
+    import typer
+
+    if json_out == "-":
+        typer.echo(json.dumps(doc, indent=2, ensure_ascii=False, default=str))
+        return
+    if text:
+        typer.echo(text)
+    if json_out is not None:
+        save_json(doc, Path(json_out))
+        typer.echo(f"wrote {json_out}")

@@ -28,17 +28,27 @@ app = typer.Typer(
 )
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        typer.echo(f"frictionkit {__version__}")
+        raise typer.Exit()
+
+
 @app.callback()
 def _root(
     debug: bool = typer.Option(False, "--debug",
                                help="On an error, print the full traceback (also FRICTIONKIT_DEBUG=1)."),
+    version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                 help="Print the frictionkit version and exit."),
 ) -> None:
     """Model, identify, simulate and compensate friction in precision motion axes."""
 
 
 def _register() -> None:
     """Import the command modules; each adds its commands to ``app``."""
-    for name in ("demo", "identify", "reproduce", "fleet"):
+    for name in ("demo", "identify", "reproduce", "fleet", "models", "simulate", "export"):
         try:
             __import__(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # command group not built yet

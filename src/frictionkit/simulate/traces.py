@@ -1,0 +1,79 @@
+"""A simulation's samples as a table, written to CSV or Parquet (atomically).
+
+Columns, with the unit in the name: ``t [s]``, ``x [m]``, ``v [m/s]``, ``F [N]`` (the
+friction force), then the friction states — ``z [m]`` (LuGre, Dahl) or ``F_1 [N]`` ...
+``F_M [N]`` and ``stick_1`` ... ``stick_M`` (GMS elements; 1 sticking, 0 slipping).
+Rotary axes pass ``units={"F": "N·m", "v": "rad/s"}`` (labels only; the numbers are SI).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import DataError
+
+__all__ = ["TRACE_FORMATS", "trace_table", "write_traces"]
+
+#: File formats of :func:`write_traces`, by suffix.
+TRACE_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
+
+
+def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[str, np.ndarray]:
+    """``{column name with unit: samples}`` of a :class:`~frictionkit.SimulationResult`.
+
+    Examples
+    --------
+    >>> import numpy as np, frictionkit as fk
+    >>> from frictionkit.simulate.traces import trace_table
+    >>> law = fk.Dahl(Fc=1.0, sigma0=1e5)
+    >>> res = fk.simulate(law, position=1e-5 * np.sin(np.linspace(0, 6, 61)), dt=1e-3)
+    >>> list(trace_table(res))
+    ['t [s]', 'x [m]', 'v [m/s]', 'F [N]', 'z [m]']
+    """
+    from ..models.files import _axis_units
+
+    u = _axis_units(units)
+    out = {"t [s]": result.t, f"x [{u['x']}]": result.x, f"v [{u['v']}]": result.v, f"F [{u['F']}]": result.F}
+    states = result.states or {}
+    if "z" in states:
+        out[f"z [{u['x']}]"] = states["z"]
+    if "F_elements" in states:
+        Fel = np.asarray(states["F_elements"])
+        for i in range(Fel.shape[1]):
+            out[f"F_{i + 1} [{u['F']}]"] = Fel[:, i]
+    if "stick" in states:
+        st = np.asarray(states["stick"])
+        for i in range(st.shape[1]):
+            out[f"stick_{i + 1}"] = st[:, i].astype(np.int8)
+    return out
+
+
+def write_traces(result: Any, path: str | Path, *, units: Mapping[str, str] | None = None) -> Path:
+    """Write :func:`trace_table` to ``path`` (``.csv`` or ``.parquet``), atomically; returns the path.
+
+    CSV numbers carry 17 significant digits, so the file reads back exactly.
+    """
+    from .._io import atomic_open
+
+    p = Path(path)
+    kind = TRACE_FORMATS.get(p.suffix.lower())
+    if kind is None:
+        raise DataError(f"traces file '{p}': unknown suffix {p.suffix!r}; use one of {', '.join(TRACE_FORMATS)}")
+    table = trace_table(result, units=units)
+    if kind == "parquet":
+        import pandas as pd
+
+        with atomic_open(p, "wb") as f:
+            pd.DataFrame(table).to_parquet(f, index=False)
+        return p
+    cols = list(table)
+    data = np.column_stack([np.asarray(c, dtype=float) for c in table.values()])
+    fmt = ["%d" if c.startswith("stick_") else "%.17g" for c in cols]
+    with atomic_open(p, "w") as f:
+        f.write(",".join(cols) + "\n")
+        np.savetxt(f, data, fmt=fmt, delimiter=",")
+    return p

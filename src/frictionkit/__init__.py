@@ -46,6 +46,7 @@ from .identify import (
 from .plants import ElasticBallScrew, Mass, RigidBallScrew, RigidBody
 from .machines import Machine, MachineResult, simulate_machine
 from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
+from .models.files import ModelFile, load_model, save_model
 
 __version__ = "0.1.0"
 
@@ -87,6 +88,9 @@ __all__ = [
     "SimulationResult",
     "simulate",
     "simulate_batch",
+    "ModelFile",
+    "load_model",
+    "save_model",
     "ParameterError",
     "SimulationError",
     "Stribeck",

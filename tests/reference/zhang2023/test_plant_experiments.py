@@ -1,0 +1,67 @@
+"""Seed 000 TDMS virtual experiments: sub-step convergence, feed-forward hook, and the extension
+(ours) finding: TDMS vs single drive (CDFS) velocity ripple at 1-10 µm/s."""
+
+import numpy as np
+import pytest
+
+from frictionkit.presets import zhang2023 as z
+
+
+@pytest.fixture(scope="module")
+def crawl():
+    return z.crawling_comparison((1e-6, 10e-6), duration=1.0, seed=0)
+
+
+def test_presliding_converged_in_substeps():
+    """The virgin pre-sliding curve of the screw (WSIM step 2 data) at the default 4 sub-steps
+    stays within 0.3 N RMS (0.3 % of T_S = 113.5 N, Table 3) of 8 sub-steps (measured against
+    16 sub-steps: 2 -> 0.12 N RMS, 4 -> 0.07 N, 8 -> 0.06 N)."""
+    kw = dict(stroke=5e-6, speed=10e-6, cycles=0, seed=3)
+    a = z.presliding_reciprocation("screw", substeps=4, **kw)
+    b = z.presliding_reciprocation("screw", substeps=8, **kw)
+    assert a.success and b.success
+    assert np.sqrt(np.mean((a.force1 - b.force1) ** 2)) < 0.3
+
+
+def test_feedforward_hook_reduces_screw_error():
+    """A FeedForward of the truth's support steady state cuts the screw and worktable tracking
+    std in a differential sinusoidal run from base 0 (the screw reverses): the hook reaches the
+    motor. Measured (seed 2, 0.6 s): screw std 0.57 -> 0.33 µm, worktable 0.63 -> 0.33 µm."""
+    ref = z.tracking_reference("different", 0.0, duration=0.6)
+    tf = z.true_friction()
+    v1, v2 = ref.speeds()
+    ff = z.FeedForward(ff1=z.force_to_torque(tf.screw_support.steady_state(v1)),
+                       ff2=z.force_to_torque(tf.nut_support.steady_state(v2)), name="truth supports")
+    r0 = z.run_reference(ref, loop="full", seed=2)
+    r1 = z.run_reference(ref, loop="full", seed=2, feedforward=lambda r: ff)
+    e0, e1 = z.tracking_errors(r0), z.tracking_errors(r1)
+    assert r0.success and r1.success
+    assert e1.screw[1] < 0.8 * e0.screw[1]
+    assert e1.worktable[1] < 0.8 * e0.worktable[1]
+
+
+def test_nut_driving_sweep_moves_table_against_nut():
+    rec = z.differential_sweep(2e-3, [1e-3], driving="nut", hold=0.4, seed=1)
+    pm = rec.plateau_means()
+    assert rec.success
+    assert pm["v_t"][0] == pytest.approx(-1e-3, rel=0.02)         # nut faster: table runs the other way
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="physics of our plant: in full closed loop on the 10 nm scale neither drive crawls "
+                          "(GMS lag C of Table 4 smooths the Stribeck drop); the TDMS injects two motors' "
+                          "current noise, so its ripple is not smaller")
+def test_extension_tdms_ripple_much_smaller_than_cdfs(crawl):
+    rows = {r["table_speed_um_s"]: r for r in crawl.rows}
+    assert crawl.status == 0, crawl.message
+    # measured (seed 0, 1 s feed): true-velocity ripple ~1000 % at 1 µm/s and ~110-120 % at 10 µm/s for
+    # both (current-noise jitter of the table); 10 ms averages CDFS 112 / 23 %, TDMS 212 / 28 %
+    for v in (1.0, 10.0):
+        r = rows[v]
+        ratio = r["tdms_ripple_percent"] / r["cdfs_ripple_percent"]
+        assert 0.7 < ratio < 1.4, ratio
+        assert r["tdms_ripple_10ms_percent"] > 0.8 * r["cdfs_ripple_10ms_percent"]
+    assert 500 < rows[1.0]["cdfs_ripple_percent"] < 2000
+    # the finding: TDMS ripple much smaller (< half) than the single drive's at every speed
+    for v in (1.0, 10.0):
+        assert rows[v]["tdms_ripple_10ms_percent"] < 0.5 * rows[v]["cdfs_ripple_10ms_percent"]

@@ -69,6 +69,8 @@ B_LINEAR, B_PID, B_SS, B_SAT, B_FFF = 0, 1, 2, 3, 4
 
 #: Offsets of a packed static row (6 floats per direction) inside a site's parameters.
 N_ROW = 6
+#: Floats of a static law's parameters (site or feed-forward block), see :func:`_static_force`.
+N_STATIC_SITE = 22
 
 
 # --------------------------------------------------------------------------- Stribeck
@@ -96,10 +98,23 @@ def _g(par, o, av):
 
 @njit(error_model="numpy")
 def _static_force(par, o, v, lam):
-    """``lam s(v) + sigma2 v`` with the row of the direction of ``v`` (row 0 for ``v >= 0``)."""
+    """``lam s(v) + sigma2 v - eps v |v|`` with the row of the direction of ``v`` (row 0 for
+    ``v >= 0``). Static-law layout at ``o`` (``N_STATIC_SITE`` floats): live rows (12), eps+,
+    eps-, then the schedule rows Fc0+, Fc1+, Fs0+, Fs1+, Fc0-, Fc1-, Fs0-, Fs1- (see
+    :func:`_set_levels`). Levels are signed: a negative level pushes along the motion."""
     if v >= 0.0:
-        return lam * _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v
-    return -lam * _g(par, o + N_ROW, -v) + par[o + N_ROW + 4] * v
+        return lam * _g(par, o, v) * (1.0 if v > 0.0 else 0.0) + par[o + 4] * v - par[o + 12] * v * v
+    return -lam * _g(par, o + N_ROW, -v) + par[o + N_ROW + 4] * v + par[o + 13] * v * v
+
+
+@njit(inline="always", error_model="numpy")
+def _set_levels(par, o, s):
+    """Write the live levels ``Fc = Fc0 + Fc1 s``, ``Fs = Fs0 + Fs1 s`` of both directions of
+    the static law at ``o`` for the schedule value ``s`` (a TDMSSC's base speed)."""
+    par[o] = par[o + 14] + par[o + 15] * s
+    par[o + 1] = par[o + 16] + par[o + 17] * s
+    par[o + N_ROW] = par[o + 18] + par[o + 19] * s
+    par[o + N_ROW + 1] = par[o + 20] + par[o + 21] * s
 
 
 # --------------------------------------------------------------------------- site laws
@@ -354,33 +369,69 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
-        # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end (implicit Euler),
-        # or v_end = 0 while the holding force stays inside [-Fs-, Fs+].
+        # compliance; v_end = a - Gjj F with F = s(v_end) + sigma2 v_end - eps v_end |v_end|
+        # (implicit Euler), or v_end = 0 while the holding force stays inside [-Fs-, Fs+].
+        # Levels are signed (TDMSSC): a negative Fs+ means the law pushes forward at +0.
         fs_pos = lam * _g(par, o, 0.0)
         fs_neg = lam * _g(par, o + N_ROW, 0.0)
         f_hold = a / Gjj
-        if -fs_neg <= f_hold <= fs_pos:
+        up = f_hold > fs_pos
+        dn = f_hold < -fs_neg
+        if not (up or dn):
             return 0.0, f_hold, kt, math.nan
-        if a > 0.0:
-            lo = 0.0
-            flo = Gjj * fs_pos - a
-            hi = a
-            fhi = Gjj * _static_force(par, o, a, lam)
+        if up and dn:  # empty stick band (negative levels): slip the way the free motion goes
+            if a > 0.0:
+                dn = False
+            elif a < 0.0:
+                up = False
+            else:  # at rest with nothing pushing: no direction is preferred, it stays at rest
+                return 0.0, 0.0, kt, math.nan
+        d = 1.0 if up else -1.0
+        # bracket the root of f(x) = x + Gjj F(x) - a on the side d, in u = d x > 0:
+        # d f(0 d) = d (Gjj F(0 d) - a) < 0; march out by fixed-point steps u <- d (a - Gjj F)
+        # (monotone: each step adds -d f > 0), doubling when they stall, until d f > 0
+        ulo = 0.0
+        gulo = d * (Gjj * (fs_pos if up else -fs_neg)) - d * a
+        u = d * a if d * a > 0.0 else 0.0
+        uhi = -1.0
+        guhi = 0.0
+        Fu = 0.0
+        for it in range(80):
+            if u > 0.0:
+                Fu = _static_force(par, o, d * u, lam)
+                gu = d * (d * u + Gjj * Fu - a)
+                if gu > 0.0:
+                    uhi = u
+                    guhi = gu
+                    break
+                ulo = u
+                gulo = gu
+                if gu >= -xtol:
+                    return d * u, Fu, kt, math.nan
+                un = d * (a - Gjj * Fu)
+            else:
+                un = -gulo  # the fixed-point step from rest
+            if it >= 8 and un < 2.0 * u:
+                un = 2.0 * u
+            u = un
+        if uhi < 0.0:  # no root within reach (a level falling faster than the inertia): explicit
+            return d * u, Fu, kt, math.nan
+        if d > 0.0:
+            lo = ulo
+            flo = gulo
+            hi = uhi
+            fhi = guhi
         else:
-            hi = 0.0
-            fhi = -Gjj * fs_neg - a
-            lo = a
-            flo = Gjj * _static_force(par, o, a, lam)
-        if fhi <= 0.0:
-            return hi, _static_force(par, o, hi, lam), kt, math.nan
-        if flo >= 0.0:
-            return lo, _static_force(par, o, lo, lam), kt, math.nan
+            lo = -uhi
+            flo = -guhi
+            hi = -ulo
+            fhi = -gulo
         # first guess: the level at the free velocity, viscous term solved exactly (exact for
         # a Coulomb-viscous law or past the Stribeck range)
-        if a > 0.0:
-            x1 = (a - Gjj * lam * _g(par, o, a)) / (1.0 + Gjj * par[o + 4])
+        if d > 0.0:
+            x1 = (a - Gjj * lam * _g(par, o, abs(a))) / (1.0 + Gjj * par[o + 4])
         else:
-            x1 = (a + Gjj * lam * _g(par, o + N_ROW, -a)) / (1.0 + Gjj * par[o + N_ROW + 4])
+            x1 = (a + Gjj * lam * _g(par, o + N_ROW, abs(a))) / (1.0 + Gjj * par[o + N_ROW + 4])
         if lo < x1 < hi:
             F1 = _static_force(par, o, x1, lam)
             f1 = x1 + Gjj * F1 - a
@@ -559,6 +610,7 @@ def run(
     n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off,
     site_kind, site_po, site_so, par, st, xtol,
     ld_mode, ld_row, ld_mrow, ld_site, ld_par,
+    sch_mode, sch_row, sch_mrow,
     X, mot,
     act_sig, act_lim, act_delay, act_foh, act_applied_sig, act_col, inputs, in_sig,
     sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
@@ -567,6 +619,10 @@ def run(
     q_out, v_out, F_out, sig_out, u_out,
 ):
     """Run ``N = q_out.shape[0]`` samples. ``X``, ``st``, ``sig``, ``blk_st`` are updated in place.
+
+    ``sch_mode[j]`` (0 none, 1 position, 2 velocity) gives a static site a schedule input
+    ``s = sch_row[j] . q`` (or ``. q'``) ``+ sch_mrow[j] . p`` (motion positions, or their
+    rates); its levels are set from ``s`` at the start of every sub-step (:func:`_set_levels`).
 
     Returns ``(status, k_end, n_unconverged)``: samples ``k >= k_end`` are left untouched.
     """
@@ -606,6 +662,10 @@ def run(
     sbuf = np.zeros((nsen, maxd_s + 1))
     n_bad = 0
     lam = np.ones(ns)
+    has_sched = False
+    for j in range(ns):
+        if sch_mode[j] != 0:
+            has_sched = True
     has_load = False
     for j in range(ns):
         if ld_mode[j] != 0:
@@ -735,7 +795,9 @@ def run(
                 elif y < blk_par[fp]:
                     y = blk_par[fp]
                 sig[blk_idx[ip]] = y
-            else:  # B_FFF: idx: out, in; par: scale, static rows (12)
+            else:  # B_FFF: idx: out, in, schedule (-1: none); par: scale, static law (N_STATIC_SITE)
+                if blk_idx[ip + 2] >= 0:
+                    _set_levels(blk_par, fp + 1, sig[blk_idx[ip + 2]])
                 sig[blk_idx[ip]] = blk_par[fp] * _static_force(blk_par, fp + 1, sig[blk_idx[ip + 1]], 1.0)
         # ---- actuators
         for i in range(nact):
@@ -811,6 +873,19 @@ def run(
                 for c in range(nw):
                     y += G0[r, c] * w0[c] + G1[r, c] * dw[c]
                 Xf[r] = y
+            if has_sched:
+                for j in range(ns):
+                    if sch_mode[j] != 0:
+                        sv = 0.0
+                        off = n if sch_mode[j] == 2 else 0
+                        for b in range(n):
+                            sv += sch_row[j, b] * X[off + b]
+                        for m in range(nmot):
+                            if sch_mode[j] == 2:
+                                sv += sch_mrow[j, m] * w0[nact + nmot + m]
+                            else:
+                                sv += sch_mrow[j, m] * w0[nact + m]
+                        _set_levels(par, site_po[j], sv)
             if ns > 0:
                 for j in range(ns):
                     aj = 0.0

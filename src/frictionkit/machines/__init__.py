@@ -9,13 +9,14 @@ sites holding any friction law, actuators, sensors and controller blocks (:class
 :func:`simulate_machine` runs it in :mod:`frictionkit.kernels.machine`.
 """
 
-from .elements import (PID, Coord, FrictionFeedforward, Gain, HertzContact, NormalLoad, PiecewiseLinearSpring,
+from .elements import (PID, Coord, CoordSignal, FrictionFeedforward, Gain, HertzContact, NormalLoad, PiecewiseLinearSpring,
                        Saturation, SineLoad, StateSpace, Sum)
 from .machine import Machine
 from .simulate import MachineResult, discretise, simulate_machine
 
 __all__ = [
     "Coord",
+    "CoordSignal",
     "FrictionFeedforward",
     "Gain",
     "HertzContact",

@@ -87,12 +87,57 @@ class Coord:
     def is_empty(self) -> bool:
         return not self.dofs and not self.motions
 
+    @property
+    def position(self) -> "CoordSignal":
+        """This coordinate's position as a machine input a friction site can read
+        (``Machine.friction(..., schedule=coord.position)``)."""
+        return CoordSignal(self, "position")
+
+    @property
+    def velocity(self) -> "CoordSignal":
+        """This coordinate's velocity as a machine input a friction site can read, e.g. a
+        TDMSSC's base speed: ``Machine.friction("nut", ..., schedule=(R * theta2).velocity)``."""
+        return CoordSignal(self, "velocity")
+
     def __repr__(self) -> str:
         names = self._owner._dof_names
         mnames = self._owner._motion_names
         parts = [f"{c:g}*{names[i]}" if c != 1.0 else names[i] for i, c in sorted(self.dofs.items())]
         parts += [f"{c:g}*{mnames[i]}" if c != 1.0 else mnames[i] for i, c in sorted(self.motions.items())]
         return "Coord(" + (" + ".join(parts) if parts else "0") + ")"
+
+
+class CoordSignal:
+    """The position or velocity of a machine coordinate, read by a friction site as an input.
+
+    Made by :attr:`Coord.position` / :attr:`Coord.velocity`; passed as ``schedule=`` to
+    :meth:`Machine.friction` for a law with a scheduling variable (:class:`~frictionkit.TDMSSC`:
+    its levels are affine in it). Units are the coordinate's (m, rad; per second for a
+    velocity): scale the coordinate to the unit the law expects, e.g. ``(R * theta2).velocity``
+    for a nut's linear-equivalent speed [m/s]. In the compiled loop it is read at the start of
+    every sub-step.
+
+    Examples
+    --------
+    >>> import frictionkit as fk
+    >>> m = fk.Machine()
+    >>> th2 = m.dof("nut", inertia=5e-4, kind="rotational")
+    >>> (0.5 * th2).velocity
+    CoordSignal(Coord(0.5*nut).velocity)
+    """
+
+    __slots__ = ("at", "quantity")
+
+    def __init__(self, at: Coord, quantity: str):
+        if not isinstance(at, Coord):
+            raise ParameterError(f"CoordSignal.at = {at!r}: must be a machine coordinate")
+        if quantity not in ("position", "velocity"):
+            raise ParameterError(f"CoordSignal.quantity = {quantity!r}: must be 'position' or 'velocity'")
+        self.at = at
+        self.quantity = quantity
+
+    def __repr__(self) -> str:
+        return f"CoordSignal({self.at!r}.{self.quantity})"
 
 
 # --------------------------------------------------------------------------- compliances and loads
@@ -449,24 +494,39 @@ class FrictionFeedforward:
 
     Feed it the reference velocity (model-based feed-forward) or a measured velocity. For a
     dynamic law (LuGre, GMS, Dahl) its static map is used. ``scale`` converts the force into
-    the actuator's command (e.g. ``1 / K_t`` for a current command).
+    the actuator's command (e.g. ``1 / K_t`` for a current command). A law with a scheduling
+    variable (:class:`~frictionkit.TDMSSC`) needs ``schedule``, the name of the signal that
+    carries it (a reference base speed input, a sensor, a block output); its levels are set
+    from that signal every sample.
     """
 
     out: str
     velocity: str
     law: object
     scale: float = 1.0
+    schedule: str | None = None
 
     def __post_init__(self) -> None:
-        _name("FrictionFeedforward", "out", self.out)
-        _name("FrictionFeedforward", "velocity", self.velocity)
-        object.__setattr__(self, "scale", val.finite("FrictionFeedforward", "scale", self.scale))
+        from ..models.tdmssc import is_scheduled
+
+        o = "FrictionFeedforward"
+        _name(o, "out", self.out)
+        _name(o, "velocity", self.velocity)
+        object.__setattr__(self, "scale", val.finite(o, "scale", self.scale))
         if not hasattr(self.law, "steady_state"):
-            raise ParameterError(f"FrictionFeedforward.law = {type(self.law).__name__}: must be a friction law")
+            raise ParameterError(f"{o}.law = {type(self.law).__name__}: must be a friction law")
+        if is_scheduled(self.law):
+            if self.schedule is None:
+                raise ParameterError(f"{o}({self.out!r}).schedule = None: {type(self.law).__name__} reads a "
+                                     "scheduling variable; name the signal that carries it (e.g. the base speed)")
+            _name(o, "schedule", self.schedule)
+        elif self.schedule is not None:
+            raise ParameterError(f"{o}({self.out!r}).schedule = {self.schedule!r}: "
+                                 f"{type(self.law).__name__} reads no scheduling variable")
 
     @property
     def inputs(self) -> tuple:
-        return (self.velocity,)
+        return (self.velocity,) if self.schedule is None else (self.velocity, self.schedule)
 
     @property
     def outputs(self) -> tuple:

@@ -15,7 +15,7 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
-from .elements import BLOCK_TYPES, Coord, HertzContact, NormalLoad, PiecewiseLinearSpring, SineLoad
+from .elements import BLOCK_TYPES, Coord, CoordSignal, HertzContact, NormalLoad, PiecewiseLinearSpring, SineLoad
 
 KINDS = {"translational": "m", "rotational": "rad"}
 QUANTITIES = ("position", "velocity")
@@ -54,6 +54,7 @@ class Site:
     law: object
     role: str  # "friction", "compliance", "load"
     load: NormalLoad | None = None
+    schedule: CoordSignal | None = None
 
 
 @dataclass(frozen=True)
@@ -199,24 +200,43 @@ class Machine:
         self.spring(a, b, c=c, name=name)
 
     def friction(self, name: str, a: Coord, b: Coord | None = None, *, law,
-                 load: NormalLoad | None = None) -> None:
+                 load: NormalLoad | None = None, schedule: CoordSignal | None = None) -> None:
         """A friction site on the motion of ``a`` relative to ``b`` (ground when None).
 
         ``law`` is any friction law: ``Stribeck``, ``CoulombViscous``, ``Directional``,
-        ``Dahl``, ``LuGre`` or ``GMS``. Its force opposes the relative motion. ``load``
-        (:class:`NormalLoad`) makes its levels follow a state-dependent normal load; the
-        spring or compliance it names must exist when the machine is simulated. A site on
-        prescribed motions only (no degree of freedom) is kinematic: it is driven by the motion
-        and acts on nothing — a motion-driven friction experiment inside a machine.
+        ``Dahl``, ``LuGre``, ``GMS`` or ``TDMSSC``. Its force opposes the relative motion.
+        ``load`` (:class:`NormalLoad`) makes its levels follow a state-dependent normal load;
+        the spring or compliance it names must exist when the machine is simulated.
+        ``schedule`` (:class:`CoordSignal`: ``coord.velocity`` or ``coord.position``) is the
+        scheduling variable of a law that reads one (``TDMSSC``: levels affine in it, e.g. the
+        nut's base speed ``(R * theta2).velocity``); required for such a law, refused for the
+        others. A site on prescribed motions only (no degree of freedom) is kinematic: it is
+        driven by the motion and acts on nothing — a motion-driven friction experiment inside a
+        machine.
         """
+        from ..models.tdmssc import is_scheduled
         from .simulate import law_family
 
+        o = f"Machine.friction({name!r})"
         at = self._coord("friction", a, b, kinematic=True)
-        law_family(law, f"Machine.friction({name!r}).law")
+        law_family(law, f"{o}.law")
         if load is not None and not isinstance(load, NormalLoad):
-            raise ParameterError(f"Machine.friction({name!r}).load = {type(load).__name__}: must be a NormalLoad")
+            raise ParameterError(f"{o}.load = {type(load).__name__}: must be a NormalLoad")
+        if is_scheduled(law):
+            if schedule is None:
+                raise ParameterError(f"{o}.schedule = None: {type(law).__name__} reads a scheduling variable; "
+                                     "pass schedule=<coordinate>.velocity (or .position)")
+            if not isinstance(schedule, CoordSignal):
+                raise ParameterError(f"{o}.schedule = {schedule!r}: must be <coordinate>.velocity or "
+                                     "<coordinate>.position")
+            if schedule.at._owner is not self:
+                raise ParameterError(f"{o}.schedule: {schedule.at!r} is not a coordinate of machine {self.name!r}")
+            if schedule.at.is_empty:
+                raise ParameterError(f"{o}.schedule: {schedule.at!r} moves with nothing")
+        elif schedule is not None:
+            raise ParameterError(f"{o}.schedule = {schedule!r}: {type(law).__name__} reads no scheduling variable")
         name = self._new_name("friction", name)
-        self.sites.append(Site(name, at, law, "friction", load))
+        self.sites.append(Site(name, at, law, "friction", load, schedule))
 
     def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law, c: float = 0.0) -> None:
         """A nonlinear spring on ``a - b``: :class:`HertzContact` or :class:`PiecewiseLinearSpring`

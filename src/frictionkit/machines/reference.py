@@ -152,19 +152,41 @@ class _GMSSite:
 
 
 class _StaticSite:
-    """Static law (Stribeck, CoulombViscous, Directional of them): sticks or slips (mode ``d``)."""
+    """Static law (Stribeck, CoulombViscous, TDMSSC, Directional of them): sticks or slips (mode ``d``).
+
+    Levels are signed and, for a TDMSSC, affine in the schedule value ``s``:
+    ``Fc = Fc0 + Fc1 s``, ``Fs = Fs0 + Fs1 s``; slipping, ``F = d L_d(|v|, s) + sigma2 v - eps v |v|``.
+    """
 
     nstate = 0
 
-    def __init__(self, law):
-        self.rows = np.asarray(law.static_rows(), dtype=float)
-        self.Fs_pos = _level(self.rows[0], 0.0, 0.0)
-        self.Fs_neg = _level(self.rows[1], 0.0, 0.0)
+    def __init__(self, law, schedule=None):
+        from ..models.tdmssc import schedule_rows
 
-    def slip_force(self, sv: float, d: int) -> float:
-        """``s(v) + sigma2 v`` on the row of the direction of slip ``d``."""
+        self.rows = np.asarray(schedule_rows(law), dtype=float)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
+        self.schedule = schedule  # (quantity, dof row, motion row) or None
+
+    def level(self, r: int, sv: float, s: float) -> float:
+        """Signed level ``Fc + (Fs - Fc) phi(|v|/vs)`` of row ``r`` at schedule ``s``."""
+        Fc0, Fc1, Fs0, Fs1, vs, delta, _s2, shape, _eps = self.rows[r]
+        Fc = Fc0 + Fc1 * s
+        Fs = Fs0 + Fs1 * s
+        x = abs(sv) / vs
+        if shape == 0.0:
+            e = x**delta
+            phi = math.exp(-e) if e < 700.0 else 0.0
+        else:
+            phi = 1.0 / (1.0 + x * x)
+        return Fc + (Fs - Fc) * phi
+
+    def Fs(self, d: int, s: float) -> float:
+        """Static level of direction ``d`` (+1/-1) at schedule ``s`` (signed)."""
+        return self.level(0 if d > 0 else 1, 0.0, s)
+
+    def slip_force(self, sv: float, d: int, s: float) -> float:
+        """``d L_d(|v|, s) + sigma2 v - eps v |v|`` on the row of the direction of slip ``d``."""
         r = 0 if d > 0 else 1
-        return d * _level(self.rows[r], sv, 0.0) + self.rows[r, 4] * sv
+        return d * self.level(r, sv, s) + self.rows[r, 6] * sv - self.rows[r, 8] * sv * abs(sv)
 
 
 class _ElasticSite:
@@ -269,7 +291,8 @@ class _Twin:
             if s.role == "friction":
                 fam = law_family(s.law, f"site {s.name!r}")
                 if fam == "static":
-                    site = _StaticSite(s.law)
+                    sc = getattr(s, "schedule", None)
+                    site = _StaticSite(s.law, None if sc is None else (sc.quantity, *machine.row(sc.at)))
                 else:
                     site = _LuGreSite(s.law) if fam == "lugre" else _GMSSite(s.law)
             elif isinstance(s.law, (HertzContact, PiecewiseLinearSpring, SineLoad)):
@@ -326,10 +349,28 @@ class _Twin:
                 if dy is not None:
                     dy[o:o + site.M] = dF
             elif kind == 3:  # sticking (mode 0): the holding force, set by accel()
-                F[j] = site.slip_force(sv[j], mode[j]) if mode[j] else 0.0
+                F[j] = site.slip_force(sv[j], mode[j], self.schedule_value(y, p, rate)) if mode[j] else 0.0
             else:
                 F[j] = site.force(s[j])
         return p, F
+
+    def schedule_value(self, y, p, rate) -> float:
+        """The static site's schedule input (0 without one) at state ``y``, motions ``p``, ``rate``."""
+        sc = self.sites[self.static].schedule if self.static is not None else None
+        if sc is None:
+            return 0.0
+        quantity, c, cm = sc
+        n = self.n
+        if quantity == "velocity":
+            return float(c @ y[n:2 * n] + cm @ rate)
+        return float(c @ y[:n] + cm @ p)
+
+    def static_limits(self, t, y, seg) -> tuple[float, float]:
+        """``(Fs+, Fs-)`` of the static site at ``(t, y)`` (signed; schedule read from the state)."""
+        ta, pa, rate = seg
+        s = self.schedule_value(y, pa + rate * (t - ta), rate)
+        site = self.sites[self.static]
+        return site.Fs(1, s), site.Fs(-1, s)
 
     def accel(self, t, y, mode, seg, dy=None):
         """Accelerations and site forces at ``(t, y)``. A sticking static site holds its
@@ -639,11 +680,11 @@ def _events(tw: _Twin, mode: dict, seg, ta: float, ya: np.ndarray, go: dict):
             kinds.append(("reversal", j, -1))
     j = tw.static
     if j is not None:
-        site = tw.sites[j]
         d = mode[j]
         if d == 0:  # sticking: the holding force reaches +Fs or -Fs
-            for sgn, lim in ((1, site.Fs_pos), (-1, site.Fs_neg)):
-                def ev_hold(tt, yy, sgn=sgn, lim=lim):
+            for sgn in (1, -1):
+                def ev_hold(tt, yy, sgn=sgn):
+                    lim = tw.static_limits(tt, yy, seg)[0 if sgn > 0 else 1]
                     return lim - sgn * tw.accel(tt, yy, mode, seg)[1][j]
 
                 ev_hold.terminal = True
@@ -674,7 +715,6 @@ def _static_start(tw: _Twin, mode: dict, seg, t0: float, y: np.ndarray, log: lis
     if mode[j] != 0:
         return y
     n = tw.n
-    site = tw.sites[j]
     c, cm, rate = tw.Cq[j], tw.Cm[j], seg[2]
     sv = float(c @ y[n:2 * n] + cm @ rate)
     if prev_rate is None:
@@ -690,9 +730,13 @@ def _static_start(tw: _Twin, mode: dict, seg, t0: float, y: np.ndarray, log: lis
         y = y.copy()
         y[n:2 * n] -= tw.A_F[:, j] * (sv / tw.static_gain)
     F_hold = tw.accel(t0, y, mode, seg)[1][j]
-    if F_hold > site.Fs_pos:
+    Fs_pos, Fs_neg = tw.static_limits(t0, y, seg)
+    up, dn = F_hold > Fs_pos, F_hold < -Fs_neg
+    if up and dn:  # empty stick band (negative levels): the way the holding force points
+        up, dn = F_hold > 0.0, F_hold < 0.0
+    if up:
         mode[j] = 1
-    elif F_hold < -site.Fs_neg:
+    elif dn:
         mode[j] = -1
     if mode[j]:
         log.append((t0, "slip", j, mode[j]))

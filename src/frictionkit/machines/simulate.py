@@ -40,13 +40,36 @@ def _static_rows(law) -> np.ndarray:
     return rows
 
 
+def _static_par(rows9: np.ndarray) -> list[float]:
+    """The kernel's static-law layout (``kernels.machine.N_STATIC_SITE`` floats) from ``(2, 9)``
+    rows ``Fc0, Fc1, Fs0, Fs1, vs, delta, sigma2, shape, eps`` (``models.tdmssc.SCHEDULE_COLUMNS``):
+    live rows ``Fc, Fs, vs, delta, sigma2, shape`` at schedule 0, eps+, eps-, then
+    ``Fc0, Fc1, Fs0, Fs1`` of each direction."""
+    r = np.asarray(rows9, dtype=float)
+    live = [[x[0], x[2], x[4], x[5], x[6], x[7]] for x in r]
+    par = [*live[0], *live[1], r[0, 8], r[1, 8], *r[0, :4], *r[1, :4]]
+    return [float(x) for x in par]
+
+
+def _ff_par(law) -> list[float]:
+    """Static-law layout of a feed-forward block's map (the static map of a dynamic law)."""
+    from ..models.tdmssc import schedule_rows
+
+    if law_family(law) == "static":
+        return _static_par(schedule_rows(law))
+    r = _static_rows(law)
+    z = np.zeros(2)
+    return _static_par(np.column_stack([r[:, 0], z, r[:, 1], z, r[:, 2], r[:, 3], r[:, 4], r[:, 5], z]))
+
+
 def _pack_law(law) -> tuple[int, list[float], list[float]]:
     """``(site kind, parameters, initial state)`` of a friction law for the kernel."""
     from ..models.pack import pack_gms, pack_lugre
+    from ..models.tdmssc import schedule_rows
 
     fam = law_family(law)
     if fam == "static":
-        return _k.S_STATIC, list(np.ravel(law.static_rows())), []
+        return _k.S_STATIC, _static_par(schedule_rows(law)), []
     if fam == "lugre":
         p = pack_lugre(law)
         return _k.S_LUGRE, [*np.ravel(p.static), p.dyn[0, 0], p.dyn[0, 1], p.dyn[1, 0], p.dyn[1, 1]], [0.0]
@@ -402,6 +425,17 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         ld_mode[j] = 2 if L.hertz_set else 1
         ld_par[j] = [L.preload, float(L.hertz_set) if L.hertz_set else L.gain, L.floor_gain, L.reference]
 
+    # schedule inputs (a TDMSSC's base speed): a coordinate's position or velocity
+    sch_mode = np.zeros(ns, dtype=np.int64)
+    sch_row = np.zeros((ns, n))
+    sch_mrow = np.zeros((ns, nmo))
+    for j, s in enumerate(machine.sites):
+        sc = getattr(s, "schedule", None)
+        if sc is None:
+            continue
+        sch_mode[j] = 2 if sc.quantity == "velocity" else 1
+        sch_row[j], sch_mrow[j] = machine.row(sc.at)
+
     # signals: inputs, sensors, block outputs, actuator applied values
     sig_names: list[str] = []
 
@@ -496,8 +530,8 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
             bpar += [b.lo, b.hi]
         elif isinstance(b, FrictionFeedforward):
             code.append(_k.B_FFF)
-            idx += [sig_index(b.out), sig_index(b.velocity)]
-            bpar += [b.scale, *np.ravel(_static_rows(b.law))]
+            idx += [sig_index(b.out), sig_index(b.velocity), -1 if b.schedule is None else sig_index(b.schedule)]
+            bpar += [b.scale, *_ff_par(b.law)]
         iptr.append(len(idx))
         fptr.append(len(bpar))
         sptr.append(len(bst))
@@ -517,6 +551,7 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
         np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
         ld_mode, ld_row, ld_mrow, ld_site, ld_par,
+        sch_mode, sch_row, sch_mrow,
         X, mot,
         act_sig, act_lim, act_delay, act_foh, act_applied, act_col, in_arr, in_sig,
         sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,

@@ -19,6 +19,7 @@ from .gms import GMS
 from .lugre import Dahl, LuGre
 from .rolling import coulomb_compensation, sigmoid_compensation, sinc_compensation
 from .static import CoulombViscous, Directional, Stribeck
+from .tdmssc import TDMSSC
 
 __all__ = [
     "CoulombViscous",
@@ -29,6 +30,7 @@ __all__ = [
     "LawEntry",
     "LuGre",
     "Stribeck",
+    "TDMSSC",
     "coulomb_compensation",
     "kernel_family",
     "law_entry",

@@ -6,8 +6,8 @@ so that simulation (:func:`kernel_family`, ``models.pack``), identification resu
 (``identify.result``) and the machine core find every law in one place.
 
 Each law registers itself with one line at the bottom of its own module
-(``static.py``: Stribeck, CoulombViscous, Directional; ``lugre.py``: LuGre, Dahl;
-``gms.py``: GMS). Importing any part of :mod:`frictionkit.models` imports those
+(``static.py``: Stribeck, CoulombViscous, Directional; ``tdmssc.py``: TDMSSC;
+``lugre.py``: LuGre, Dahl; ``gms.py``: GMS). Importing any part of :mod:`frictionkit.models` imports those
 modules, so the registry is complete as soon as this module can be used.
 """
 
@@ -49,9 +49,10 @@ class FrictionLaw(Protocol):
        for ``v >= 0``, row 1 for ``v < 0``):
 
        * ``"static"`` — a memoryless map ``F = Fss(v)``: ``Stribeck``,
-         ``CoulombViscous`` and ``Directional`` of those. Packed as
+         ``CoulombViscous``, ``TDMSSC`` and ``Directional`` of those. Packed as
          ``static_rows()``, shape ``(2, 6)``: ``Fc, Fs, vs, delta, sigma2, shape``
-         (shape 0 exponential, 1 Lorentzian).
+         (shape 0 exponential, 1 Lorentzian); the machine core packs every static law
+         by ``schedule_rows`` (item 4), which adds the schedule slopes and ``eps``.
        * ``"lugre"`` — one bristle state per friction site: ``LuGre`` and ``Dahl``
          (a LuGre without Stribeck dip or micro-damping). Packed by ``pack_lugre``
          into the static rows ``(2, 6)`` of its map and the dynamic rows ``(2, 2)``
@@ -74,10 +75,26 @@ class FrictionLaw(Protocol):
        every element sticking.
 
     4. **Machine inputs.** The machine signals a law reads besides the sliding
-       velocity of its own site. Today's laws read none. A later scheduling input
-       (for example another shaft's speed, for a law whose level depends on it)
-       will be declared here, as part of this contract, so that the machine core
-       can wire it to the site.
+       velocity of its own site. Every law reads none, except a law with a
+       **scheduling variable** ``s``: ``TDMSSC`` (seed 000 eq. 21; its Coulomb and
+       static levels are affine in the base speed) and ``Directional`` of it
+       (:func:`frictionkit.models.tdmssc.is_scheduled`). Such a law
+
+       * takes it in its steady state as a required keyword,
+         ``steady_state(v, schedule=s)`` (no silent default);
+       * is packed for the kernels by :func:`frictionkit.models.tdmssc.schedule_rows`,
+         ``(2, 9)``: ``Fc0, Fc1, Fs0, Fs1, vs, delta, sigma2, shape, eps`` (every
+         static law has such rows, with zero slopes and ``eps = 0``);
+       * is wired in the machine core by ``Machine.friction(..., schedule=
+         <coordinate>.velocity)`` (or ``.position``; a :class:`CoordSignal` of any
+         coordinate, prescribed motions included), which the compiled loop reads at the
+         start of every sub-step and turns into the site's levels
+         (``kernels/machine.py``, ``_set_levels``); a ``FrictionFeedforward`` block
+         reads it from a named signal (``schedule="<signal>"``) every sample. Both are
+         required for a scheduled law and refused for any other. Today the static family
+         only: a scheduled law sticks and slips by the same discrete Karnopp treatment
+         as every static site, with signed levels (a negative level pushes along the
+         motion).
 
     5. **Change of normal load.** A law is given at a reference load ``N_ref``. At
        load ``N`` every force term of the friction scales by ``lam = N / N_ref``:
@@ -230,7 +247,7 @@ def registered_laws() -> Mapping[str, LawEntry]:
     --------
     >>> from frictionkit.models import registered_laws
     >>> sorted(registered_laws())
-    ['CoulombViscous', 'Dahl', 'Directional', 'GMS', 'LuGre', 'Stribeck']
+    ['CoulombViscous', 'Dahl', 'Directional', 'GMS', 'LuGre', 'Stribeck', 'TDMSSC']
     """
     return MappingProxyType(_REGISTRY)
 

@@ -190,6 +190,7 @@ class Directional:
 
     @property
     def is_static(self) -> bool:
+        """True for a pair of static maps usable inside LuGre/GMS (not a scheduled ``TDMSSC``)."""
         return isinstance(self.positive, (Stribeck, CoulombViscous))
 
     def static_rows(self) -> np.ndarray:
@@ -198,9 +199,10 @@ class Directional:
     def stribeck(self, v) -> np.ndarray:
         return _stribeck_eval(self.static_rows(), v, viscous=False)
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v, **kw) -> np.ndarray:
+        """Each side's ``steady_state``; keywords (``schedule=`` of a ``TDMSSC``) go to both."""
         v = np.asarray(v, dtype=float)
-        return np.where(v < 0.0, self.negative.steady_state(v), self.positive.steady_state(v))
+        return np.where(v < 0.0, self.negative.steady_state(v, **kw), self.positive.steady_state(v, **kw))
 
 
 def check_static(owner: str, static: object) -> None:

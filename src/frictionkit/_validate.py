@@ -13,8 +13,19 @@ import numpy as np
 from .errors import DataError, ParameterError
 
 
+def is_bool(value: Any) -> bool:
+    """True for ``True``/``False`` and NumPy booleans (which ``float()`` would read as 1/0)."""
+    return isinstance(value, (bool, np.bool_))
+
+
 def finite(owner: str, name: str, value: Any) -> float:
-    """Return ``value`` as a float, or raise if it is not a finite real number."""
+    """Return ``value`` as a float, or raise if it is not a finite real number.
+
+    Booleans are refused: ``True`` is not a value of 1 N or 1 s but almost always a
+    slip (a flag passed in the wrong place), so ``float(True)`` is never used.
+    """
+    if is_bool(value):
+        raise ParameterError(f"{owner}.{name} = {value!r}: must be a real number, not a boolean")
     try:
         out = float(value)
     except (TypeError, ValueError):
@@ -38,8 +49,28 @@ def nonnegative(owner: str, name: str, value: Any) -> float:
     return out
 
 
+def integer(owner: str, name: str, value: Any, *, minimum: int | None = None,
+            maximum: int | None = None) -> int:
+    """Return ``value`` as an int, or raise unless it is an integer (not a bool) within bounds."""
+    if is_bool(value) or not isinstance(value, (int, np.integer)):
+        raise ParameterError(f"{owner}.{name} = {value!r}: must be an integer")
+    out = int(value)
+    if (minimum is not None and out < minimum) or (maximum is not None and out > maximum):
+        lo = "" if minimum is None else f">= {minimum}"
+        hi = "" if maximum is None else f"<= {maximum}"
+        raise ParameterError(f"{owner}.{name} = {out!r}: must be {' and '.join(x for x in (lo, hi) if x)}")
+    return out
+
+
 def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.ndarray:
-    """A read-only 1-D float array whose entries obey ``rule`` (finite, positive, nonnegative)."""
+    """A read-only 1-D float array whose entries obey ``rule`` (finite, positive, nonnegative).
+
+    Boolean entries are refused (see :func:`finite`).
+    """
+    if is_bool(value) or (
+        isinstance(value, (list, tuple)) and any(is_bool(x) for x in value)
+    ) or (isinstance(value, np.ndarray) and value.dtype == np.bool_):
+        raise ParameterError(f"{owner}.{name} = {value!r}: entries must be real numbers, not booleans")
     try:
         arr = np.array(value, dtype=float, ndmin=1)
     except (TypeError, ValueError):
@@ -60,7 +91,13 @@ def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.nda
 
 
 def signal(name: str, value: Any, *, min_len: int = 2) -> np.ndarray:
-    """A contiguous 1-D float64 copy of a sampled signal, checked for NaN/inf and length."""
+    """A contiguous 1-D float64 copy of a sampled signal, checked for NaN/inf and length.
+
+    A boolean signal is refused (``True``/``False`` would silently become 1/0).
+    """
+    dtype = value.dtype if isinstance(value, np.ndarray) else np.asarray(value).dtype
+    if dtype == np.bool_:
+        raise DataError(f"{name}: holds booleans (True/False); a signal must be numbers")
     try:
         arr = np.array(value, dtype=np.float64)
     except (TypeError, ValueError):

@@ -73,8 +73,7 @@ class SimOptions:
         if self.atol_v is not None:
             val.positive(o, "atol_v", self.atol_v)
         val.positive(o, "atol_F", self.atol_F)
-        if not isinstance(self.max_substeps, (int, np.integer)) or self.max_substeps < 1:
-            raise ParameterError(f"{o}.max_substeps = {self.max_substeps!r}: must be an integer >= 1")
+        val.integer(o, "max_substeps", self.max_substeps, minimum=1)
         if (
             not isinstance(self.batch_substeps, (int, np.integer))
             or isinstance(self.batch_substeps, bool)

@@ -101,7 +101,12 @@ def rigid_body(
     force: str = typer.Option(..., "--force", help="Force column (scaled by --force-scale to N)."),
     force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N, e.g. EMPS gtau 35.15065188248547 N/V."),
     position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m."),
-    asymmetric: bool = typer.Option(False, "--asymmetric", help="Direction-dependent Fv, Fc (no offset)."),
+    asymmetric: bool = typer.Option(False, "--asymmetric", help="Direction-dependent friction (no offset)."),
+    law: str = typer.Option("coulomb-viscous", "--law", help="Static friction map: coulomb-viscous (linear IDIM-LS), "
+                            "stribeck or lorentzian (nonlinear, started from IDIM-LS)."),
+    delta: Optional[float] = typer.Option(None, "--delta", help="--law stribeck: the fixed exponent (default 2)."),
+    no_profile: bool = typer.Option(False, "--no-profile", help="--law stribeck/lorentzian: log-scale Wald interval "
+                                    "of vs instead of its likelihood profile (faster)."),
     cutoff: float = typer.Option(100.0, "--cutoff", help="Butterworth cut-off of the position filter [Hz]."),
     decimation: int = typer.Option(10, "--decimate", help="Decimation factor."),
     skip: int = typer.Option(49, "--skip", help="Samples dropped at the start."),
@@ -116,7 +121,20 @@ def rigid_body(
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs predicted force as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
 ) -> None:
-    """Rigid-body IDIM-LS: F = M a + Fv v + Fc sgn(v) + offset (EMPS benchmark procedure)."""
+    """Rigid body by inverse dynamics: F = M a + friction(v) + offset (EMPS benchmark procedure).
+
+    --law coulomb-viscous: IDIM-LS of F = M a + Fv v + Fc sgn(v) + offset. --law stribeck
+    (or lorentzian): a Stribeck map (per direction with --asymmetric) fitted by nonlinear
+    least squares on the same signals, with standard errors and intervals.
+    """
+    from ..errors import ParameterError
+
+    law_name = chk.choice(law.replace("_", "-"), "--law", ("coulomb-viscous", "stribeck", "lorentzian")).replace("-", "_")
+    delta = chk.optional(chk.positive, delta, "--delta")
+    if delta is not None and law_name != "stribeck":
+        raise ParameterError(f"--delta applies to --law stribeck only (got --law {law})")
+    if no_profile and law_name == "coulomb_viscous":
+        raise ParameterError("--no-profile applies to --law stribeck or lorentzian only")
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
     cutoff = chk.positive(cutoff, "--cutoff")
     decimation = chk.integer(decimation, "--decimate", lo=1)
@@ -131,9 +149,18 @@ def rigid_body(
         return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
                      units=units)
 
-    res = fit_rigid_body(loader(recording), asymmetric=asymmetric, cutoff=cutoff, q=decimation, skip=skip)
+    res = fit_rigid_body(loader(recording), law=law_name, asymmetric=asymmetric, delta=delta, cutoff=cutoff,
+                         q=decimation, skip=skip, profile=not no_profile)
     typer.echo(res.summary())
     typer.echo(f"condition number {res.diagnostics['condition_number']:.4g}")
+    if law_name != "coulomb_viscous":
+        lin = res.diagnostics["linear"]
+        typer.echo(f"relative force error {res.relative_error_percent:.4g} % against "
+                   f"{lin['relative_error_percent']:.4g} % for the Coulomb-viscous start (IDIM-LS); "
+                   f"{res.diagnostics['nfev']} evaluations, {'converged' if res.success else 'NOT converged'}")
+        if res.flagged:
+            typer.echo("not identifiable: " + (", ".join(res.diagnostics["identifiability"]["not_identifiable"])
+                                               or "see warnings"))
     res = _validation(res, validate, "force", loader)
     _write(res, json_out, plot, include_data=False)
 

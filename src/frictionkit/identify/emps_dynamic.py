@@ -20,19 +20,20 @@ from __future__ import annotations
 import numpy as np
 
 from ..data.recording import Recording
-from ..data.signals import decimate, derivative, lowpass
+from ..data.signals import derivative, lowpass
 from ..errors import DataError, SimulationError
 from ..machines import simulate_machine
-from ..models.static import CoulombViscous, Directional, Stribeck
+from ..models.static import CoulombViscous, Directional
 from ..presets.emps import EMPS_CONSTANTS, PUBLISHED, PUBLISHED_ASYMMETRIC, emps_machine
-from .rigid_body import fit_rigid_body, rigid_body_regressors
+from .rigid_body import fit_rigid_body
 
 __all__ = ["emps_closed_loop", "emps_closed_loop_errors", "emps_stribeck_fit", "emps_compare",
            "EMPS_CONSTANTS"]
 
 
 def emps_closed_loop(qg, *, M: float, friction, offset: float = 0.0, substeps: int = 40,
-                     constants: dict | None = None) -> dict[str, np.ndarray]:
+                     constants: dict | None = None, disturbance=None, q0: float = 0.0,
+                     v0: float = 0.0) -> dict[str, np.ndarray]:
     """Simulate the EMPS position loop with a rigid load and any friction law.
 
     Builds :func:`frictionkit.presets.emps.emps_machine` and runs it with
@@ -57,13 +58,23 @@ def emps_closed_loop(qg, *, M: float, friction, offset: float = 0.0, substeps: i
         0.005 pp, 5 about 0.007 pp (``tests/realdata/test_emps_dynamic.py``).
     constants : dict, optional
         Override :data:`EMPS_CONSTANTS`.
+    disturbance : array_like, optional
+        Voltage [V] added to the command ``nu`` after the controller's saturation, one value
+        per sample, through the same one-sample delay and gain ``gtau`` (e.g. a pulse train
+        that excites the axis beyond the reference's motion). ``tau`` then includes it.
+    q0, v0 : float
+        Initial position [m] and velocity [m/s] of the axis. The controller memories start
+        at the initial position (the axis has been at ``q0``): the friction laws here do not
+        depend on position, so the run from ``q0`` is the run from 0 with the reference
+        shifted by ``-q0``, and ``q`` is shifted back. The velocity estimate starts at 0
+        and catches up with ``v0`` within two samples (its FIR filter).
 
     Returns
     -------
     dict
         ``q`` [m], ``v`` [m/s] (plant state at the samples), ``nu`` [V] (controller
-        output), ``tau`` [N] (``gtau nu_{k-1}``: the force applied over ``[t_k, t_{k+1})``;
-        compared with ``gtau vir_k`` it reproduces the published 5.85 %).
+        output), ``tau`` [N] (``gtau (nu_{k-1} + d_{k-1})``: the force applied over
+        ``[t_k, t_{k+1})``; compared with ``gtau vir_k`` it reproduces the published 5.85 %).
 
     Examples
     --------
@@ -75,14 +86,33 @@ def emps_closed_loop(qg, *, M: float, friction, offset: float = 0.0, substeps: i
     >>> bool(abs(out["q"][-1] - 1e-3) < 2e-4)
     True
     """
+    import dataclasses
+
+    from .. import _validate as val
+
     c = dict(EMPS_CONSTANTS, **(constants or {}))
+    q0 = val.finite("emps_closed_loop", "q0", q0)
+    v0 = val.finite("emps_closed_loop", "v0", v0)
+    qg = val.signal("emps_closed_loop qg", qg, min_len=2)
     m = emps_machine(M=M, friction=friction, offset=offset, constants=c)
-    res = simulate_machine(m, dt=c["dt"], inputs={"qg": qg}, substeps=substeps)
+    inputs = {"qg": qg - q0}
+    if v0 != 0.0:
+        m.dofs[0] = dataclasses.replace(m.dofs[0], v0=v0)
+    if disturbance is not None:
+        d = val.signal("emps_closed_loop disturbance", disturbance, min_len=2)
+        if d.size != qg.size:
+            raise DataError(f"emps_closed_loop: disturbance has {d.size} samples, qg {qg.size}; give one per sample")
+        # the same path as the controller output: gain gtau, one-sample delay (no saturation of its own)
+        m.actuator("disturbance", m.coord("q"), gain=c["gtau"], delay=1, command="d")
+        inputs["d"] = d
+    res = simulate_machine(m, dt=c["dt"], inputs=inputs, substeps=substeps)
     if not res.success:
         raise SimulationError(f"emps_closed_loop: {res.message}")
     motor = res.actuator_names.index("motor")
-    return {"q": res.q[:, 0].copy(), "v": res.v[:, 0].copy(), "nu": res.signal("nu").copy(),
-            "tau": c["gtau"] * res.u[:, motor]}
+    tau = c["gtau"] * res.u[:, motor]
+    if disturbance is not None:
+        tau = tau + c["gtau"] * res.u[:, res.actuator_names.index("disturbance")]
+    return {"q": res.q[:, 0] + q0, "v": res.v[:, 0].copy(), "nu": res.signal("nu").copy(), "tau": tau}
 
 
 def _measured(rec: Recording, skip: int = 49):
@@ -96,23 +126,19 @@ def _rel(meas, sim) -> float:
 
 
 def emps_stribeck_fit(rec: Recording, *, delta: float = 2.0) -> dict:
-    """Per-direction Stribeck map of the EMPS axis by inverse dynamics (nonlinear IDIM).
+    """Per-direction Stribeck map of the EMPS axis by inverse dynamics (nonlinear IDIM), as a dict.
 
-    The signals of the published IDIM-LS procedure (filtered, differentiated;
-    :func:`~frictionkit.identify.rigid_body_regressors`) feed a nonlinear
-    least-squares fit, the model being evaluated at 1 kHz and decimated by 10 like
-    the IDIM-LS columns, of ``tau = M a + s_dir(v) + sigma2_dir v`` with
-    ``s(v) = sgn(v) [Fc + (Fs - Fc) exp(-(|v|/vs)^delta)]`` per direction
-    (parameters ``M, Fc+, Fs+, vs+, sigma2+, Fc-, Fs-, vs-, sigma2-``), started from
-    the asymmetric IDIM-LS estimates. With ``Fs = Fc`` the map is the asymmetric
-    Coulomb–viscous model, so the inverse error cannot be worse than IDIM-LS's.
+    Kept for :func:`emps_compare`; the first-class fit, with standard errors, intervals,
+    identifiability flags and JSON, is ``fit_rigid_body(rec, law="stribeck",
+    asymmetric=True)`` (:mod:`frictionkit.identify.rigid_body_stribeck`), which this calls.
 
     Returns
     -------
     dict
         ``M`` [kg], ``friction`` (Directional of Stribeck), ``params`` (dict),
         ``inverse_error_percent`` (relative force error on the IDIM regressors),
-        ``rigid_asym_error_percent`` (asymmetric IDIM-LS on the same regressors).
+        ``rigid_asym_error_percent`` (asymmetric IDIM-LS on the same regressors),
+        ``result`` (the :class:`~frictionkit.identify.IdentificationResult`).
 
     Examples
     --------
@@ -120,49 +146,13 @@ def emps_stribeck_fit(rec: Recording, *, delta: float = 2.0) -> dict:
     >>> fit["inverse_error_percent"] < fit["rigid_asym_error_percent"]  # doctest: +SKIP
     True
     """
-    from scipy.optimize import least_squares
-
-    asym = fit_rigid_body(rec, asymmetric=True)
-    reg = rigid_body_regressors(rec, asymmetric=True)
-    y = reg["y"]
-    full = rigid_body_regressors(rec, asymmetric=True, q=1)  # 1 kHz: the friction is nonlinear in v,
-    a = full["X"][:, 0]                                         # so it is decimated after evaluation,
-    v = full["X"][:, 1] + full["X"][:, 3]                       # as IDIM-LS decimates its columns
-    pos = v >= 0
-
-    def unpack(p):
-        M, Fcp, Fsp, lvp, s2p, Fcn, Fsn, lvn, s2n = p
-        return M, (Fcp, Fsp, np.exp(lvp), s2p), (Fcn, Fsn, np.exp(lvn), s2n)
-
-    def pred(p):
-        M, P, N = unpack(p)
-        out = M * a
-        for sel, (Fc, Fs, vs, s2) in ((pos, P), (~pos, N)):
-            vv = v[sel]
-            out[sel] += np.sign(vv) * (Fc + (Fs - Fc) * np.exp(-(np.abs(vv) / vs) ** delta)) + s2 * vv
-        return decimate(out, 10)
-
-    def jac(p):
-        M, P, N = unpack(p)
-        cols = [a]
-        for sel, (Fc, Fs, vs, s2) in ((pos, P), (~pos, N)):
-            r = np.abs(v) / vs
-            phi = np.exp(-(r**delta))
-            sg = np.sign(v) * sel
-            cols += [sg * (1 - phi), sg * phi, sg * (Fs - Fc) * phi * delta * r**delta, v * sel]
-        return np.column_stack([decimate(c, 10) for c in cols])
-
-    p0 = np.array([asym["M"], asym["Fc_pos"], 1.1 * asym["Fc_pos"], np.log(0.01), asym["Fv_pos"],
-                   asym["Fc_neg"], 1.1 * asym["Fc_neg"], np.log(0.01), asym["Fv_neg"]])
-    sol = least_squares(lambda p: pred(p) - y, p0, jac=jac, method="trf", x_scale="jac")
-    M, P, N = unpack(sol.x)
-    law = Directional(positive=Stribeck(Fc=P[0], Fs=P[1], vs=P[2], delta=delta, sigma2=P[3]),
-                      negative=Stribeck(Fc=N[0], Fs=N[1], vs=N[2], delta=delta, sigma2=N[3]))
-    names = ("M", "Fc_pos", "Fs_pos", "vs_pos", "sigma2_pos", "Fc_neg", "Fs_neg", "vs_neg", "sigma2_neg")
-    vals = (M, *P, *N)
-    return {"M": float(M), "friction": law, "params": dict(zip(names, map(float, vals))),
-            "inverse_error_percent": _rel(y, pred(sol.x)),
-            "rigid_asym_error_percent": asym.relative_error_percent}
+    res = fit_rigid_body(rec, law="stribeck", asymmetric=True, delta=delta, profile=False)
+    if res.model is None:
+        raise SimulationError(f"emps_stribeck_fit: no valid model ({'; '.join(res.warnings)})")
+    return {"M": float(res.model.M), "friction": res.model.friction, "params": res.params,
+            "inverse_error_percent": res.relative_error_percent,
+            "rigid_asym_error_percent": float(res.diagnostics["linear"]["relative_error_percent"]),
+            "result": res}
 
 
 def emps_closed_loop_errors(rec: Recording, *, M: float, friction, offset: float = 0.0,

@@ -20,6 +20,7 @@ The identified model is a :class:`frictionkit.plants.RigidBody` (re-exported her
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -124,13 +125,16 @@ def _as_list(recording) -> list[Recording]:
 def fit_rigid_body(
     recording: Recording,
     *,
+    law: str = "coulomb_viscous",
     asymmetric: bool = False,
+    delta: float | None = None,
     cutoff: float = 100.0,
     order: int = 4,
     skip: int = 49,
     q: int = 10,
+    profile: bool = True,
 ) -> IdentificationResult:
-    """Identify mass, viscous and Coulomb friction (and offset) by IDIM-LS.
+    """Identify mass, friction map (and offset) of a rigid axis by inverse dynamics.
 
     Parameters
     ----------
@@ -138,18 +142,35 @@ def fit_rigid_body(
         Position ``x`` [m] and actuator force ``F`` [N] (load side), uniformly sampled.
         Several records are fitted jointly: each is filtered, differentiated and
         decimated on its own, then their regressor rows are stacked.
+    law : {"coulomb_viscous", "stribeck", "lorentzian"}
+        Static friction map. ``coulomb_viscous`` (default): linear IDIM-LS of
+        ``F = M a + Fv v + Fc sgn(v) + offset``. ``stribeck`` / ``lorentzian``: a
+        :class:`~frictionkit.Stribeck` map (exponential or Lorentzian shape) fitted by
+        nonlinear least squares on the same signals, started from IDIM-LS
+        (:mod:`frictionkit.identify.rigid_body_stribeck`); parameters ``M, Fc, Fs, vs,
+        sigma2, offset`` (per direction ``Fc_pos ... sigma2_neg`` with ``asymmetric``).
     asymmetric : bool
-        Fit ``[M, Fv_pos, Fc_pos, Fv_neg, Fc_neg]`` (no offset) instead of
-        ``[M, Fv, Fc, offset]``.
+        Direction-dependent friction, no offset: ``[M, Fv_pos, Fc_pos, Fv_neg, Fc_neg]``
+        instead of ``[M, Fv, Fc, offset]`` (Coulomb–viscous), one Stribeck map per
+        direction otherwise.
+    delta : float, optional
+        Stribeck exponent, fixed (default :data:`~frictionkit.identify.rigid_body_stribeck.DELTA_DEFAULT`
+        = 2, seed 002 eq. 9b); only with ``law="stribeck"``.
     cutoff, order, skip, q
         Procedure settings, see :func:`rigid_body_regressors`.
+    profile : bool
+        Stribeck laws: interval of ``vs`` from its likelihood profile (about ten re-fits
+        per direction) instead of the log-scale Wald interval.
 
     Returns
     -------
     IdentificationResult
         ``kind="rigid_body"``; ``model`` a :class:`RigidBody`; ``diagnostics`` holds
         ``condition_number`` (of X), ``error_norm`` [N] and ``error_std`` [N];
-        ``data`` holds ``t``, ``y``, ``y_pred`` of the decimated fit.
+        ``data`` holds ``t``, ``y``, ``y_pred`` of the decimated fit. Stribeck laws add
+        ``identifiability``, ``linear`` (the IDIM-LS start: parameters and relative
+        error), ``starts``, ``nfev``; ``warnings`` name every parameter the data do not
+        pin (``result.flagged``).
 
     Raises
     ------
@@ -157,6 +178,8 @@ def fit_rigid_body(
         Missing position/force, irregular sampling, too few samples.
     IdentificationError
         Rank-deficient observation matrix (e.g. no motion in one direction).
+    ParameterError
+        Unknown ``law``; ``delta`` with a law that has none.
 
     Examples
     --------
@@ -168,6 +191,105 @@ def fit_rigid_body(
     >>> round(res["M"], 1), round(res.relative_error_percent, 2)  # doctest: +SKIP
     (95.1, 4.12)
     """
+    from .rigid_body_stribeck import DELTA_DEFAULT, RIGID_BODY_LAWS
+
+    if law not in RIGID_BODY_LAWS:
+        raise ParameterError(f"fit_rigid_body.law = {law!r}: must be one of {list(RIGID_BODY_LAWS)}")
+    if delta is not None and law != "stribeck":
+        raise ParameterError(f"fit_rigid_body.delta = {delta!r}: only the 'stribeck' law has an exponent")
+    if delta is not None and not (math.isfinite(float(delta)) and float(delta) > 0):
+        raise ParameterError(f"fit_rigid_body.delta = {delta!r}: must be finite and > 0")
+    linear = _fit_linear(recording, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
+    if law == "coulomb_viscous":
+        return linear
+    return _fit_stribeck(recording, linear, law=law, asymmetric=asymmetric,
+                         delta=float(delta) if delta is not None else DELTA_DEFAULT,
+                         cutoff=cutoff, order=order, skip=skip, q=q, profile=profile)
+
+
+def _units(recording: Recording, names) -> tuple[tuple[str, ...], dict[str, str]]:
+    """Unit of each parameter (from the recording's force and position units) and the signal units."""
+    Fu = recording.units["F"]
+    xu = recording.units["x"]
+    vu = recording.units["v"] if recording.units["v"] != "m/s" or xu == "m" else f"{xu}/s"
+    visc = f"{Fu}·s/{xu}"
+
+    def one(nm: str) -> str:
+        if nm == "M":
+            return "kg" if xu == "m" else f"{Fu}·s²/{xu}"
+        if nm.startswith(("Fv", "sigma2")):
+            return visc
+        if nm.startswith("vs"):
+            return vu
+        return Fu
+
+    return tuple(one(nm) for nm in names), {"F": Fu, "x": xu, "v": vu}
+
+
+def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, delta, cutoff, order, skip, q,
+                  profile) -> IdentificationResult:
+    """The Stribeck rigid body (:mod:`.rigid_body_stribeck`) as an :class:`IdentificationResult`."""
+    from .rigid_body_stribeck import fit_rigid_body_stribeck
+
+    recs = _as_list(recording)
+    full = [rigid_body_regressors(r, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=1)
+            for r in recs]
+    fit = fit_rigid_body_stribeck(recs, full, linear, asymmetric=asymmetric, shape=law, delta=delta, q=q,
+                                  profile=profile)
+    ident = fit["ident"]
+    names, values, r, y = fit["names"], fit["values"], fit["residual"], fit["y"]
+    warns = list(ident.warnings)
+    if fit["invalid"]:
+        warns.append(f"estimates do not form a valid model ({fit['invalid']})")
+    warns += [f"{n} sits at its bound 0 (the data push it below the physical range)" for n in fit["at_bound"]]
+    for i, nm in enumerate(names):
+        if nm in ident.reasons or nm.startswith("vs"):
+            continue
+        if abs(values[i]) < 2.0 * ident.stderr[i]:
+            warns.append(f"{nm} = {values[i]:.6g} is not significantly different from 0 "
+                         f"(standard error {ident.stderr[i]:.3g})")
+    units, sig_units = _units(recs[0], names)
+    prov = dict(linear.provenance)
+    prov["procedure"] = dict(prov["procedure"], method="IDIM-NLS", law=law, delta=delta if law == "stribeck" else None,
+                             evaluation="model at the full rate, then decimated like the IDIM-LS columns",
+                             vs_start_fractions_of_v95=list(_vs_fracs()), profile=bool(profile))
+    s2 = float(r @ r) / fit["dof"]
+    t = linear.data["t"]
+    return IdentificationResult(
+        kind="rigid_body",
+        model_name=f"rigid_body_{law}_{'asymmetric' if asymmetric else 'symmetric'}",
+        model=fit["model"],
+        names=names,
+        values=values,
+        stderr=ident.stderr,
+        ci95=ident.ci95,
+        units=units,
+        correlation=ident.correlation,
+        rms=float(np.sqrt(np.mean(r**2))),
+        relative_error_percent=float(100.0 * np.linalg.norm(r) / np.linalg.norm(y)),
+        n_obs=int(r.size),
+        dof=int(fit["dof"]),
+        success=fit["success"],
+        message=f"nonlinear least squares (scipy trf): {fit['message']}",
+        warnings=tuple(warns),
+        diagnostics={"condition_number": fit["condition_number"], "error_norm": float(np.linalg.norm(r)),
+                     "error_std": float(np.std(r, ddof=1)), "sigma2": s2, "nfev": fit["nfev"],
+                     "starts": fit["starts"], "v95": fit["v95"], "identifiability": ident.details,
+                     "linear": {"parameters": linear.params,
+                                "relative_error_percent": linear.relative_error_percent}},
+        provenance=prov,
+        data={"t": t, "y": y, "y_pred": fit["y_pred"]},
+    )
+
+
+def _vs_fracs():
+    from .rigid_body_stribeck import VS_START_FRACTIONS
+
+    return VS_START_FRACTIONS
+
+
+def _fit_linear(recording, *, asymmetric: bool, cutoff: float, order: int, skip: int, q: int) -> IdentificationResult:
+    """Coulomb–viscous IDIM-LS (the benchmark's procedure)."""
     recs = _as_list(recording)
     regs = [rigid_body_regressors(r, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
             for r in recs]
@@ -212,16 +334,11 @@ def fit_rigid_body(
         if abs(theta[i]) < 2.0 * st["stderr"][i]:
             warns.append(f"{nm} = {theta[i]:.6g} is not significantly different from 0 "
                          f"(standard error {st['stderr'][i]:.3g})")
-    Fu = recording.units["F"]
-    xu = recording.units["x"]
-    vu = recording.units["v"] if recording.units["v"] != "m/s" or xu == "m" else f"{xu}/s"
-    unit = {"M": "kg" if xu == "m" else f"{Fu}·s²/{xu}", "offset": Fu}
-    visc = f"{Fu}·s/{xu}"
-    units = tuple(unit.get(nm, visc if nm.startswith("Fv") else Fu) for nm in names)
+    units, sig_units = _units(recording, names)
     prov = dict(recording.provenance)
     if len(recs) > 1:
         prov["records"] = [dict(r.provenance, name=r.name) for r in recs]
-    prov.update({"recording": ", ".join(r.name for r in recs), "units": {"F": Fu, "x": xu, "v": vu},
+    prov.update({"recording": ", ".join(r.name for r in recs), "units": sig_units,
                  "procedure": {"method": "IDIM-LS", "butterworth_order": order, "cutoff_hz": cutoff,
                                "derivative": "central differences", "skip": skip, "decimation": q,
                                "decimation_filter": "scipy.signal.decimate(ftype='iir', zero_phase=True)"}})

@@ -8,7 +8,7 @@ training data, and returns the error beside the training error:
 result kind        prediction on the validation record                          compared
 =================  ===========================================================  ===========
 ``static_map``     steady-state map at the record's (or records') mean speeds   mean force
-``rigid_body``     ``M a + friction(v) + offset`` by the IDIM-LS regressors     force
+``rigid_body``     ``M a + friction(v) + offset`` on the IDIM-LS signals        force
 ``output_error``   motion-driven: the law driven by the recorded motion          force
                    (with ``J a + offset``, resets at rests), beside the static
                    map; force-driven: the mass driven by the recorded force     v or x
@@ -98,17 +98,19 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
         out.update(_stats(np.asarray(pts.F), np.asarray(result.model.steady_state(pts.v), float)))
         out["points"] = len(pts)
     elif kind == "rigid_body":
+        from ..data.signals import decimate
         from .rigid_body import rigid_body_regressors
 
-        asym = result.model_name.endswith("asymmetric")
+        # the model at the full rate, then decimated like the fit's columns (any friction law;
+        # for Coulomb-viscous this equals the decimated regressors times the parameters)
+        q = int(proc.get("decimation", 10))
         ys, ps = [], []
         for r in recs:
-            reg = rigid_body_regressors(r, asymmetric=asym, cutoff=proc.get("cutoff_hz", 100.0),
-                                        order=proc.get("butterworth_order", 4), skip=proc.get("skip", 49),
-                                        q=proc.get("decimation", 10))
-            theta = np.array([result[n] for n in reg["names"]])
-            ys.append(reg["y"])
-            ps.append(reg["X"] @ theta)
+            reg = rigid_body_regressors(r, asymmetric=False, cutoff=proc.get("cutoff_hz", 100.0),
+                                        order=proc.get("butterworth_order", 4), skip=proc.get("skip", 49), q=1)
+            pred = result.model.force(reg["X"][:, 0], reg["X"][:, 1])
+            ys.append(decimate(reg["y"], q))
+            ps.append(decimate(pred, q))
         out.update(_stats(np.concatenate(ys), np.concatenate(ps)))
     elif kind == "output_error" and proc.get("drive") in ("position", "velocity", "mixed"):
         from .motion_data import evaluate_motion

@@ -13,11 +13,12 @@ def crawl():
 
 
 def test_presliding_converged_in_substeps():
-    """The virgin pre-sliding curve of the screw (WSIM step 2 data) at the default 4 sub-steps
+    """The virgin pre-sliding curve of the screw (WSIM step 2 data) at the default 2 sub-steps
     stays within 0.3 N RMS (0.3 % of T_S = 113.5 N, Table 3) of 8 sub-steps (measured against
     16 sub-steps: 2 -> 0.12 N RMS, 4 -> 0.07 N, 8 -> 0.06 N)."""
+    assert z.Assumptions().substeps == 2
     kw = dict(stroke=5e-6, speed=10e-6, cycles=0, seed=3)
-    a = z.presliding_reciprocation("screw", substeps=4, **kw)
+    a = z.presliding_reciprocation("screw", substeps=2, **kw)
     b = z.presliding_reciprocation("screw", substeps=8, **kw)
     assert a.success and b.success
     assert np.sqrt(np.mean((a.force1 - b.force1) ** 2)) < 0.3
@@ -47,12 +48,7 @@ def test_nut_driving_sweep_moves_table_against_nut():
     assert pm["v_t"][0] == pytest.approx(-1e-3, rel=0.02)         # nut faster: table runs the other way
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="physics of our plant: in full closed loop on the 10 nm scale the single drive "
-                          "does not crawl — the slow GMS lag of Table 4 (C = 250 N/s, |s|/C ~ 0.45 s) lets the "
-                          "PID follow the Stribeck drop, and the 2 mN·m current noise dithers both drives; "
-                          "the TDMS carries two motors' noise, so its ripple is not smaller")
-def test_extension_tdms_ripple_much_smaller_than_cdfs(crawl):
+def _measured_crawl_numbers(crawl):
     rows = {r["table_speed_um_s"]: r for r in crawl.rows}
     assert crawl.status == 0, crawl.message
     # measured (seed 0, 1 s feed): true-velocity ripple ~1000 % at 1 µm/s and ~110-120 % at 10 µm/s for
@@ -63,6 +59,21 @@ def test_extension_tdms_ripple_much_smaller_than_cdfs(crawl):
         assert 0.7 < ratio < 1.4, ratio
         assert r["tdms_ripple_10ms_percent"] > 0.8 * r["cdfs_ripple_10ms_percent"]
     assert 500 < rows[1.0]["cdfs_ripple_percent"] < 2000
+    return rows
+
+
+def test_extension_measured_numbers(crawl):
+    """The numbers the strict xfail below rests on, outside the xfail (so a change shows)."""
+    _measured_crawl_numbers(crawl)
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="physics of our plant: in full closed loop on the 10 nm scale the single drive "
+                          "does not crawl — the slow GMS lag of Table 4 (C = 250 N/s, |s|/C ~ 0.45 s) lets the "
+                          "PID follow the Stribeck drop, and the 2 mN·m current noise dithers both drives; "
+                          "the TDMS carries two motors' noise, so its ripple is not smaller")
+def test_extension_tdms_ripple_much_smaller_than_cdfs(crawl):
+    rows = _measured_crawl_numbers(crawl)
     # the finding: TDMS ripple much smaller (< half) than the single drive's at every speed
     # (noise-free diagnostics, 2 s feed, 10 ms ripple at 1 µm/s, CDFS vs TDMS: truth 5.0 / 4.5 %;
     # support C x100 19.7 / 4.5 %; x1000 58.4 / 6.0 %; memoryless Stribeck support 57.8 / 4.6 %)

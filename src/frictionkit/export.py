@@ -32,14 +32,15 @@ Parameters are written per direction (row 0 for ``v >= 0``, row 1 for ``v < 0``,
 kernels read them) in SI with 17 significant digits, and every file starts with the
 law, the units and the provenance it was exported from.
 
-Where a level is zero, the LuGre update floors ``|s(v)|`` at ``1e-9`` times the largest
-level (``kernels/_stribeck.G_FLOOR``; the library floors ``Fc`` and ``Fs`` separately,
-which differs by at most that floor).
+Where a level is zero, the LuGre update divides by ``|s(v)| = 0``; like the kernels
+(``kernels/_stribeck.row``) it uses ``Fc`` and ``Fs`` floored at ``G_FLOOR = 1e-9`` times
+the largest level (the C header keeps the unfloored levels for the steady-state map).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
+import dataclasses
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from typing import Any
@@ -72,6 +73,13 @@ class _Rows:
     shape: tuple[float, float]
     sigma0: tuple[float, float] | None = None  # LuGre family only
     sigma1: tuple[float, float] | None = None
+
+    def floored(self) -> _Rows:
+        """The levels as the kernels use them in the LuGre update: ``Fc``, ``Fs`` each floored at
+        ``G_FLOOR`` times the largest level (``kernels/_stribeck.row``)."""
+        lo = G_FLOOR * max(max(self.Fc), max(self.Fs))
+        return dataclasses.replace(self, Fc=(max(self.Fc[0], lo), max(self.Fc[1], lo)),
+                                   Fs=(max(self.Fs[0], lo), max(self.Fs[1], lo)))
 
 
 def _rows(model: Any) -> _Rows:
@@ -208,19 +216,24 @@ def _c_source(model: Any, name: str, units: Mapping[str, str], provenance: Mappi
                    ("sigma1", r.sigma1, f"{units['F']}·s/{units['x']}")]
     for p, vals, unit in params:
         out.append(f"static const double {name}_{p}[2] = {{{_num(vals[0])}, {_num(vals[1])}}}; /* [{unit}] */")
-    out += ["", f"/* |s(v)| at speed av >= 0 for direction i (0: v >= 0, 1: v < 0) */",
-            f"static inline double {name}_g(int i, double av)", "{",
+    if lugre:
+        fl = r.floored()
+        out += [f"/* levels of the LuGre update, floored at {G_FLOOR:g} x the largest level (a zero level would "
+                "divide by zero) */"]
+        out += [f"static const double {name}_{p}_floor[2] = {{{_num(vals[0])}, {_num(vals[1])}}}; /* [{units['F']}] */"
+                for p, vals in (("Fc", fl.Fc), ("Fs", fl.Fs))]
+    out += ["", "/* |s(v)| at speed av >= 0 for direction i (0: v >= 0, 1: v < 0) with levels Fc, Fs */",
+            f"static inline double {name}_g(int i, double av, const double *Fc, const double *Fs)", "{",
             f"    double r = av / {name}_vs[i];",
             f"    double phi = {_phi_c(r, name)};",
-            f"    return {name}_Fc[i] + ({name}_Fs[i] - {name}_Fc[i]) * phi;", "}", "",
+            "    return Fc[i] + (Fs[i] - Fc[i]) * phi;", "}", "",
             f"/* steady-state friction [{units['F']}] at velocity v [{units['v']}]; 0 at v = 0 */",
             f"static inline double {name}_steady(double v)", "{",
             "    if (v == 0.0) return 0.0;",
             "    int i = v < 0.0;",
-            f"    double g = {name}_g(i, fabs(v));",
+            f"    double g = {name}_g(i, fabs(v), {name}_Fc, {name}_Fs);",
             f"    return (i ? -g : g) + {name}_sigma2[i] * v;", "}"]
     if lugre:
-        gmin = G_FLOOR * max(max(r.Fc), max(r.Fs))
         out += ["", f"/* LuGre state: bristle deflection z [{units['x']}]; z = 0 is the unloaded state */",
                 f"typedef struct {{ double z; }} {name}_state;", "",
                 f"static inline void {name}_reset({name}_state *s) {{ s->z = 0.0; }}", "",
@@ -230,7 +243,7 @@ def _c_source(model: Any, name: str, units: Mapping[str, str], provenance: Mappi
                 f"static inline double {name}_update({name}_state *s, double v, double dt)", "{",
                 "    int i = v < 0.0;",
                 "    double av = fabs(v);",
-                f"    double g = fmax({name}_g(i, av), {_num(gmin)});",
+                f"    double g = {name}_g(i, av, {name}_Fc_floor, {name}_Fs_floor);",
                 f"    double a = {name}_sigma0[i] * av / g;",
                 "    if (a > 0.0) {",
                 "        double zss = v / a;",
@@ -246,6 +259,8 @@ def _c_source(model: Any, name: str, units: Mapping[str, str], provenance: Mappi
 def _st_source(model: Any, name: str, units: Mapping[str, str], provenance: Mapping[str, Any]) -> str:
     r = _rows(model)
     lugre = r.sigma0 is not None
+    if lugre:  # the function block is the LuGre update: the kernels' floored levels
+        r = r.floored()
     out = [f"(* {ln.replace('*)', '* )')} *)" for ln in _header_lines(model, units, provenance)]
     out += [f"FUNCTION_BLOCK {name}", "VAR_INPUT",
             f"    v : LREAL; (* velocity [{units['v']}]"
@@ -272,8 +287,7 @@ def _st_source(model: Any, name: str, units: Mapping[str, str], provenance: Mapp
 
     out += ["IF v < 0.0 THEN"] + branch(1) + ["ELSE"] + branch(0) + ["END_IF;", "g := Fc + (Fs - Fc) * phi;"]
     if lugre:
-        gmin = G_FLOOR * max(max(r.Fc), max(r.Fs))
-        out += [f"g := MAX(g, {_num(gmin)});", "a := sigma0 * av / g;", "IF a > 0.0 THEN", "    zss := v / a;",
+        out += ["a := sigma0 * av / g;", "IF a > 0.0 THEN", "    zss := v / a;",
                 "    z := zss + (z - zss) * EXP(-a * dt);", "END_IF;",
                 "F := sigma0 * z + sigma1 * (v - a * z) + sigma2 * v;"]
     else:

@@ -16,6 +16,10 @@ Symmetric model (description eq. 1): ``F = M a + Fv v + Fc sgn(v) + offset``.
 Asymmetric model (description eq. 12, no offset):
 ``F = M a + (Fv+ v + Fc+) [v > 0] + (Fv- v - Fc-) [v < 0]``.
 The identified model is a :class:`frictionkit.plants.RigidBody` (re-exported here).
+
+``fit_rigid_body(..., law="stribeck" | "lorentzian")`` replaces the Coulomb–viscous map by
+a Stribeck map (per direction with ``asymmetric``), fitted by nonlinear least squares on the
+same signals and started from IDIM-LS (:mod:`frictionkit.identify.rigid_body_stribeck`).
 """
 
 from __future__ import annotations

@@ -871,13 +871,17 @@ def _base_ramp(base, dt, ramp=0.2, hold=0.3):
 
 
 def differential_sweep(base_speed: float = 4e-3, table_speeds=None, *, direction: int = 1,
-                       driving: str = "screw", hold: float = 1.0, ramp: float = 0.1, dt: float = DT,
-                       **run) -> TDMSRecording:
+                       driving: str = "screw", hold: float = 1.0, ramp: float = 0.1, settle: float = 0.3,
+                       dt: float = DT, **run) -> TDMSRecording:
     """Two-axis differential-speed sweep (§5.2.2, Figs. 11-12, eq. 20).
 
     Both shafts are brought to the common ``base_speed`` [m/s, linear-equivalent, >= 0; 0 =
-    the nut stopped: single drive] in 0.5 s, the held shaft stays there and the driving shaft's
-    speed steps so that the table moves at the plateaus ``table_speeds`` [m/s, magnitudes].
+    the nut stopped: single drive] in 0.2 s and held there ``settle`` [s]; then the held shaft
+    stays there and the driving shaft's speed steps so that the table moves at the plateaus
+    ``table_speeds`` [m/s, magnitudes]. Note: the true supports relax after break-away with
+    ``tau = T_S / C`` (Table 4's C in N/s): screw+ 0.45 s, screw- 0.27 s, nut+ 0.97 s, nut-
+    1.8 s, so the held nut's friction still falls by up to ``T_S - T_C`` over the first
+    seconds; plateaus read before ~3 tau include that transient.
     ``driving="screw"`` (eq. 11: ``|theta1'| > |theta2'|``; nut at ``-s base``, screw at
     ``s (base + v3)``, table speed ``s v3``) or ``"nut"`` (eq. 12, extension: screw at
     ``s base``, nut at ``-s (base + v3)``, table speed ``-s v3``), ``s = direction``.
@@ -890,7 +894,7 @@ def differential_sweep(base_speed: float = 4e-3, table_speeds=None, *, direction
         raise ParameterError(f"differential_sweep driving = {driving!r}: must be 'screw' or 'nut'")
     v3 = np.geomspace(0.02e-3, 10e-3, 10) if table_speeds is None else val.vector(
         "differential_sweep", "table_speeds", table_speeds, rule="positive")
-    vb = _base_ramp(base, dt)
+    vb = _base_ramp(base, dt, hold=val.nonnegative("differential_sweep", "settle", settle))
     stair, segs = _staircase(np.asarray(v3), hold, ramp, dt)
     n0 = vb.size
     segs = tuple((a + n0, b + n0, (s if driving == "screw" else -s) * v) for a, b, v in segs)

@@ -104,7 +104,7 @@ def co_speed():
 
 @pytest.fixture(scope="module")
 def diff4():
-    return z.differential_sweep(4e-3, [0.5e-3, 3e-3], hold=0.4, seed=1)
+    return z.differential_sweep(4e-3, [0.5e-3, 3e-3], hold=0.4, settle=2.5, seed=1)
 
 
 def _site_balance(rec, sl):
@@ -139,3 +139,19 @@ def test_differential_kinematics_and_load_on_both_shafts(diff4):
         # the table load and the ball friction reach BOTH shafts (eqs. 11-12 put T_dt on the screw only)
         assert np.mean(rec.force2[sl]) == pytest.approx(f["nut_support"] + ball + F_ax, abs=0.5)
         assert abs(np.mean(rec.force2[sl])) < abs(f["nut_support"]) - 3.0
+
+
+def test_differential_plateaus_match_lumped_steady_state(diff4):
+    """eq. 20 derived for our plant (module docstring): at a steady plateau the screw motor carries
+    F_fs(b + v3) + F_b(v3) + F_ft(v3) and the nut motor F_fn(-b) + F_b(v3) + F_ft(v3), with the ball
+    pair's load part at |F_ft| (the axial spring carries the guide friction). Within 1 N (~1 %),
+    after the nut's support has relaxed (2.5 s at base speed: tau = T_S / C = 0.97 s, Table 4)."""
+    a, tf = z.Assumptions(), z.true_friction()
+    pm = diff4.plateau_means(fraction=0.4)
+    v3 = pm["value"]
+    g = tf.guide.steady_state(v3)
+    ball = tf.ball_preload.steady_state(v3) + tf.ball_load.steady_state(v3) * np.abs(g) / a.ball_load_reference
+    F1 = tf.screw_support.steady_state(4e-3 + v3) + ball + g
+    F2 = tf.nut_support.steady_state(np.full_like(v3, -4e-3)) + ball + g
+    assert np.allclose(pm["F1"], F1, atol=1.0), (pm["F1"], F1)
+    assert np.allclose(pm["F2"], F2, atol=1.0), (pm["F2"], F2)

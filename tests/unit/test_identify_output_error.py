@@ -197,3 +197,26 @@ def test_progress_callback_reports_every_evaluation(record):
     assert min(c[2] for c in calls) == pytest.approx(min(res.diagnostics["cost_history"]), rel=1e-12)
     with pytest.raises(ParameterError, match="progress = 3: must be callable"):
         fit_output_error({"t": t, "F": u, "v": v}, TRUE, plant_mass=1.0, progress=3)
+
+
+def test_external_load_is_subtracted_like_friction():
+    """A known load per sample (gravity on the measured position, seed 002 eq. 13a) gives the
+    same fit as the net input; a wrong length is refused."""
+    import numpy as np
+    import pytest
+
+    import frictionkit as fk
+    from frictionkit.identify.output_error import fit_output_error
+
+    true = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=63.2)
+    dt = 1e-3
+    t = np.arange(3001) * dt
+    u = 2.0 * np.sin(np.pi * t)
+    load = 0.3 * np.sin(2.0 * np.pi * t) + 0.1
+    sim = fk.simulate(true, plant=fk.Mass(1.0), force=u - load, dt=dt)
+    start = fk.LuGre(true.static, sigma0=3e4, sigma1=100.0)
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, external_load=load)
+    assert res["sigma0"] == pytest.approx(1e5, rel=1e-3)
+    assert res["sigma1"] == pytest.approx(63.2, rel=1e-2)
+    with pytest.raises(fk.DataError, match="external_load"):
+        fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, external_load=load[:-1])

@@ -10,6 +10,7 @@ from ..plants.rigid_body import RigidBody  # re-exported: the plant fit_rigid_bo
 from .rigid_body import fit_rigid_body, rigid_body_regressors
 from .static_map import MODELS as STATIC_MODELS
 from .static_map import fit_static_map, fit_static_records, stribeck_model
+from .two_step import TwoStepResult, fit_two_step
 
 __all__ = [
     "OUTPUT_ERROR_OPTIONS",
@@ -28,6 +29,8 @@ __all__ = [
     "piecewise_linear_fit",
     "IdentificationResult",
     "RigidBody",
+    "TwoStepResult",
+    "fit_two_step",
     "fit_rigid_body",
     "fit_static_map",
     "fit_static_records",

@@ -94,9 +94,12 @@ def simulate(
     chk.outputs([model, signal], files={"--out": out, **({"--json": Path(json_out)} if json_out not in (None, "-")
                                                           else {})}, plots={"--plot": plot})
 
+    import warnings
+
     import numpy as np
 
     from ..data import load_recording
+    from ..data.recording import IrregularSamplingWarning
     from ..errors import DataError
     from ..models.base import kernel_family, law_entry
     from ..models.files import ModelFile
@@ -107,7 +110,9 @@ def simulate(
                              "simulate; its force is the steady state F(v) (see 'frictionkit export --format csv')")
     tcol, scol = _columns(signal, time, column)
     role = {"force": "force", "position": "position", "velocity": "velocity"}[kind]
-    rec = load_recording(signal, time=tcol, **{role: scol}, scales={role: factor})
+    with warnings.catch_warnings():  # irregular sampling is an error here, not a warning
+        warnings.simplefilter("ignore", IrregularSamplingWarning)
+        rec = load_recording(signal, time=tcol, **{role: scol}, scales={role: factor})
     if not rec.is_regular:
         raise DataError(f"'{signal}': irregular sampling (time column {tcol!r}); simulate needs a uniform step "
                         "(resample the log first, frictionkit.data.Recording.resample)")

@@ -1,0 +1,35 @@
+"""The JSON of ``frictionkit reproduce sdss`` has the issue's layout; the command checks its options first."""
+
+from __future__ import annotations
+
+import json
+
+from typer.testing import CliRunner
+
+import frictionkit.cli.reproduce  # noqa: F401  (registers the command group)
+from frictionkit.cli import app
+from frictionkit.reproduce import sdss as rep
+
+
+def test_summary_layout(azimuth, altitude, rotator):
+    r = rep.SdssReproduction(axes={"azimuth": azimuth, "altitude": altitude, "rotator": rotator},
+                             tracking={"no_compensation": 0.1, "lugre_feedforward": 0.05}, quick=True, seed=0)
+    doc = json.loads(json.dumps(r.summary()))
+    assert set(doc["axes"]) == {"azimuth", "altitude", "rotator"}
+    assert set(doc["sidereal_tracking_rms_arcsec"]) == {"no_compensation", "lugre_feedforward"}
+    for name, ax in doc["axes"].items():
+        assert {"truth", "identified", "velocity_nrmse_percent"} <= set(ax)
+        for p in ax["identified"].values():
+            assert set(p) == {"value", "ci95"} and len(p["ci95"]) == 2
+        assert set(ax["identified"]) <= set(ax["truth"])
+    assert doc["axes"]["rotator"]["velocity_nrmse_percent"] is None  # the paper fits only its static map
+    assert doc["axes"]["azimuth"]["velocity_nrmse_percent"] == azimuth.nrmse["fig4a_triangle"]
+    assert doc["axes"]["altitude"]["velocity_nrmse_percent"] == altitude.nrmse["fig6b_above"]
+
+
+def test_cli_refuses_bad_options_before_running(tmp_path):
+    out = tmp_path / "s.json"
+    res = CliRunner().invoke(app, ["reproduce", "sdss", "--quick", "--seed", "-1", "--json", str(out)])
+    assert res.exit_code == 2 and not out.exists()
+    res = CliRunner().invoke(app, ["reproduce", "sdss", "--json", str(out), "--plot", str(tmp_path / "p.xyz")])
+    assert res.exit_code == 2 and not out.exists()

@@ -43,7 +43,9 @@ another numba function -- even an inlined one -- costs an ``NRT_incref`` /
 (``_stribeck.row`` / ``g_row``) and ``C`` is two floats; the only call left is
 ``_oscillator.coefficients`` (scalars, and only when ``K``, ``c`` or ``h`` change).
 
-Status codes: 0 ok, 1 non-finite state, 2 sub-step budget exhausted.
+Status codes: 0 ok, 1 non-finite state, 2 sub-step budget exhausted,
+3 error control failed (step-size underflow at ``H_MIN * dt`` with the error
+estimate still above the tolerance; the step is not accepted).
 """
 
 from __future__ import annotations
@@ -57,7 +59,8 @@ from ._oscillator import coefficients
 from ._stribeck import R_S2, g_row
 from ._stribeck import row as static_row
 
-OK, NONFINITE, BUDGET = 0, 1, 2
+OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
+H_MIN = 1e-7  # smallest sub-step as a fraction of dt (kernels.lugre.H_MIN)
 EVENT_TOL = 1e-6  # fraction of dt within which a switch is located
 
 
@@ -268,14 +271,17 @@ def _drive(
                 status = BUDGET
                 break
             if not (math.isfinite(xi_n) and math.isfinite(vn)):
-                if h > 1e-7 * dt:
+                if h > H_MIN * dt:
                     h_try = 0.1 * h
                     continue
                 status = NONFINITE
                 break
-            if e > 1.0 and h > 1e-7 * dt:
-                h_try = h * max(0.2, 0.9 / math.sqrt(e))
-                continue
+            if e > 1.0:
+                if h > H_MIN * dt:
+                    h_try = h * max(0.2, 0.9 / math.sqrt(e))
+                    continue
+                status = TOLERANCE  # step-size underflow: never accept an over-tolerance step
+                break
             # --- switching surfaces crossed inside this trial step?
             theta = 2.0
             reversed_ = (v > 0.0 and vn <= 0.0) or (v < 0.0 and vn >= 0.0)

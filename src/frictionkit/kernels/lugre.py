@@ -26,7 +26,10 @@ interval and ``dz/dt = v - a z`` with constant ``a = sigma0 |v| / |s(v)|`` has
 the exact solution ``z(h) = z_ss + (z0 - z_ss) exp(-a h)``; no error at all
 beyond round-off.
 
-Status codes: 0 ok, 1 non-finite state, 2 sub-step budget exhausted.
+Status codes: 0 ok, 1 non-finite state, 2 sub-step budget exhausted,
+3 error control failed (the sub-step fell to ``H_MIN * dt`` and still did not
+meet the tolerance: step-size underflow). A step is never accepted with its
+error estimate above the tolerance.
 """
 
 from __future__ import annotations
@@ -41,7 +44,10 @@ from ._stribeck import row as static_row
 
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
 
-OK, NONFINITE, BUDGET = 0, 1, 2
+OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
+
+#: Smallest sub-step as a fraction of ``dt``; below it the error control gives up.
+H_MIN = 1e-7
 
 #: ``0.9 / sqrt(e) >= 5`` for ``e <= (0.9 / 5)^2``.
 E_GROW = (0.9 / 5.0) ** 2
@@ -135,7 +141,7 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
         zn = z + h * (1.5 * k1z + 0.5 * k2z)
         n += 1
         if not math.isfinite(xn + vn + zn):  # inf or NaN in any of them (inf - inf is NaN)
-            if h > 1e-7 * dt:
+            if h > H_MIN * dt:
                 h_try = 0.1 * h
                 continue
             return x, v, z, F, h_try, n, NONFINITE
@@ -150,7 +156,11 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
         q = abs(ez) / (atol_z + rtol * abs(zn))
         if q > e:
             e = q
-        if e <= 1.0 or h <= 1e-7 * dt:
+        if e > 1.0 and h <= H_MIN * dt:
+            # step-size underflow: the tolerance cannot be met (e.g. a mass so small that
+            # the velocity follows the force faster than 1e-7 dt); stop, do not accept
+            return x, v, z, F, h_try, n, TOLERANCE
+        if e <= 1.0:
             x = xn
             v = vn
             z = zn

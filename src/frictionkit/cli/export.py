@@ -63,7 +63,9 @@ def export(
                         provenance=mf.provenance)
     atomic_write_text(out, text)
     family = kernel_family(mf.model)
-    what = "steady-state map" + (" and discrete-time update with state" if family == "lugre" and fmt != "csv" else "")
+    what = {"csv": "steady-state map", "c": "steady-state map" + (" and discrete-time update with state"
+                                                                  if family == "lugre" else ""),
+            "st": "discrete-time update with state" if family == "lugre" else "steady-state map"}[fmt]
     doc = {"model": str(model), "law": law_entry(mf.model).name, "family": family, "format": fmt, "out": str(out),
            "contents": what, "bytes": len(text.encode("utf-8")), "units": dict(mf.units)}
     if fmt == "csv":

@@ -50,18 +50,23 @@ def test_table3_units_and_directions():
     assert z.force_to_torque(87.4) == pytest.approx(87.4 * 5e-3 / (2 * math.pi))
 
 
-@pytest.mark.parametrize("col", ["screw+", "nut+", "screw-", "nut-"])
-def test_truth_presliding_literals_rederive(col):
-    d = z._design_presliding(col)
-    lit = z._PRESLIDING[col]
-    assert np.allclose(d["delta_um"], lit["delta_um"], rtol=1e-3)
-    assert np.allclose(d["k_N_per_um"], lit["k_N_per_um"], rtol=1e-3, atol=1e-4)
+@pytest.mark.parametrize("shaft", ["screw", "nut"])
+def test_truth_presliding_literals_rederive(shaft):
+    d = z._design_presliding(shaft)
+    lit = z._PRESLIDING[shaft]
+    virgin = z._virgin
+    for s in "+-":
+        Fs = T_S[f"{shaft}{s}"]
+        x = np.geomspace(0.1, 100.0, 30)
+        assert np.allclose(virgin(lit["k_N_per_um"], lit["xi"][s], Fs, x),
+                           virgin(d["k_N_per_um"], d["xi"][s], Fs, x), atol=0.01 * Fs)
 
 
 @pytest.mark.parametrize("col", ["screw+", "nut+", "nut-", "screw-"])
 def test_truth_virgin_curve_near_paper_points(col):
-    """The truth's virgin curve passes within 4 % of the paper's P-points (screw-: P2, P3 lie
-    above its own T_S and cannot be reached with sum xi = 1 — checked to stay below T_S)."""
+    """The truth's virgin curve passes within 7 % of the paper's P-points (worst: nut- P1, +6.8 %,
+    the price of one stiffness set for both directions); screw-: P2, P3 lie above its own T_S
+    and cannot be reached with sum xi = 1 — checked to stay below T_S."""
     tf = z.true_friction()
     law = tf.screw_support if col.startswith("screw") else tf.nut_support
     sign = z.PAPER_TABLES["table3"][col]["v_sign"]
@@ -71,9 +76,24 @@ def test_truth_virgin_curve_near_paper_points(col):
     F = np.array([np.sum(g.k * np.minimum(xx, g.xi * g.static.Fs / g.k)) for xx in x])
     paper = np.array([p[1] for p in POINTS[col]])
     if col == "screw-":
-        assert abs(F[0] / paper[0] - 1) < 0.04 and np.all(F <= T_S[col] + 1e-9)
+        assert abs(F[0] / paper[0] - 1) < 0.07 and np.all(F <= T_S[col] + 1e-9)
     else:
-        assert np.all(np.abs(F / np.abs(paper) - 1) < 0.04), (F, paper)
+        assert np.all(np.abs(F / np.abs(paper) - 1) < 0.07), (F, paper)
+
+
+@pytest.mark.parametrize("site", ["screw_support", "nut_support", "ball_preload", "guide"])
+def test_truth_does_not_ratchet_under_reciprocation(site):
+    """Passive pre-sliding: after a virgin stroke, +-2 µm cycles retrace one closed loop — the force
+    at the same turning point is the same every cycle (one stiffness set for both directions)."""
+    import frictionkit as fk
+
+    law = z.true_friction().sites()[site]
+    dt = 1e-3
+    turns = [0.0, 2e-6] + [-2e-6, 2e-6] * 4
+    x = np.concatenate([np.linspace(a, b, 400, endpoint=False) for a, b in zip(turns[:-1], turns[1:])] + [[2e-6]])
+    F = fk.simulate(law, position=x, dt=dt).F
+    at_top = F[400::800]
+    assert np.ptp(at_top[1:]) < 1e-3 * np.max(np.abs(F)), at_top
 
 
 def test_paper_gms_sum_xi_decision():

@@ -354,6 +354,23 @@ class BatchResult:
 
     _n: int = 0
 
+    @property
+    def message(self) -> str:
+        """How many sets ran, and how many failed with which status (see ``SimulationResult``)."""
+        st = np.asarray(self.status)
+        bad = st != 0
+        if not bad.any():
+            return f"ok: {st.size} parameter sets"
+        parts = [f"{int((st == c).sum())} with status {int(c)} ({_MESSAGES.get(int(c), '?').split(':')[0]})"
+                 for c in np.unique(st[bad])]
+        return f"{int(bad.sum())} of {st.size} parameter sets failed (sse = inf): " + "; ".join(parts)
+
+    def summary(self) -> str:
+        ok = np.isfinite(self.sse)
+        best = f"best rms {float(np.min(self.rms[ok])):.4g} (set {int(np.argmin(np.where(ok, self.sse, np.inf)))})" \
+            if ok.any() else "no set finished"
+        return f"simulate_batch: {self.message}; {best}"
+
 
 def simulate_batch(
     models,
@@ -440,7 +457,15 @@ def simulate_batch(
     dt = val.positive("simulate_batch", "dt", dt)
     if method not in ("adaptive", "fixed"):
         raise ParameterError(f"simulate_batch: method = {method!r}: must be 'adaptive' or 'fixed'")
-    models = list(models)
+    if models is None or isinstance(models, (str, bytes, dict)):
+        raise ParameterError(f"simulate_batch: models = {models!r}: must be a sequence of friction laws")
+    try:
+        models = list(models)
+    except TypeError:
+        raise ParameterError(
+            f"simulate_batch: models = {type(models).__name__}: must be a sequence of friction laws "
+            "(wrap a single law in a list)"
+        ) from None
     if not models:
         raise ParameterError("simulate_batch: models is empty")
     u = val.signal("force", force)
@@ -450,14 +475,32 @@ def simulate_batch(
     if compare not in _SIGNALS:
         raise ParameterError(f"simulate_batch: compare = {compare!r}: must be one of 'x', 'v', 'F'")
     w = np.ones(u.size) if weight is None else val.signal("weight", weight)
-    if w.size != u.size or (w < 0).any():
-        raise DataError("weight must have one non-negative entry per sample")
+    if w.size != u.size:
+        raise DataError(f"weight has {w.size} samples but force has {u.size}: one weight per sample")
+    if (w < 0).any():
+        i = int(np.flatnonzero(w < 0)[0])
+        raise DataError(f"weight[{i}] = {w[i]!r}: weights must be >= 0")
+    if not (w[1:] > 0).any():
+        raise DataError(
+            "weight: every weight after sample 0 is 0, so no sample would be compared "
+            "(every set would score 0); give at least one positive weight"
+        )
     P = len(models)
-    m = np.broadcast_to(np.asarray(masses, dtype=float), (P,)).copy()
-    if not (np.isfinite(m).all() and (m > 0).all()):
-        raise ParameterError(f"simulate_batch: masses must be finite and > 0 (got {m[~(np.isfinite(m) & (m > 0))][:3]})")
+    if masses is None:
+        raise ParameterError("simulate_batch: masses = None: give one mass [kg] or one per model")
+    mv = val.vector("simulate_batch", "masses", masses, rule="positive")
+    if mv.size not in (1, P):
+        raise ParameterError(
+            f"simulate_batch: masses has {mv.size} entries for {P} models: give one mass or one per model"
+        )
+    m = np.broadcast_to(mv, (P,)).copy()
     options = options or SimOptions()
-    kinds = {kind_of(mdl) for mdl in models}
+    kinds = set()
+    for i, mdl in enumerate(models):
+        try:
+            kinds.add(kind_of(mdl))
+        except ParameterError as exc:
+            raise ParameterError(f"simulate_batch: models[{i}]: {exc}") from None
     if len(kinds) != 1:
         raise ParameterError(f"simulate_batch: all models must be of one kind, got {sorted(kinds)}")
     if method == "fixed" and kinds != {"lugre"}:

@@ -300,3 +300,13 @@ def test_help_has_an_example():
     assert res.exit_code == 0
     assert "frictionkit export fit.json --format csv --out friction_table.csv" in res.stdout
     assert "[m/s]" in res.stdout  # units in square brackets survive the help formatter
+
+
+def test_never_writes_over_the_model_file(tmp_path):
+    model = _save(tmp_path, "lugre")
+    before = model.read_bytes()
+    res = runner.invoke(app, ["export", str(model), "--format", "c", "--out", str(model)])
+    assert res.exit_code == 2
+    err = res.stderr.strip()
+    assert err.startswith("error: --out") and "input" in err and "\n" not in err, err
+    assert model.read_bytes() == before

@@ -60,7 +60,7 @@ The paper gives neither procedure nor values. :func:`acim` implements the assump
 documented there: each component (screw support bearings, nut support bearings, ball-screw
 pair, guide) is tested **in isolation**, as in a component test rig — the component alone,
 driven at speed plateaus (static map, static-map fitter) and by a µm reciprocation (GMS,
-pre-sliding fitter) — at its *catalogue* condition: the ball pair with its preload only and no
+pre-sliding fitter; one virgin branch, used for both directions) — at its *catalogue* condition: the ball pair with its preload only and no
 external axial load (a TDMS cannot be taken apart to load it with the guide's force). The
 component laws are then summed into eq. 16's feed-forward terms
 (``T*_fs + T*_fbs + R F*_ft`` on the screw, ``T*_fbn - T*_fn`` on the nut; the signs of the
@@ -69,6 +69,7 @@ terms are those of the motion each component sees).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -78,9 +79,10 @@ import numpy as np
 
 from .. import _validate as val
 from ..data.recording import Recording
-from ..data.segmentation import find_plateaus
+from ..data.segmentation import Segment, find_plateaus
 from ..data.signals import derivative
 from ..errors import DataError, IdentificationError, ParameterError
+from ..models.gms import GMS
 from ..models.static import Directional, Stribeck
 from .presliding import fit_presliding
 from .result import IdentificationResult
@@ -136,6 +138,12 @@ class TDMSRun:
     base_speed : float, optional
         Base speed ``b`` [m/s] of a differential run (co-rotation speed in the screw's sign;
         the nut turns at ``-b/R``).
+    plateaus : sequence of (start, stop), optional
+        Sample ranges of the commanded constant-speed plateaus (a drive log knows its command);
+        the last ``settled`` fraction of each is averaged. Without them the plateaus are found
+        in the screw encoder's speed (:func:`~frictionkit.data.find_plateaus`).
+    settled : float
+        Fraction of each given plateau averaged (its end), default 0.5.
     name : str
         Label.
     """
@@ -148,6 +156,8 @@ class TDMSRun:
     R: float
     x_t: np.ndarray | None = None
     base_speed: float | None = None
+    plateaus: tuple = ()
+    settled: float = 0.5
     name: str = "tdms run"
 
     def __post_init__(self) -> None:
@@ -171,6 +181,26 @@ class TDMSRun:
         val.positive(owner, "R", self.R)
         if self.base_speed is not None and not math.isfinite(self.base_speed):
             raise ParameterError(f"{owner}.base_speed = {self.base_speed!r}: must be finite")
+        pl = []
+        for i, ab in enumerate(self.plateaus):
+            a, b = int(ab[0]), int(ab[1])
+            if not 0 <= a < b <= n:
+                raise ParameterError(f"{owner}.plateaus[{i}] = {tuple(ab)!r}: need 0 <= start < stop <= {n}")
+            pl.append((a, b))
+        object.__setattr__(self, "plateaus", tuple(pl))
+        if not 0.0 < self.settled <= 1.0:
+            raise ParameterError(f"{owner}.settled = {self.settled!r}: must be in (0, 1]")
+
+    @classmethod
+    def from_recording(cls, rec, *, R: float, base_speed: float | None = None, name: str | None = None) -> "TDMSRun":
+        """The logged signals of any object with ``t``, ``theta1``, ``theta2``, ``torque1``,
+        ``torque2`` and optionally ``x_scale`` (e.g. a simulated
+        :class:`~frictionkit.presets.zhang2023.TDMSRecording`); its truth is not read."""
+        x = getattr(rec, "x_scale", None)
+        segs = tuple((a, b) for a, b, *_ in getattr(rec, "segments", ()))
+        return cls(t=rec.t, theta1=rec.theta1, theta2=rec.theta2, T1=rec.torque1, T2=rec.torque2, R=R,
+                   x_t=x, base_speed=base_speed, plateaus=segs,
+                   name=name or getattr(getattr(rec, "reference", None), "description", "tdms run"))
 
     @property
     def dt(self) -> float:
@@ -274,7 +304,6 @@ class ACIMResult:
     """Component laws identified in isolation and their eq. 16 sums."""
 
     steps: dict
-    R: float
     status: int
     message: str
 
@@ -322,9 +351,14 @@ def _status(warns: Sequence[str], ok: bool = True) -> tuple[int, str]:
 # --------------------------------------------------------------------------- helpers
 def _plateau_means(run: TDMSRun, drive: np.ndarray, *, min_samples: int = 40, trim: float = 0.2,
                    rel_tol: float = 0.02) -> dict[str, np.ndarray]:
-    """Means of shaft speeds, table speed and both torques over the constant-speed plateaus of
-    ``drive`` (a speed signal of the run)."""
-    segs = find_plateaus(drive, run.dt, window=21, rel_tol=rel_tol, min_samples=min_samples, trim=trim)
+    """Means of shaft speeds, table speed and both torques over the constant-speed plateaus
+    (the run's commanded ones, else those found in ``drive``, a speed signal of the run)."""
+    if run.plateaus:
+        segs = [Segment(start=b - max(int((b - a) * run.settled), 2), stop=b, direction=1)
+                for a, b in run.plateaus]
+    else:
+        segs = find_plateaus(drive, run.dt, window=21, rel_tol=rel_tol, min_samples=min_samples, trim=trim,
+                             min_speed=0.0)
     if not segs:
         raise DataError(f"run '{run.name}': no constant-speed plateau found")
     w1 = derivative(run.theta1, run.dt)
@@ -531,15 +565,63 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
 
 
 # --------------------------------------------------------------------------- steps 2 and 4
+#: Retries of a pre-sliding fit that fails on a noisy record: (block-mean target samples, refine).
+#: Heavier averaging first, then the eq. 19 breakpoints without the simulation refinement.
+PRESLIDING_RETRIES = ((120, True), (60, True), (60, False))
+
+
+def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfev):
+    """fit_presliding on the thinned record; on failure retried per :data:`PRESLIDING_RETRIES`.
+    Returns (fit, notes, the record fitted)."""
+    notes = []
+    attempts = [(max_samples, refine)] + [(m, r and refine) for m, r in PRESLIDING_RETRIES
+                                          if max_samples is None or m < max_samples]
+    last = None
+    for m, ref in attempts:
+        try:
+            used = _thin(rec, m)
+            fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
+                                 max_nfev=max_nfev)
+            if notes:
+                notes.append(f"fitted with block means to {m} samples, refine={ref}")
+            return fit, notes, used
+        except (IdentificationError, DataError) as exc:
+            last = exc
+            notes.append(f"{m} samples, refine={ref}: {exc}")
+    # fewer elements, padded back to M by splitting the last one (k/2, xi/2 twice breaks away at
+    # the same stroke: the same force curve), so that both directions keep M elements
+    m = PRESLIDING_RETRIES[0][0]
+    for e in range(int(elements) - 1, 0, -1):
+        try:
+            used = _thin(rec, m)
+            fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine, max_nfev=max_nfev)
+            notes.append(f"fitted with M = {e} elements (block means to {m} samples), padded to M = {elements} "
+                         "by splitting the last element")
+            g = fit.model
+            k, xi = list(g.k), list(g.xi)
+            while len(k) < elements:
+                k[-1:] = [k[-1] / 2, k[-1] / 2]
+                xi[-1:] = [xi[-1] / 2, xi[-1] / 2]
+            padded = GMS(g.static, k=k, xi=xi, C=g.C)
+            fit = dataclasses.replace(fit, model=padded, model_name=f"gms_M{e}_padded_to_M{elements}")
+            return fit, notes, used
+        except (IdentificationError, DataError) as exc:
+            last = exc
+            notes.append(f"M = {e}: {exc}")
+    raise IdentificationError("; ".join(notes)) from last
+
+
 def _presliding_columns(shaft_runs: Mapping[str, Recording], static_of: Callable[[str], Any], R: float,
-                        elements: int, refine: bool, max_nfev: int, label: str) -> WSIMStep:
+                        elements: int, refine: bool, max_nfev: int, label: str,
+                        max_samples: int | None = 300) -> WSIMStep:
     warns, fits, laws, table, curves = [], {}, {}, {}, {}
     ok = True
-    for col, rec in shaft_runs.items():
+    for col, rec0 in shaft_runs.items():
         static = static_of(col)
         try:
-            fit = fit_presliding(rec, elements=elements, static=static, branch="virgin", refine=refine,
-                                 max_nfev=max_nfev)
+            fit, notes, rec = _fit_micro(rec0, max_samples, elements=elements, static=static, refine=refine,
+                                    max_nfev=max_nfev)
+            warns += [f"{col}: {n}" for n in notes]
         except (IdentificationError, DataError) as exc:
             warns.append(f"{col}: {exc}")
             ok = False
@@ -577,21 +659,32 @@ def _as_shaft_record(rec, shaft: str, max_samples: int | None = None) -> Recordi
 
 
 def _thin(rec: Recording, max_samples: int | None) -> Recording:
-    """Every k-th sample, the torque averaged over the k samples around it (a creep-speed
-    reciprocation is sampled far finer than its force-displacement curve needs; the
-    breakpoint search and the simulation refinement cost grows with the samples)."""
-    if max_samples is None or rec.n <= max_samples:
+    """The record from the start of the motion (the rest before it dropped: an encoder's count
+    jitter at standstill would be taken for tiny branches), then block means of ``k`` samples
+    of angle and torque so that about ``max_samples`` remain (a creep-speed reciprocation is
+    sampled far finer than its force-displacement curve needs; the breakpoint search and the
+    simulation refinement cost grows with the samples, and the means remove the count
+    jitter and most of the current noise)."""
+    x = np.asarray(rec.x, float)
+    F = np.asarray(rec.force(), float)
+    d = np.abs(x - x[0])
+    span = float(d.max())
+    start = max(int(np.argmax(d > 0.01 * span)) - 1, 0) if span > 0 else 0
+    x, F, t = x[start:], F[start:], rec.t[start:]
+    k = 1 if max_samples is None or x.size <= max_samples else int(math.ceil(x.size / max_samples))
+    n = (x.size // k) * k
+    if k > 1:
+        x = np.r_[x[0], x[:n].reshape(-1, k).mean(axis=1)]
+        F = np.r_[F[0], F[:n].reshape(-1, k).mean(axis=1)]
+        t = t[0] + np.arange(x.size) * k * rec.dt
+    if start == 0 and k == 1:
         return rec
-    from scipy.ndimage import uniform_filter1d
-
-    k = int(math.ceil(rec.n / max_samples))
-    F = uniform_filter1d(np.asarray(rec.force(), float), k, mode="nearest")[::k]
-    return Recording(t=rec.t[::k], x=np.asarray(rec.x)[::k], F=F, name=rec.name, units=rec.units,
-                     provenance={**rec.provenance, "thinned_by": k})
+    return Recording(t=t, x=x, F=F, name=rec.name, units=rec.units,
+                     provenance={**rec.provenance, "block_mean": k, "from_sample": start})
 
 
 def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[str, Any], *, elements: int = 3,
-                       refine: bool = True, max_nfev: int = 40, max_samples: int | None = 1500) -> WSIMStep:
+                       refine: bool = True, max_nfev: int = 40, max_samples: int | None = 300) -> WSIMStep:
     """WSIM step 2 (seed 000 §5.2.1, eq. 19, Table 4): GMS of each shaft from µm co-speed
     reciprocation.
 
@@ -626,14 +719,15 @@ def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[
     for col, r in runs.items():
         if col not in COLUMNS:
             raise ParameterError(f"cospeed_presliding: column {col!r}: must be one of {COLUMNS}")
-        recs[col] = _as_shaft_record(r, col.split()[0], max_samples)
+        recs[col] = _as_shaft_record(r, col.split()[0], None)
     if R is None:
         raise DataError("cospeed_presliding: pass TDMSRun objects (their lead ratio R sets the table's units)")
-    return _presliding_columns(recs, lambda col: static[col.split()[0]], R, elements, refine, max_nfev, "table4")
+    return _presliding_columns(recs, lambda col: static[col.split()[0]], R, elements, refine, max_nfev, "table4",
+                               max_samples)
 
 
 def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: int = 3, refine: bool = True,
-                            max_nfev: int = 40, max_samples: int | None = 1500) -> WSIMStep:
+                            max_nfev: int = 40, max_samples: int | None = 300) -> WSIMStep:
     """WSIM step 4 (seed 000 §5.2.2, Table 6): the nut held still, the screw reciprocating
     within microns; the screw motor's torque is the lumped friction.
 
@@ -656,9 +750,9 @@ def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: in
     for col, r in runs.items():
         if col not in ("positive", "negative"):
             raise ParameterError(f"differential_presliding: column {col!r}: must be 'positive' or 'negative'")
-        recs[col] = _as_shaft_record(r, "screw", max_samples)
+        recs[col] = _as_shaft_record(r, "screw", None)
     R = next(iter(runs.values())).R
-    return _presliding_columns(recs, lambda col: static, R, elements, refine, max_nfev, "table6")
+    return _presliding_columns(recs, lambda col: static, R, elements, refine, max_nfev, "table6", max_samples)
 
 
 # --------------------------------------------------------------------------- step 3
@@ -670,8 +764,10 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
     Parameters
     ----------
     runs : sequence of TDMSRun
-        One or more runs per base speed (``run.base_speed`` set): the nut is held at the base
-        speed while the screw speed is stepped through plateaus.
+        One or more runs per base speed (``run.base_speed`` set, >= 0): the nut is held at the
+        base speed while the screw speed is raised (table speed v3 > 0, screw driving) or
+        lowered (v3 < 0) through plateaus (§5.2.2: "hold the nut at it, and raise or lower the
+        screw speed").
     screw_base_speed : float
         Base speed [m/s] whose screw curve gives the screw's Table 5 columns (the paper: 4 mm/s);
         the base speed of the runs nearest to it (in magnitude, per direction) is used.
@@ -686,8 +782,10 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
         ``table``: columns ``"screw +"``, ``"screw -"`` (Stribeck in N, mm/s, N·s/m) and
         ``"nut +"``, ``"nut -"`` (TDMSSC: ``Tc0_N``, ``Tc1_N_s_mm``, ``Ts0_N``, ``Ts1_N_s_mm``,
         ``vs_mm_s``, ``delta``, ``sigma_N_s_m``, ``eps_N_s2_m2``), plus ``"per_base_speed"``
-        rows (the per-base-speed fits before synthesis). ``laws["screw"]`` (Directional Stribeck, N·m
-        against the table speed v3 [m/s]) and ``laws["nut"]`` (Directional TDMSSC, N·m against
+        rows (the per-base-speed fits before synthesis). ``laws["screw_by_base"]``: base speed
+        [m/s] -> ``(c, D)``, the screw's lumped torque ``c + D(v3)`` [N·m] (``D`` Directional
+        Stribeck against the table speed v3 [m/s]); ``laws["screw"]``/``laws["screw_offset"]``
+        the pair at ``screw_base_speed``;  ``laws["nut"]`` (Directional TDMSSC, N·m against
         v3 [m/s], schedule the nut's linear-equivalent speed ``R theta2'`` [m/s]).
     """
     runs = list(runs)
@@ -726,36 +824,53 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
                                 "nut": {"w": f2["w"], "coef": f2["coef"], "rms_N": f2["rms"] / R}}
             elif smooth:
                 warns.append(f"{key}: {int(m.sum())} plateaus < {FOURIER_MIN_POINTS}: no Fourier pre-fit, raw means used")
-    # screw: Stribeck curve vs table speed at the base speed nearest screw_base_speed, per direction
-    screw_laws = {}
-    for sgn, lab in ((1, "positive"), (-1, "negative")):
-        cand = np.unique(A[np.sign(A[:, 1]) == sgn, 0])
-        if cand.size == 0:
-            warns.append(f"screw {lab}: no plateau in this direction")
+    # screw, per base speed: lumped torque = offset c(b) + a friction D_b(v3) odd in v3. With the
+    # nut held at b and the screw raised (v3 > 0) or lowered (v3 < 0), the screw's own support
+    # keeps turning one way (for |v3| < b) while ball pair and guide reverse with v3, so the
+    # curve is not a friction about zero: c(b) is half the sum of its limits at v3 -> 0+ and
+    # 0- (from a signed-level fit, variable projection), D_b the static-map fitter's
+    # Directional Stribeck curve of T - c (Table 5's screw columns at ``screw_base_speed``:
+    # the lumped levels c + D). At b = 0 c is the direction asymmetry only.
+    screw_by_base = {}
+    for b in bases:
+        m = A[:, 0] == b
+        pos, neg = m & (A[:, 1] > 0), m & (A[:, 1] < 0)
+        if pos.sum() < 5 or neg.sum() < 5:
+            warns.append(f"screw, b = {b * 1e3:g} mm/s: needs >= 5 plateaus in each direction")
             continue
-        b = cand[np.argmin(np.abs(np.abs(cand) - abs(screw_base_speed)))]
-        m = (A[:, 0] == b) & (np.sign(A[:, 1]) == sgn)
+        lim = []
+        for mm in (pos, neg):
+            f = _fit_tdmssc(A[mm, 1], np.zeros(int(mm.sum())), T1s[mm], shape_grid, affine=False)["params"]
+            lim.append(f["Fs0"])
+        c = 0.5 * (lim[0] - lim[1])
         try:
-            fit = fit_static_map(A[m, 1], T1s[m], model="exponential", direction=lab,
-                                 units={"v": "m/s", "F": "N·m"})
+            fit = fit_static_map(A[m, 1], T1s[m] - c, model="exponential", units={"v": "m/s", "F": "N·m"})
+            law = stribeck_model(fit)
         except IdentificationError as exc:
-            warns.append(f"screw {lab}: {exc}")
+            warns.append(f"screw, b = {b * 1e3:g} mm/s: {exc}")
             continue
-        fits[f"screw {lab}"] = fit
-        warns += [f"screw {lab} (b = {b * 1e3:g} mm/s): {w}" for w in fit.warnings]
-        law = fit.model
-        screw_laws[lab] = law
-        col = "screw +" if sgn > 0 else "screw -"
-        # against table speed [m/s]: T_C, T_S in N·m -> /R N; vs already m/s; sigma N·m·s/m -> /R N·s/m
-        table[col] = {"T_C_N": law.Fc / R, "T_S_N": getattr(law, "Fs", law.Fc) / R,
-                      "vs_mm_s": sgn * getattr(law, "vs", float("nan")) * 1e3,
-                      "delta": getattr(law, "delta", None), "sigma_N_s_m": law.sigma2 / R,
-                      "base_speed_mm_s": b * 1e3}
-        vv = np.linspace(A[m, 1].min(), A[m, 1].max(), 300)
-        curves[col] = {"x": A[m, 1] * 1e3, "y": A[m, 2] / R, "x_fit": vv * 1e3, "y_fit": law.steady_state(vv) / R,
-                       "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
-    if len(screw_laws) == 2:
-        laws["screw"] = Directional(positive=screw_laws["positive"], negative=screw_laws["negative"])
+        screw_by_base[float(b)] = (float(c), law)
+        fits[f"screw b={b * 1e3:g}mm/s"] = fit
+        if b == bases[np.argmin(np.abs(bases - screw_base_speed))]:
+            warns += [f"screw (b = {b * 1e3:g} mm/s): {w}" for w in fit.warnings]
+            for sgn, col in ((1, "screw +"), (-1, "screw -")):
+                side = _side(law, sgn)
+                # lumped levels c + D against table speed: N·m -> /R N; vs in m/s; sigma N·m·s/m -> /R N·s/m
+                table[col] = {"T_C_N": (sgn * c + side.Fc) / R, "T_S_N": (sgn * c + side.Fs) / R,
+                              "vs_mm_s": sgn * side.vs * 1e3, "delta": side.delta, "sigma_N_s_m": side.sigma2 / R,
+                              "offset_c_N": c / R, "base_speed_mm_s": b * 1e3}
+                mm = m & (np.sign(A[:, 1]) == sgn)
+                vv = np.linspace(A[mm, 1].min(), A[mm, 1].max(), 200)
+                curves[col] = {"x": A[mm, 1] * 1e3, "y": A[mm, 2] / R, "x_fit": vv * 1e3,
+                               "y_fit": (c + law.steady_state(vv)) / R,
+                               "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
+    laws["screw_by_base"] = screw_by_base
+    if screw_by_base:
+        kb = min(screw_by_base, key=lambda x: abs(x - screw_base_speed))
+        laws["screw"] = screw_by_base[kb][1]
+        laws["screw_offset"] = screw_by_base[kb][0]
+    else:
+        warns.append("screw: no base speed with plateaus in both directions")
     # nut: per base speed (levels constant), then synthesis with affine levels (TDMSSC, eq. 21).
     # The schedule is the nut's measured linear-equivalent speed s = R theta2' [m/s], signed
     # (the convention of frictionkit.models.TDMSSC).
@@ -847,11 +962,13 @@ def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TD
     steps["table5"] = differential_static(differential, screw_base_speed=screw_base_speed)
     if differential_micro:
         step("WSIM step 4: differential pre-sliding (Table 6)")
-        screw_static = steps["table5"].laws.get("screw")
-        if screw_static is None:
-            raise IdentificationError("wsim: step 3 gave no screw law in both directions; step 4 needs it")
-        # the step-3 screw law is against the table speed [m/s]; the pre-sliding fit runs on the screw angle
-        steps["table6"] = differential_presliding(differential_micro, _to_shaft(screw_static, cospeed_R(cospeed)),
+        by_base = steps["table5"].laws.get("screw_by_base") or {}
+        if not by_base:
+            raise IdentificationError("wsim: step 3 gave no screw law; step 4 needs one")
+        # step 4 runs with the nut still: the static map is step 3's screw curve at the base
+        # speed nearest 0 (against the table speed; the fit runs on the screw angle)
+        b0 = min(by_base, key=abs)
+        steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], cospeed_R(cospeed)),
                                                   elements=elements, refine=refine, max_nfev=max_nfev)
     worst = max(s.status for s in steps.values())
     msgs = [f"{k}: {s.message}" for k, s in steps.items() if s.status]
@@ -877,35 +994,31 @@ def _to_shaft(law, R: float):
 
 
 # --------------------------------------------------------------------------- ACIM
-def acim(components: Mapping[str, Mapping[str, Recording]], *, R: float, elements: int = 3, refine: bool = False,
-         max_nfev: int = 40) -> ACIMResult:
+def acim(components: Mapping[str, Mapping[str, Any]], *, elements: int = 3, refine: bool = False,
+         max_nfev: int = 40, max_samples: int | None = 300) -> ACIMResult:
     """ACIM: every component identified in isolation (documented assumption, module docstring).
 
     Parameters
     ----------
     components : mapping
-        Component name (:data:`COMPONENTS`) -> ``{"static": Recording, "presliding": Recording}``
-        (either may be missing). ``static``: the component alone driven through constant-speed
-        plateaus in both directions (``v`` its own speed, ``F`` its friction, in its own
-        coordinate: rad and N·m for the rotating components, m and N for the guide).
-        ``presliding``: a µm reciprocation from rest (virgin branch first).
-    R : float
-        Lead ratio [m/rad], for the tables' linear equivalents.
+        Component name (:data:`COMPONENTS`) -> ``{"static": ..., "presliding": Recording}``
+        (either may be missing), in the component's own **linear-equivalent** coordinate (m,
+        m/s, N; a rotating component at the lead ratio, as the paper's tables).
+        ``static``: a :class:`~frictionkit.data.Recording` of the component alone driven
+        through constant-speed plateaus in both directions, or its
+        :class:`~frictionkit.data.SteadyStatePoints`. ``presliding``: a µm reciprocation from
+        rest (virgin branch first; ``x`` and ``F``).
 
     Returns
     -------
     ACIMResult
         ``steps[component]`` with ``laws["static"]`` (Directional Stribeck) and, with
-        pre-sliding data, ``laws["dynamic"]`` (GMS on that map).
+        pre-sliding data, ``laws["dynamic"]`` (GMS on that map); tables in N, mm/s, N/µm.
     """
-    R = val.positive("acim", "R", R)
     steps = {}
     for name, recs in components.items():
         if name not in COMPONENTS:
             raise ParameterError(f"acim: component {name!r}: must be one of {COMPONENTS}")
-        linear = name == "guide"
-        scale_F = 1.0 if linear else 1.0 / R      # -> N
-        scale_v = 1e3 if linear else R * 1e3      # -> mm/s
         warns, fits, laws, table, curves = [], {}, {}, {}, {}
         if "static" in recs:
             fit = fit_static_map(recs["static"], model="exponential")
@@ -914,28 +1027,23 @@ def acim(components: Mapping[str, Mapping[str, Recording]], *, R: float, element
             law = stribeck_model(fit)
             laws["static"] = law
             for sgn, col in ((1, "+"), (-1, "-")):
-                side = _side(law, sgn)
-                table[col] = {"T_C_N": side.Fc * scale_F, "T_S_N": side.Fs * scale_F,
-                              "vs_mm_s": sgn * side.vs * scale_v, "delta": side.delta,
-                              "sigma_N_s_m": side.sigma2 * scale_F / (scale_v * 1e-3)}
-            curves["static"] = {"x": fit.data["v"] * scale_v, "y": fit.data["F"] * scale_F,
-                                "xlabel": "speed [mm/s]", "ylabel": "friction [N]"}
+                table[col] = _stribeck_column(_side(law, sgn), 1.0, sgn)
+            vv = np.linspace(float(np.min(fit.data["v"])), float(np.max(fit.data["v"])), 300)
+            curves["static"] = {"x": fit.data["v"] * 1e3, "y": fit.data["F"], "x_fit": vv * 1e3,
+                                "y_fit": law.steady_state(vv), "xlabel": "speed [mm/s]", "ylabel": "friction [N]"}
         if "presliding" in recs:
-            static = laws.get("static")
             try:
-                pf = fit_presliding(recs["presliding"], elements=elements, static=static, branch="virgin",
-                                    refine=refine, max_nfev=max_nfev)
+                pf, notes, _ = _fit_micro(recs["presliding"], max_samples, elements=elements,
+                                          static=laws.get("static"), refine=refine, max_nfev=max_nfev)
+                warns += notes
                 fits["presliding"] = pf
                 laws["dynamic"] = pf.model
                 warns += list(pf.warnings)
-                kscale = 1e-6 if linear else 1e-6 / R**2
-                table["gms"] = {**{f"k{i + 1}_N_um": float(k) * kscale for i, k in enumerate(pf.model.k)},
-                                **{f"xi{i + 1}": float(x) for i, x in enumerate(pf.model.xi)},
-                                "C_N_s": float(pf.model.C) * scale_F}
+                table["gms"] = _gms_column(pf.model, 1.0)
             except (IdentificationError, DataError) as exc:
                 warns.append(f"presliding: {exc}")
         st, msg = _status(warns, ok=bool(laws))
         steps[name] = WSIMStep(name=name, status=st, message=msg, table=table, fits=fits, laws=laws, curves=curves)
     worst = max((s.status for s in steps.values()), default=2)
     msgs = [f"{k}: {s.message}" for k, s in steps.items() if s.status]
-    return ACIMResult(steps=steps, R=R, status=worst, message="; ".join(msgs) if msgs else "ok")
+    return ACIMResult(steps=steps, status=worst, message="; ".join(msgs) if msgs else "ok")

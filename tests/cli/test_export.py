@@ -39,8 +39,10 @@ LAWS = {
     "lugre": fk.LuGre(fk.Directional(positive=ST_POS, negative=ST_NEG), sigma0=1e5, sigma1=63.2),
     "dahl": fk.Dahl(Fc=1.0, sigma0=2e5, sigma2=0.3),
     "lugre_zero_fc": fk.LuGre(fk.Stribeck(Fc=0.0, Fs=1.0, vs=1e-3), sigma0=1e5, sigma1=10.0),
+    "directional_lugre": fk.Directional(positive=fk.LuGre(ST_POS, sigma0=1e5, sigma1=63.2),
+                                        negative=fk.LuGre(ST_NEG, sigma0=3e5, sigma1=20.0)),
 }
-DYNAMIC = ("lugre", "dahl", "lugre_zero_fc")
+DYNAMIC = ("lugre", "dahl", "lugre_zero_fc", "directional_lugre")
 
 #: Velocities for the steady-state comparison: 0, tiny, around vs, large, both signs [m/s].
 V_STATIC = np.concatenate([[0.0, 1e-12, -1e-12], np.geomspace(1e-7, 10.0, 60), -np.geomspace(1e-7, 10.0, 60)])

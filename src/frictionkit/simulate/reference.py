@@ -106,7 +106,16 @@ def _mass_value(owner: str, m) -> float:
 
 
 def _fail(owner: str, sol, t0: float) -> SimulationError:
-    return SimulationError(f"{owner}: solve_ivp failed after t = {t0:.6g} s: {sol.message}")
+    """The error for a failed ``solve_ivp`` piece that started at ``t0``.
+
+    ``sol.t`` is a list, not an array, when the solver failed before reaching its
+    first ``t_eval`` point, so the time reached is read through ``np.asarray``.
+    """
+    ts = np.asarray(sol.t, dtype=float).ravel()
+    t_end = float(ts[-1]) if ts.size else t0
+    return SimulationError(
+        f"{owner}: solve_ivp failed after t = {max(t0, t_end):.6g} s: {sol.message}"
+    )
 
 
 # --------------------------------------------------------------------------- LuGre
@@ -292,7 +301,7 @@ def reference_force_driven(
             max_step=max_step,
         )
         if sol.status != 0:
-            raise _fail(owner, sol, float(sol.t[-1]) if sol.t.size else 0.0)
+            raise _fail(owner, sol, 0.0)
         x, v, z = sol.y
         F = np.array([_lugre_force(static, dyn, floor, vi, zi) for vi, zi in zip(v, z)])
         return dict(

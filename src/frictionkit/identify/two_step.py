@@ -260,7 +260,20 @@ def fit_two_step(
 
     Examples
     --------
-    See ``frictionkit.reproduce.sdss`` (the three telescope axes) and ``tests/reference/sdss``.
+    The SDSS azimuth (noise-free data here; ``frictionkit.reproduce.sdss`` runs the real experiments):
+
+    >>> import numpy as np, frictionkit as fk
+    >>> from frictionkit.identify import fit_two_step
+    >>> from frictionkit.presets import sdss
+    >>> ax = sdss.AzimuthAxis()
+    >>> v = np.r_[np.geomspace(2e-5, 2e-2, 10), -np.geomspace(2e-5, 2e-2, 10)]
+    >>> steady = {"v": v, "F": ax.friction.static.steady_state(v)}     # run means
+    >>> t = np.arange(301) * 0.02
+    >>> T = 144.0 * (2 / np.pi) * np.arcsin(np.sin(np.pi * t))         # triangle below breakaway
+    >>> sim = fk.simulate(ax.friction, plant=fk.Mass(ax.J), force=T, dt=0.02)
+    >>> res = fit_two_step(inertia=ax.J, steady=steady, triangle={"t": t, "F": T, "v": sim.v, "x": sim.x})
+    >>> res.status, round(res.model.sigma0 / ax.friction.sigma0, 2)
+    (0, 1.0)
     """
     if order not in ("static_first", "dynamic_first"):
         raise ParameterError(f"fit_two_step: order = {order!r}: must be 'static_first' or 'dynamic_first'")

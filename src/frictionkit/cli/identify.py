@@ -4,7 +4,8 @@ Thin wrappers: parse options, load with :mod:`frictionkit.data`, call
 :func:`frictionkit.identify.fit_static_map` / :func:`~frictionkit.identify.fit_rigid_body` /
 :func:`frictionkit.identify.output_error.fit_output_error` (``--drive force``) /
 :func:`frictionkit.identify.motion_error.fit_motion_error` (``--drive motion``) /
-:func:`frictionkit.identify.presliding.fit_presliding`,
+:func:`frictionkit.identify.presliding.fit_presliding` /
+:func:`frictionkit.identify.reversal.fit_reversal` (``identify reversal``: compensator parameters),
 print a plain-text table and write JSON / plots on request.
 
 Every verb takes the same data options: ``--group COL`` (a file stacking several
@@ -496,6 +497,59 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
     return fit_motion_error(md, mdl, free=names or None, inertia=inertia or 0.0, offset=offset,
                             starts=starts if starts is not None else "auto", profile=profile,
                             max_presliding=max_presliding)
+
+
+@identify_app.command("reversal")
+def reversal(
+    recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
+    time: str = typer.Option(..., "--time", help="Time column [s]."),
+    position: str = typer.Option(..., "--position", help="Position column (reversals are its turning points)."),
+    force: str = typer.Option(..., "--force", help="Drive force or torque column (the friction at slow reversals)."),
+    force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N (or N·m)."),
+    position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m (or rad)."),
+    window: Optional[float] = typer.Option(None, "--window", help="Largest displacement from a reversal used "
+                                           "[m or rad, after scaling]; default: everything up to halfway to the next."),
+    min_travel: Optional[float] = typer.Option(None, "--min-travel", help="Travel that confirms a turning point "
+                                               "[m or rad]; default 5 % of the position range."),
+    inertia: float = typer.Option(0.0, "--inertia", help="J of a J·a term removed from the force [kg or kg·m²]."),
+    offset: float = typer.Option(0.0, "--offset", help="Constant force removed from the force [N or N·m]."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; all are fitted jointly."),
+    where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
+    rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
+    force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
+    velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Velocity unit label (default m/s)."),
+    validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
+                                            "(same column options) beside the training error."),
+    json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the friction against the displacement from the "
+                                        "reversal with both laws (format from the extension: .png, .pdf, .svg ...)."),
+) -> None:
+    """Compensator parameters from a reversal record: F0 and the sinc xs, the sigmoid sigma (seed 001 eqs. 5-6)."""
+    scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
+    window = chk.optional(chk.positive, window, "--window")
+    min_travel = chk.optional(chk.positive, min_travel, "--min-travel")
+    inertia = chk.nonnegative(inertia, "--inertia")
+    offset = chk._finite(offset, "--offset")
+    units = chk.units(rotary, force_unit, velocity_unit)
+    chk.where_items(where)
+    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
+
+    from ..identify.reversal import fit_reversal
+
+    def loader(path):
+        return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
+                     units=units)
+
+    res = fit_reversal(loader(recording), window=window, min_travel=min_travel, inertia=inertia, offset=offset)
+    typer.echo(res.summary())
+    d = res.diagnostics
+    typer.echo(f"{d['reversals']} reversal(s); RMS residual: sinc {d['sinc_rms']:.6g} {units['F']}, sigmoid (after "
+               f"the reversal) {d['sigmoid_rms']:.6g} {units['F']}; {d['samples_inside_xs']} samples inside xs")
+    if res.model is not None:
+        c = res.model
+        typer.echo(f"compensator: RollingCompensator(F0={c.F0:.6g}, xs={c.xs:.6g}, sigma={c.sigma:.6g})")
+    res = _validation(res, validate, "friction", loader)
+    _write(res, json_out, plot, include_data=True)
 
 
 @identify_app.command("presliding")

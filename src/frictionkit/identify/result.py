@@ -23,6 +23,7 @@ from scipy import stats
 
 from ..errors import DataError, ParameterError
 from ..models.base import law_from_dict, law_to_dict, registered_laws
+from ..control.compensators import RollingCompensator
 from ..plants.rigid_body import RigidBody
 
 #: Version of the JSON layout written by :meth:`IdentificationResult.save_json`.
@@ -78,8 +79,9 @@ def parameter_statistics(values, cov, dof: int, *, level: float = 0.95) -> dict[
 # (``{"type": "LuGre", "static": {"type": "Stribeck", ...}, ...}``). Reading also
 # accepts the registry's spelling, "law".
 
-#: Plants a result may hold, by name; their fields are plain values and laws.
-_PLANTS: dict[str, type] = {"RigidBody": RigidBody}
+#: Plants a result may hold, by name; their fields are plain values and laws. Also the
+#: compensator parameters of ``identify reversal`` (plain values), so they load back.
+_PLANTS: dict[str, type] = {"RigidBody": RigidBody, "RollingCompensator": RollingCompensator}
 
 
 def _respell(node: Any, old: str, new: str) -> Any:

@@ -13,6 +13,7 @@ result kind        prediction on the validation record                          
                    (with ``J a + offset``, resets at rests), beside the static
                    map; force-driven: the mass driven by the recorded force     v or x
 ``presliding``     the GMS driven by the recorded position                      force
+``reversal``       the sinc law around the record's reversals                  friction
 =================  ===========================================================  ===========
 """
 
@@ -150,6 +151,17 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
             ys.append(y[1:])
             ps.append(yp[1:])
         out.update(_stats(np.concatenate(ys), np.concatenate(ps)))
+    elif kind == "reversal":
+        from ..models.rolling import sinc_compensation
+        from .reversal import reversal_samples
+
+        xi, f, n_rev, _ = reversal_samples(recs, min_travel=proc.get("min_travel"), inertia=proc.get("inertia", 0.0),
+                                           offset=proc.get("offset", 0.0))
+        w = proc.get("window")
+        use = np.abs(xi) <= (w if w is not None else np.inf)
+        c = result.model
+        out.update(_stats(f[use], sinc_compensation(xi[use], F0=c.F0, xs=c.xs)))
+        out["reversals"] = n_rev
     elif kind == "presliding":
         from ..simulate.core import simulate
 

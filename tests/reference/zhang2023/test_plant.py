@@ -11,6 +11,7 @@ import pytest
 
 from frictionkit.errors import ParameterError
 from frictionkit.presets import zhang2023 as z
+from frictionkit.presets.zhang2023 import truth as zt
 
 # Table 4 critical points, §5.2.1 (µm, N) and Table 3 T_S (N)
 POINTS = {
@@ -52,9 +53,9 @@ def test_table3_units_and_directions():
 
 @pytest.mark.parametrize("shaft", ["screw", "nut"])
 def test_truth_presliding_literals_rederive(shaft):
-    d = z._design_presliding(shaft)
-    lit = z._PRESLIDING[shaft]
-    virgin = z._virgin
+    d = zt._design_presliding(shaft)
+    lit = zt._PRESLIDING[shaft]
+    virgin = zt._virgin
     for s in "+-":
         Fs = T_S[f"{shaft}{s}"]
         x = np.geomspace(0.1, 100.0, 30)

@@ -198,3 +198,42 @@ def test_summary_and_plot(tmp_path):
     v = line.get_xdata()[i]
     assert line.get_ydata()[i] == pytest.approx(1.0 + 0.5 * np.exp(-(v / 1e-3) ** 2) + 0.4 * v, rel=1e-12)
     plt.close(ax.figure)
+
+
+# --------------------------------------------------------------------------- any edit: a law or one line
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_JSON = st.recursive(st.none() | st.booleans() | st.integers(-3, 3) | st.floats(allow_nan=True) | st.text(max_size=5),
+                     lambda kids: st.lists(kids, max_size=3) | st.dictionaries(st.text(max_size=4), kids, max_size=3),
+                     max_leaves=6)
+
+
+def _paths(node, prefix=()):
+    yield prefix
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _paths(v, (*prefix, k))
+
+
+@settings(max_examples=80, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data())
+def test_any_edit_loads_or_fails_in_one_line(tmp_path, data):
+    doc = ModelFile(model=LAWS["directional_gms"], provenance={"method": "m"}).to_dict()
+    paths = list(_paths(doc))[1:]
+    path = data.draw(st.sampled_from(paths))
+    node = doc
+    for key in path[:-1]:
+        node = node[key]
+    if data.draw(st.booleans()):
+        node[path[-1]] = data.draw(_JSON)
+    else:
+        del node[path[-1]]
+    p = tmp_path / "edited.json"
+    p.write_text(json.dumps(doc))
+    try:
+        mf = ModelFile.load(p)
+    except DataError as exc:
+        assert "\n" not in str(exc) and str(exc).startswith(f"model file '{p}': ")
+    else:
+        assert mf.model is not None

@@ -66,7 +66,8 @@ class CrawlingResult:
     TRUE table velocity over the window / nominal), the true velocity averaged over 10 ms
     (``*_ripple_10ms_percent``: crawling is slow; this drops the table-mode jitter that the
     current-loop noise excites), the same from the 10 nm scale over ``scale_window``
-    (``*_scale_ripple_percent``), peak-to-peak and stuck fractions.
+    (``*_scale_ripple_percent``), peak-to-peak and stuck fractions, and the std of the true
+    table position error (``*_table_error_std_um``).
     ``recordings``: (speed, drive) -> TDMSRecording."""
 
     rows: tuple
@@ -143,7 +144,8 @@ def crawling_comparison(table_speeds=(1e-6, 2e-6, 5e-6, 10e-6), *, base_speed: f
                         f"{drive}_mean_percent": rr["mean_percent"],
                         f"{drive}_stuck_fraction": rr["stuck_fraction"],
                         f"{drive}_ripple_10ms_percent": rl["ripple_percent"],
-                        f"{drive}_scale_ripple_percent": rs["ripple_percent"]})
+                        f"{drive}_scale_ripple_percent": rs["ripple_percent"],
+                        f"{drive}_table_error_std_um": float(np.std((ref.x_t - rec.x_t_true)[k:]) * 1e6)})
         rows.append(row)
     return CrawlingResult(tuple(rows), recs, W, status, "; ".join(msgs) or "ok")
 

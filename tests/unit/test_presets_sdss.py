@@ -107,3 +107,12 @@ def test_fit_two_step_rejects_bad_settings():
         fit_two_step(inertia=0.0, triangle=run, steady={"v": [], "F": []})
     with pytest.raises(fk.DataError, match="'v'"):
         fit_two_step(inertia=1.0, triangle={"t": run["t"], "F": run["F"]}, steady={"v": [], "F": []})
+
+
+def test_flags_are_matched_to_per_direction_names():
+    from frictionkit.identify.two_step import is_flagged
+
+    w = ("positive: Fc not identifiable: standard error 70.3 is 183 % of its value",
+         "negative: sigma2 = 2.3e-18 is at its bound", "Fs_neg is poorly determined (standard error ...)")
+    assert [is_flagged(n, w) for n in ("Fc_pos", "Fc_neg", "sigma2_neg", "sigma2_pos", "Fs_neg", "sigma0")] == \
+        [True, False, True, False, True, False]

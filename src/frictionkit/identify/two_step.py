@@ -28,7 +28,7 @@ one axis takes seconds (``benchmarks/sdss.py``).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,6 +80,19 @@ def velocity_nrmse(model, run: Mapping, inertia: float) -> float:
     return float(100.0 * np.sqrt(np.mean((vh - v) ** 2)) / max(np.ptp(v), 1e-300))
 
 
+def is_flagged(name: str, warnings) -> bool:
+    """Whether a fit's warnings flag parameter ``name`` (``Fc_pos`` also matches a static-map
+    warning ``"positive: Fc ..."``)."""
+    side = {"_pos": "positive: ", "_neg": "negative: "}.get(name[-4:])
+    base = name[:-4] if side else name
+    for w in warnings:
+        if w.startswith(name) or f" {name} " in w:
+            return True
+        if side and w.startswith(side) and (f" {base} " in w or w[len(side):].startswith(base + " ")):
+            return True
+    return False
+
+
 @dataclass(frozen=True, eq=False)
 class TwoStepResult:
     """Outcome of :func:`fit_two_step`.
@@ -121,7 +134,7 @@ class TwoStepResult:
                 continue
             for n in res.names:
                 p = res.parameter(n)
-                flag = any(w.startswith(n) or f" {n} " in w for w in res.warnings)
+                flag = is_flagged(n, res.warnings)
                 out[n] = {"value": p["value"], "ci95": p["ci95"], "unit": rotary.get(p["unit"], p["unit"]),
                           "flagged": bool(flag)}
         return out

@@ -30,17 +30,18 @@ NRMSE = RMS(model − measured velocity) / range(measured velocity).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..identify.static_map import fit_static_map
-from ..identify.two_step import TwoStepResult, fit_two_step, simulate_run, velocity_nrmse
+from ..errors import ParameterError
+from ..identify.two_step import TwoStepResult, fit_two_step, is_flagged, velocity_nrmse
 from ..machines import PID, FrictionFeedforward, Sum, simulate_machine
 from ..models.lugre import LuGre
-from ..models.static import Directional
 from ..presets import sdss
+
+_STATIC = ("Fc", "Fs", "vs", "sigma2")
 
 #: Logging period of the open-loop torque runs [s] (assumption; the paper gives none).
 DT_LOG = 0.02
@@ -63,7 +64,7 @@ def torque_signal(kind: str, amplitude: float, period: float, duration: float, d
         return t, amplitude * np.sin(ph)
     if kind == "triangle":
         return t, amplitude * (2.0 / np.pi) * np.arcsin(np.clip(np.sin(ph), -1.0, 1.0))
-    raise ValueError(f"torque_signal kind = {kind!r}: must be 'sine' or 'triangle'")
+    raise ParameterError(f"torque_signal kind = {kind!r}: must be 'sine' or 'triangle'")
 
 
 def torque_run(axis, kind: str | None = None, amplitude: float = 0.0, period: float = 1.0, cycles: float = 1.0, *,
@@ -102,12 +103,11 @@ def constant_velocity_runs(axis, speeds, *, seed: int = 0, accel: float = 0.01, 
 
     The position loop follows a ramp reached with ``accel`` [rad/s²]; after ``settle`` s at speed
     (at least :data:`SETTLE_TRAVEL` of travel) the encoder angle and the current are averaged over ``average`` s: mean velocity =
-    angle change / time, mean torque = eq. 2's gain × mean current. Returns ``v``, ``F`` and
-    one example trace per direction (the slowest run).
+    angle change / time, mean torque = eq. 2's gain × mean current. Returns ``v``, ``F``.
     """
     m = machine or axis.machine(loop="position")
     dt = axis.dt
-    v_out, F_out, examples = [], [], {}
+    v_out, F_out = [], []
     for k, w in enumerate(np.asarray(speeds, float)):
         ta = abs(w) / accel
         ts = max(settle, SETTLE_TRAVEL / abs(w))
@@ -189,7 +189,7 @@ def run_rotator(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcome
     res = fit_static_map(steady["v"], steady["F"], model="exponential", delta=2.0, direction="both",
                          units={"v": "rad/s", "F": "N·m"})
     identified = {n: {"value": res.parameter(n)["value"], "ci95": res.parameter(n)["ci95"],
-                      "unit": res.parameter(n)["unit"], "flagged": any(w.startswith(n) for w in res.warnings)}
+                      "unit": res.parameter(n)["unit"], "flagged": is_flagged(n, res.warnings)}
                   for n in res.names}
     # separation attempt (ours, the paper's suggestion): the HD on the bench, then the bearing
     bench = constant_velocity_runs(axis, speeds, seed=seed + 500, machine=axis.machine(hd_only=True))
@@ -205,8 +205,6 @@ def run_rotator(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcome
     return AxisOutcome("rotator", axis.truth(), None, identified, {}, {}, {}, steady,
                        extra={"static_result": res, "separation": sep, "hd_result": hd, "bearing_result": bearing})
 
-
-_STATIC = ("Fc", "Fs", "vs", "sigma2")
 
 
 # --------------------------------------------------------------------------- extension

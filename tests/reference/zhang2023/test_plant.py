@@ -112,6 +112,8 @@ def test_assumptions_validate():
         z.Assumptions(table_mass=-1.0)
     with pytest.raises(ParameterError, match="substeps"):
         z.Assumptions(substeps=0)
+    with pytest.raises(ParameterError, match="actuator_delay"):
+        z.Assumptions(actuator_delay=-1)
     with pytest.raises(ParameterError, match="direction"):
         z.co_speed_sweep([1e-3], direction=2)
     assert z.Assumptions().scaled("guide_level", 1.2).guide_level == pytest.approx(7.2)

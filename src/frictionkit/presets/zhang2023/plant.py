@@ -67,8 +67,8 @@ def tdms_machine(assumptions: Assumptions | None = None, truth: TrueFriction | N
     m.sensor("enc1", th1, resolution=ENCODER_RESOLUTION)
     m.sensor("enc2", th2, resolution=ENCODER_RESOLUTION)
     m.sensor("scale", xt, resolution=T2["scale_resolution"], noise=a.scale_noise)
-    m.actuator("m1", th1, gain=1.0, limit=a.torque_limit, command="u1")
-    m.actuator("m2", th2, gain=1.0, limit=a.torque_limit, command="u2")
+    m.actuator("m1", th1, gain=1.0, limit=a.torque_limit, delay=a.actuator_delay, command="u1")
+    m.actuator("m2", th2, gain=1.0, limit=a.torque_limit, delay=a.actuator_delay, command="u2")
     g1 = _pid_gains(T2["J_s"] + a.table_mass * R * R, a.bandwidth_screw_hz, dt)
     g2 = _pid_gains(T2["J_n"] + a.table_mass * R * R, a.bandwidth_nut_hz, dt)
     if loop == "full":
@@ -110,7 +110,7 @@ def cdfs_machine(assumptions: Assumptions | None = None, truth: TrueFriction | N
     m.friction("guide", xt, law=tr.guide)
     m.sensor("enc1", th1, resolution=ENCODER_RESOLUTION)
     m.sensor("scale", xt, resolution=T2["scale_resolution"], noise=a.scale_noise)
-    m.actuator("m1", th1, gain=1.0, limit=a.torque_limit, command="u1")
+    m.actuator("m1", th1, gain=1.0, limit=a.torque_limit, delay=a.actuator_delay, command="u1")
     g1 = _pid_gains(T2["J_s"] + a.table_mass * R * R, a.bandwidth_screw_hz, dt)
     m.add(Sum("e1", {"th1_ref": 1.0, "scale": -1.0 / R}),
           Sum("e1d", {"th1_ref": 1.0, "enc1": -1.0}),

@@ -162,6 +162,9 @@ class Assumptions:
         40 (no gains are given; the same drive model and tuning on both axes: three poles at
         -2 pi f with each axis's inertia, derivative
         filter at 10 f).
+    actuator_delay : int — whole 250 µs periods between computing a torque command and
+        applying it, 0: the drive's current loop (kHz bandwidth, not modelled) applies it within
+        the period it is computed; 1 models a one-cycle EtherCAT PDO delay.
     substeps : int — plant sub-steps per 250 µs sample, 2. Convergence against 16 sub-steps:
         the screw's virgin pre-sliding curve (WSIM step 2 data, 5 µm at 10 µm/s) differs by
         0.09 N RMS at 2, 0.07 N at 4, 0.06 N at 8 (< 0.1 % of T_S = 113.5 N); the closed-loop
@@ -182,6 +185,7 @@ class Assumptions:
     scale_noise: float = 2e-9
     bandwidth_screw_hz: float = 40.0
     bandwidth_nut_hz: float = 40.0
+    actuator_delay: int = 0
     substeps: int = 2
 
     def __post_init__(self) -> None:
@@ -197,10 +201,13 @@ class Assumptions:
         object.__setattr__(self, "asymmetry", a)
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, (int, np.integer)) or self.substeps < 1:
             raise ParameterError(f"{o}.substeps = {self.substeps!r}: must be an integer >= 1")
+        d = self.actuator_delay
+        if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 0:
+            raise ParameterError(f"{o}.actuator_delay = {d!r}: must be an integer >= 0")
 
     def scaled(self, name: str, factor: float) -> "Assumptions":
         """A copy with one numeric assumption multiplied by ``factor`` (robustness sweeps)."""
-        if name not in {f.name for f in fields(self)} or name == "substeps":
+        if name not in {f.name for f in fields(self)} or name in ("substeps", "actuator_delay"):
             raise ParameterError(f"Assumptions.scaled name = {name!r}: not a numeric assumption")
         return replace(self, **{name: getattr(self, name) * factor})
 

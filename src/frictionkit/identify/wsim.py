@@ -630,6 +630,9 @@ def _presliding_columns(shaft_runs: Mapping[str, Recording], static_of: Callable
         laws[col] = fit.model
         warns += [f"{col}: {m}" for m in fit.warnings]
         table[col] = _gms_column(fit.model, R)
+        # eq. 19 from the breakpoints alone, before the simulation refinement
+        table[col]["eq19_k_N_um"] = [float(k) / R**2 * 1e-6 for k in fit.diagnostics["initial_k"]]
+        table[col]["eq19_xi"] = [float(v) for v in fit.diagnostics["initial_xi"]]
         x = np.asarray(rec.x)
         F = np.asarray(rec.force())
         # P-points of the virgin branch (seed 000 §5.2.1): (displacement [µm], torque / R [N]) at
@@ -669,9 +672,15 @@ def _thin(rec: Recording, max_samples: int | None) -> Recording:
     F = np.asarray(rec.force(), float)
     d = np.abs(x - x[0])
     span = float(d.max())
-    start = max(int(np.argmax(d > 0.01 * span)) - 1, 0) if span > 0 else 0
+    start = max(int(np.argmax(d > 1e-3 * span)) - 1, 0) if span > 0 else 0
     x, F, t = x[start:], F[start:], rec.t[start:]
-    k = 1 if max_samples is None or x.size <= max_samples else int(math.ceil(x.size / max_samples))
+    # block size from the virgin stroke (up to the first turn): about max_samples / 2 blocks on it
+    u = x - x[0]
+    sg = np.sign(u[np.argmax(np.abs(u) > 0.01 * span)]) if span > 0 else 1.0
+    run = np.maximum.accumulate(sg * u)
+    back = np.flatnonzero(sg * u < run - 0.05 * span)
+    n_virgin = int(back[0]) if back.size else x.size
+    k = 1 if max_samples is None or n_virgin <= max_samples // 2 else int(math.ceil(n_virgin / (max_samples // 2)))
     n = (x.size // k) * k
     if k > 1:
         x = np.r_[x[0], x[:n].reshape(-1, k).mean(axis=1)]

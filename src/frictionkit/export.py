@@ -24,13 +24,14 @@ Formats (:data:`FORMATS`):
     ``<name>_steady(v)`` and, for the LuGre family, ``<name>_state``,
     ``<name>_reset(&s)`` and ``<name>_update(&s, v, dt)``.
 ``"st"``
-    An IEC 61131-3 ``FUNCTION_BLOCK``: inputs ``v`` (and ``dt``, ``reset`` for the LuGre
-    family), output ``F``; one statement per line; ``EXP``, ``EXPT``, ``ABS``, ``MAX``
+    An IEC 61131-3 ``FUNCTION_BLOCK``: the steady-state map (input ``v``) or, for the
+    LuGre family, the update with state (inputs ``v``, ``dt``, ``reset``); output ``F``; one statement per line; ``EXP``, ``EXPT`` and ``ABS``
     from the standard library.
 
 Parameters are written per direction (row 0 for ``v >= 0``, row 1 for ``v < 0``, as the
-kernels read them) in SI with 17 significant digits, and every file starts with the
-law, the units and the provenance it was exported from.
+kernels read them) in SI, as the shortest decimals that read back to the same doubles;
+the C and ST files start with a comment naming the law, the units and the provenance
+(method, date, data SHA-256) of the model they came from.
 
 Where a level is zero, the LuGre update divides by ``|s(v)| = 0``; like the kernels
 (``kernels/_stribeck.row``) it uses ``Fc`` and ``Fs`` floored at ``G_FLOOR = 1e-9`` times
@@ -39,8 +40,8 @@ the largest level (the C header keeps the unfloored levels for the steady-state 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from typing import Any

@@ -19,6 +19,9 @@ Formats (:data:`FORMATS`):
 ``"csv"``
     ``v [unit], F [unit]`` on an odd, uniform grid over ``[-v_max, v_max]`` (0 included;
     interpolating linearly across 0 smooths the sign step over one grid interval).
+``"json"``
+    A model file (``frictionkit.model/1``, :mod:`frictionkit.models.files`): the law, its
+    units and the provenance given — e.g. an identification result reduced to its model.
 ``"c"``
     A self-contained C99 header (``static inline`` functions, ``<math.h>``):
     ``<name>_steady(v)`` and, for the LuGre family, ``<name>_state``,
@@ -54,7 +57,7 @@ from .models.base import kernel_family, law_entry
 __all__ = ["FORMATS", "export_model", "lookup_table"]
 
 #: Export formats: lookup table, C header, IEC 61131-3 structured text.
-FORMATS = ("csv", "c", "st")
+FORMATS = ("csv", "json", "c", "st")
 
 #: Floor of ``|s(v)|`` in the LuGre update, as a fraction of the largest level (the kernels' G_FLOOR).
 G_FLOOR = 1e-9
@@ -316,7 +319,7 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
     ----------
     model : friction law
         Any registered law; see the module docstring for what each family exports.
-    fmt : {"csv", "c", "st"}
+    fmt : {"csv", "json", "c", "st"}
         Format.
     name : str, optional
         Identifier prefix of the C functions (default ``fk_friction``) or name of the
@@ -352,6 +355,13 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
         v, F = lookup_table(model, v_max=v_max, points=points)
         lines = [f"v [{ax['v']}],F [{ax['F']}]"] + [f"{a!r},{b!r}" for a, b in zip(v.tolist(), F.tolist())]
         return "\n".join(lines) + "\n"
+    if fmt == "json":
+        import json
+
+        from .models.files import ModelFile
+
+        doc = ModelFile(model=model, units=ax, provenance=prov).to_dict()
+        return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
     if fmt == "c":
         return _ascii(_c_source(model, _check_name(name or "fk_friction", "C"), ax, prov))
     return _ascii(_st_source(model, _check_name(name or "FK_Friction", "structured-text"), ax, prov))

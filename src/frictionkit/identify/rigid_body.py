@@ -233,7 +233,7 @@ def _units(recording: Recording, names) -> tuple[tuple[str, ...], dict[str, str]
 def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, delta, cutoff, order, skip, q,
                   profile) -> IdentificationResult:
     """The Stribeck rigid body (:mod:`.rigid_body_stribeck`) as an :class:`IdentificationResult`."""
-    from .rigid_body_stribeck import fit_rigid_body_stribeck
+    from .rigid_body_stribeck import VS_START_FRACTIONS, fit_rigid_body_stribeck
 
     recs = _as_list(recording)
     full = [rigid_body_regressors(r, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=1)
@@ -256,7 +256,7 @@ def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, d
     prov = dict(linear.provenance)
     prov["procedure"] = dict(prov["procedure"], method="IDIM-NLS", law=law, delta=delta if law == "stribeck" else None,
                              evaluation="model at the full rate, then decimated like the IDIM-LS columns",
-                             vs_start_fractions_of_v95=list(_vs_fracs()), profile=bool(profile))
+                             vs_start_fractions_of_v95=list(VS_START_FRACTIONS), profile=bool(profile))
     s2 = float(r @ r) / fit["dof"]
     t = linear.data["t"]
     return IdentificationResult(
@@ -284,12 +284,6 @@ def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, d
         provenance=prov,
         data={"t": t, "y": y, "y_pred": fit["y_pred"]},
     )
-
-
-def _vs_fracs():
-    from .rigid_body_stribeck import VS_START_FRACTIONS
-
-    return VS_START_FRACTIONS
 
 
 def _fit_linear(recording, *, asymmetric: bool, cutoff: float, order: int, skip: int, q: int) -> IdentificationResult:

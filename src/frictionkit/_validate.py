@@ -111,3 +111,45 @@ def signal(name: str, value: Any, *, min_len: int = 2) -> np.ndarray:
         i = int(np.flatnonzero(bad)[0])
         raise DataError(f"{name}[{i}] = {float(arr[i])!r}: samples must be finite (not NaN or inf)")
     return np.ascontiguousarray(arr)
+
+
+#: A sample whose magnitude exceeds this many times the 99th percentile of the
+#: signal's magnitudes is taken for a corrupt sample or a unit slip (assumption,
+#: issue 13: a one-sample spike of 1e300 otherwise overflows a fit or hides every
+#: plateau; no real axis log spans six decades between its 99th percentile and its
+#: largest sample).
+OUTLIER_FACTOR = 1e6
+
+#: Magnitudes whose squares overflow float64 are never usable.
+HUGE = 1e150
+
+
+def outlier(arr: np.ndarray) -> tuple[int, float] | None:
+    """``(index, limit)`` of the first sample beyond the outlier limit, or ``None``.
+
+    The limit is ``OUTLIER_FACTOR`` times the 99th percentile of ``|arr|`` (which
+    one corrupt sample cannot move), capped at :data:`HUGE`. A signal that is zero
+    in 99 % of its samples is judged by :data:`HUGE` alone.
+    """
+    a = np.abs(np.asarray(arr, dtype=float))
+    if a.size == 0:
+        return None
+    p = float(np.percentile(a, 99.0))
+    limit = HUGE if p == 0.0 else min(HUGE, OUTLIER_FACTOR * p)
+    big = a > limit
+    if not big.any():
+        return None
+    return int(np.flatnonzero(big)[0]), limit
+
+
+def no_outlier(name: str, arr: np.ndarray, *, unit: str = "") -> None:
+    """Raise :class:`DataError` naming the first outlying sample of ``arr`` (see :func:`outlier`)."""
+    hit = outlier(arr)
+    if hit is not None:
+        i, limit = hit
+        u = f" {unit}" if unit else ""
+        raise DataError(
+            f"{name}[{i}] = {float(arr[i]):.6g}{u} is beyond {limit:.3g}{u} "
+            f"({OUTLIER_FACTOR:.0e} times the 99th percentile of its magnitudes): a corrupt sample "
+            "or a unit/scale slip; remove or repair it"
+        )

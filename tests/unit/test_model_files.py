@@ -92,6 +92,9 @@ def test_identification_result_loads_with_its_provenance(tmp_path):
     assert mf.provenance["data_sha256"] == "ab" * 32
     assert mf.provenance["file"] == "log.csv"
     assert "output_error" in mf.provenance["method"]
+    assert mf.provenance["frictionkit_version"] == fk.__version__  # save_json records who wrote the file, and when
+    created = datetime.fromisoformat(mf.provenance["created"])
+    assert abs((datetime.now(timezone.utc) - created).total_seconds()) < 600
 
 
 def test_data_hashes_of_a_fit_over_several_records(tmp_path):

@@ -301,6 +301,8 @@ class IdentificationResult:
             ci = f"[{self.ci95[i, 0]:.6g}, {self.ci95[i, 1]:.6g}]"
             lines.append(f"{n:<12}{self.values[i]:>14.6g}{self.stderr[i]:>12.3g}{ci:>30}  {self.units[i]}")
         lines.append(f"RMS residual {self.rms:.6g}, relative error {self.relative_error_percent:.4g} %")
+        if self.diagnostics.get("data_scale_text"):
+            lines.append(f"data scale: {self.diagnostics['data_scale_text']}")
         for k, part in self.parts.items():
             lines.append(f"  {k}: {part.model_name}, n = {part.n_obs}, RMS residual {part.rms:.6g}, "
                          f"relative error {part.relative_error_percent:.4g} %")
@@ -388,8 +390,9 @@ class IdentificationResult:
 
         The top level holds ``model`` (type and fields), ``parameters`` (each with
         ``value``, ``stderr``, ``ci95``, ``unit``), ``relative_error_percent``, ``rms``,
-        ``correlation``, ``warnings``, ``diagnostics``, ``provenance``, ``parts``
-        and, with ``include_data``, the fitted ``data``. Non-finite numbers become ``null``.
+        ``correlation``, ``warnings``, ``diagnostics``, ``provenance``, ``parts``,
+        ``written_by`` (frictionkit version and UTC date of the write) and, with
+        ``include_data``, the fitted ``data``. Non-finite numbers become ``null``.
 
         Examples
         --------
@@ -397,10 +400,16 @@ class IdentificationResult:
         >>> IdentificationResult.load_json("fit.json").params == res.params  # doctest: +SKIP
         True
         """
+        from datetime import datetime, timezone
+
+        from .. import __version__
         from .._io import atomic_write_text  # temporary file + rename: the old file survives a failed write
 
         p = Path(path)
-        text = json.dumps(self.to_dict(include_data=include_data), indent=1, ensure_ascii=False) + "\n"
+        doc = self.to_dict(include_data=include_data)
+        doc["written_by"] = {"frictionkit_version": __version__,
+                             "date": datetime.now(timezone.utc).isoformat(timespec="seconds")}
+        text = json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
         atomic_write_text(p, text, encoding="utf-8")
         return p
 

@@ -265,6 +265,11 @@ class ModelFile:
         if model is None:
             raise DataError(f"the identification result ({res.kind}) holds no model")
         prov.setdefault("method", f"identification: {res.kind} ({res.model_name})")
+        written = doc.get("written_by") if isinstance(doc.get("written_by"), Mapping) else {}
+        if "frictionkit_version" in written:
+            prov.setdefault("frictionkit_version", written["frictionkit_version"])
+        if "date" in written:
+            prov.setdefault("created", written["date"])
         if "sha256" in prov and "data_sha256" not in prov:
             prov["data_sha256"] = prov["sha256"]
         records = prov.get("records") if isinstance(prov.get("records"), list) else []

@@ -92,6 +92,10 @@ def _rows(model: Any) -> _Rows:
     family = kernel_family(model)
     dyn = None
     if family == "static":
+        if not callable(getattr(model, "static_rows", None)):  # e.g. a TDMSSC: its levels follow a schedule input
+            raise ParameterError(f"export: {law_entry(model).name} has no fixed static map (its levels depend on "
+                                 "a scheduling input); export a law with fixed levels, e.g. the Stribeck curve at "
+                                 "one operating point")
         st = np.asarray(model.static_rows(), dtype=float)
     elif family == "lugre":
         pk = pack_lugre(model)

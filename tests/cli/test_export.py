@@ -333,3 +333,14 @@ def test_json_reduces_an_identification_result_to_a_model_file(tmp_path):
     assert prov["data_sha256"] == "ef" * 32 and prov["frictionkit_version"] == fk.__version__
     assert prov["converted_from"] == {"file": str(fit), "format": "frictionkit.identification/1"}
     assert fk.load_model(out) == law
+
+
+def test_a_scheduled_law_says_why_it_cannot_be_exported(tmp_path):
+    if not hasattr(fk, "TDMSSC"):  # pragma: no cover - the scheduled law of seed 000
+        pytest.skip("no scheduled law registered")
+    model = fk.save_model(fk.TDMSSC(Fc0=1.0, Fs0=1.5, vs=1e-3, Fc1=10.0), tmp_path / "tdmssc.json")
+    for fmt, why in (("c", "has no fixed static map"), ("st", "has no fixed static map"), ("csv", "schedule")):
+        res = runner.invoke(app, ["export", str(model), "--format", fmt, "--out", str(tmp_path / f"o.{fmt}")])
+        assert res.exit_code == 2, res.output
+        err = res.stderr.strip()
+        assert err.startswith("error: ") and "\n" not in err and why in err, err

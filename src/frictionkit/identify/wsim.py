@@ -71,6 +71,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -82,7 +83,7 @@ from ..data.recording import Recording
 from ..data.segmentation import Segment, find_plateaus
 from ..data.signals import derivative
 from ..errors import DataError, IdentificationError, ParameterError
-from ..models.gms import GMS
+from ..models.gms import GMS, GMSWeightWarning
 from ..models.static import Directional, Stribeck
 from .presliding import fit_presliding
 from .result import IdentificationResult
@@ -540,7 +541,11 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
     T2 = np.concatenate([p["T2"] for p in pts])
     warns, fits, laws, table, curves = [], {}, {}, {}, {}
     for shaft, w, T in (("screw", w1, T1), ("nut", w2, T2)):
-        fit = fit_static_map(w, T, model=model, units={"v": "rad/s", "F": "N·m"})
+        try:
+            fit = fit_static_map(w, T, model=model, units={"v": "rad/s", "F": "N·m"})
+        except IdentificationError as exc:
+            warns.append(f"{shaft}: {exc}; structure chosen by AIC among those the points allow")
+            fit = fit_static_map(w, T, model="auto", units={"v": "rad/s", "F": "N·m"})
         fits[shaft] = fit
         warns += [f"{shaft}: {m}" for m in fit.warnings]
         try:
@@ -567,7 +572,7 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
 # --------------------------------------------------------------------------- steps 2 and 4
 #: Retries of a pre-sliding fit that fails on a noisy record: (block-mean target samples, refine).
 #: Heavier averaging first, then the eq. 19 breakpoints without the simulation refinement.
-PRESLIDING_RETRIES = ((120, True), (60, True), (60, False))
+PRESLIDING_RETRIES = ((120, True), (60, False))
 
 
 def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfev):
@@ -580,8 +585,13 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
     for m, ref in attempts:
         try:
             used = _thin(rec, m)
-            fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
-                                 max_nfev=max_nfev)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", GMSWeightWarning)
+                fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
+                                     max_nfev=max_nfev)
+            seen = sorted({str(w.message) for w in caught if issubclass(w.category, GMSWeightWarning)})
+            if seen:
+                notes.append(f"during the fit: {seen[-1]} (the stroke ends before the curve reaches s(v))")
             if notes:
                 notes.append(f"fitted with block means to {m} samples, refine={ref}")
             return fit, notes, used
@@ -594,7 +604,10 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
     for e in range(int(elements) - 1, 0, -1):
         try:
             used = _thin(rec, m)
-            fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine, max_nfev=max_nfev)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GMSWeightWarning)     # the table reports sum_xi
+                fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine,
+                                     max_nfev=max_nfev)
             notes.append(f"fitted with M = {e} elements (block means to {m} samples), padded to M = {elements} "
                          "by splitting the last element")
             g = fit.model
@@ -602,7 +615,9 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             while len(k) < elements:
                 k[-1:] = [k[-1] / 2, k[-1] / 2]
                 xi[-1:] = [xi[-1] / 2, xi[-1] / 2]
-            padded = GMS(g.static, k=k, xi=xi, C=g.C)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GMSWeightWarning)
+                padded = GMS(g.static, k=k, xi=xi, C=g.C)
             fit = dataclasses.replace(fit, model=padded, model_name=f"gms_M{e}_padded_to_M{elements}")
             return fit, notes, used
         except (IdentificationError, DataError) as exc:

@@ -470,20 +470,41 @@ def _fit_tdmssc(v3, s, y, shape_grid, *, affine: bool) -> dict:
     best = None
     vs_grid, d_grid = shape_grid
     keep = list(range(6)) if affine else [0, 2, 4, 5]
+
+    def _supported(vs, d):
+        # the Stribeck part is identifiable only with >= 2 points inside its transition
+        phi = np.exp(-np.abs(v3 / vs) ** d)
+        return int(np.sum((phi > 0.05) & (phi < 0.95))) >= 2
+
     for vs in vs_grid:
         for d in d_grid:
+            if not _supported(vs, d):
+                continue
             A = _tdmssc_columns(v3, s, vs, d)[:, keep]
             coef, *_ = np.linalg.lstsq(A, y, rcond=None)
             r = y - A @ coef
             sse = float(r @ r)
             if best is None or sse < best[0]:
                 best = (sse, vs, d, coef)
+    if best is None:
+        # no Stribeck transition in the data: Coulomb + viscous + quadratic (Fs = Fc)
+        sg = np.sign(v3)
+        cols = [sg, sg * s, v3, -v3 * np.abs(v3)] if affine else [sg, v3, -v3 * np.abs(v3)]
+        coef, *_ = np.linalg.lstsq(np.column_stack(cols), y, rcond=None)
+        r = y - np.column_stack(cols) @ coef
+        c = dict(zip(("Fc0", "Fc1", "sigma2", "eps") if affine else ("Fc0", "sigma2", "eps"), coef.tolist()))
+        p = {"Fc0": c["Fc0"], "Fc1": c.get("Fc1", 0.0), "Fs0": c["Fc0"], "Fs1": c.get("Fc1", 0.0),
+             "sigma2": c["sigma2"], "eps": c["eps"], "vs": float(vs_grid[-1]), "delta": 1.0}
+        return {"params": p, "rms": math.sqrt(float(r @ r) / max(y.size, 1)), "at_grid_edge": False,
+                "no_transition": True}
     # second pass: a 9 x 9 grid over the neighbouring cells of the best point
     iv, idl = list(vs_grid).index(best[1]), list(d_grid).index(best[2])
     vlo, vhi = vs_grid[max(iv - 1, 0)], vs_grid[min(iv + 1, len(vs_grid) - 1)]
     dlo, dhi = d_grid[max(idl - 1, 0)], d_grid[min(idl + 1, len(d_grid) - 1)]
     for vs in np.geomspace(vlo, vhi, 9):
         for d in np.linspace(dlo, dhi, 9):
+            if not _supported(vs, d):
+                continue
             A = _tdmssc_columns(v3, s, vs, d)[:, keep]
             coef, *_ = np.linalg.lstsq(A, y, rcond=None)
             r = y - A @ coef
@@ -810,7 +831,9 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
         [m/s] -> ``(c, D)``, the screw's lumped torque ``c + D(v3)`` [N·m] (``D`` Directional
         Stribeck against the table speed v3 [m/s]); ``laws["screw"]``/``laws["screw_offset"]``
         the pair at ``screw_base_speed``;  ``laws["nut"]`` (Directional TDMSSC, N·m against
-        v3 [m/s], schedule the nut's linear-equivalent speed ``R theta2'`` [m/s]).
+        v3 [m/s], schedule the nut's linear-equivalent speed ``R theta2'`` [m/s]; synthesised over
+        the base speeds > 0) and ``laws["nut_by_base"]`` (base speed -> Directional TDMSSC with
+        constant levels, the per-base-speed fits; b = 0 is only there).
     """
     runs = list(runs)
     if not runs:
@@ -868,38 +891,43 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
             lim.append(f["Fs0"])
         c = 0.5 * (lim[0] - lim[1])
         try:
-            fit = fit_static_map(A[m, 1], T1s[m] - c, model="exponential", units={"v": "m/s", "F": "N·m"})
+            try:
+                fit = fit_static_map(A[m, 1], T1s[m] - c, model="exponential", units={"v": "m/s", "F": "N·m"})
+            except IdentificationError as exc:
+                warns.append(f"screw, b = {b * 1e3:g} mm/s: {exc}; structure chosen by AIC")
+                fit = fit_static_map(A[m, 1], T1s[m] - c, model="auto", units={"v": "m/s", "F": "N·m"})
             law = stribeck_model(fit)
         except IdentificationError as exc:
             warns.append(f"screw, b = {b * 1e3:g} mm/s: {exc}")
             continue
         screw_by_base[float(b)] = (float(c), law)
         fits[f"screw b={b * 1e3:g}mm/s"] = fit
-        if b == bases[np.argmin(np.abs(bases - screw_base_speed))]:
-            warns += [f"screw (b = {b * 1e3:g} mm/s): {w}" for w in fit.warnings]
-            for sgn, col in ((1, "screw +"), (-1, "screw -")):
-                side = _side(law, sgn)
-                # lumped levels c + D against table speed: N·m -> /R N; vs in m/s; sigma N·m·s/m -> /R N·s/m
-                table[col] = {"T_C_N": (sgn * c + side.Fc) / R, "T_S_N": (sgn * c + side.Fs) / R,
-                              "vs_mm_s": sgn * side.vs * 1e3, "delta": side.delta, "sigma_N_s_m": side.sigma2 / R,
-                              "offset_c_N": c / R, "base_speed_mm_s": b * 1e3}
-                mm = m & (np.sign(A[:, 1]) == sgn)
-                vv = np.linspace(A[mm, 1].min(), A[mm, 1].max(), 200)
-                curves[col] = {"x": A[mm, 1] * 1e3, "y": A[mm, 2] / R, "x_fit": vv * 1e3,
-                               "y_fit": (c + law.steady_state(vv)) / R,
-                               "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
     laws["screw_by_base"] = screw_by_base
-    if screw_by_base:
-        kb = min(screw_by_base, key=lambda x: abs(x - screw_base_speed))
-        laws["screw"] = screw_by_base[kb][1]
-        laws["screw_offset"] = screw_by_base[kb][0]
-    else:
+    if not screw_by_base:
         warns.append("screw: no base speed with plateaus in both directions")
+    else:
+        b = min(screw_by_base, key=lambda x: abs(x - screw_base_speed))
+        c, law = screw_by_base[b]
+        laws["screw"], laws["screw_offset"] = law, c
+        m = A[:, 0] == b
+        warns += [f"screw (b = {b * 1e3:g} mm/s): {w}" for w in fits[f"screw b={b * 1e3:g}mm/s"].warnings]
+        for sgn, col in ((1, "screw +"), (-1, "screw -")):
+            side = _side(law, sgn)
+            # lumped levels c + D against table speed: N·m -> /R N; vs in m/s; sigma N·m·s/m -> /R N·s/m
+            table[col] = {"T_C_N": (sgn * c + side.Fc) / R, "T_S_N": (sgn * c + side.Fs) / R,
+                          "vs_mm_s": sgn * side.vs * 1e3, "delta": side.delta, "sigma_N_s_m": side.sigma2 / R,
+                          "structure": fits[f"screw b={b * 1e3:g}mm/s"].model_name,
+                          "offset_c_N": c / R, "base_speed_mm_s": b * 1e3}
+            mm = m & (np.sign(A[:, 1]) == sgn)
+            vv = np.linspace(A[mm, 1].min(), A[mm, 1].max(), 200)
+            curves[col] = {"x": A[mm, 1] * 1e3, "y": A[mm, 2] / R, "x_fit": vv * 1e3,
+                           "y_fit": (c + law.steady_state(vv)) / R,
+                           "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
     # nut: per base speed (levels constant), then synthesis with affine levels (TDMSSC, eq. 21).
     # The schedule is the nut's measured linear-equivalent speed s = R theta2' [m/s], signed
     # (the convention of frictionkit.models.TDMSSC).
     sched = R * A[:, 5]
-    nut_laws = {}
+    nut_laws, nut_by_base = {}, {}
     for sgn, col in ((1, "nut +"), (-1, "nut -")):
         md = np.sign(A[:, 1]) == sgn
         if not md.any():
@@ -911,13 +939,24 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
                 continue
             f = _fit_tdmssc(A[m, 1], sched[m], T2s[m], shape_grid, affine=False)
             p = f["params"]
+            try:
+                nut_by_base.setdefault(float(b), {})[sgn] = _tdmssc_law(p)
+            except ParameterError as exc:
+                warns.append(f"{col}, b = {b * 1e3:g} mm/s: {exc}")
             table["per_base_speed"].append({"column": col, "base_speed_mm_s": b * 1e3,
                                             "nut_speed_mm_s": float(np.mean(sched[m])) * 1e3,
                                             "T_C_N": p["Fc0"] / R, "T_S_N": p["Fs0"] / R,
                                             "vs_mm_s": sgn * p["vs"] * 1e3, "delta": p["delta"],
                                             "sigma_N_s_m": p["sigma2"] / R, "eps_N_s2_m2": p["eps"] / R,
                                             "rms_N": f["rms"] / R})
-        f = _fit_tdmssc(A[md, 1], sched[md], T2s[md], shape_grid, affine=groups.size >= 2)
+        # synthesis over the base speeds > 0: at b = 0 the nut does not turn, its support friction
+        # sticks instead of sliding at a level, which no affine level can join (that case keeps its
+        # own per-base-speed law, laws["nut_by_base"][0.0])
+        ms = md & (A[:, 0] > 0) if np.any(groups > 0) else md
+        groups = np.unique(A[ms, 0])
+        f = _fit_tdmssc(A[ms, 1], sched[ms], T2s[ms], shape_grid, affine=groups.size >= 2)
+        if f.get("no_transition"):
+            warns.append(f"{col}: no plateau inside a Stribeck transition; Coulomb + viscous + eps fitted (Fs = Fc)")
         if groups.size < 2:
             warns.append(f"{col}: one base speed only; the levels' base-speed slopes are not identifiable (set 0)")
         if f["at_grid_edge"]:
@@ -943,6 +982,8 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
                            "y_fit": np.concatenate(ys)}
     if len(nut_laws) == 2:
         laws["nut"] = Directional(positive=nut_laws["nut +"], negative=nut_laws["nut -"])
+    laws["nut_by_base"] = {b: Directional(positive=d[1], negative=d[-1]) for b, d in nut_by_base.items()
+                           if 1 in d and -1 in d}
     st, msg = _status(warns)
     return WSIMStep(name="table5", status=st, message=msg, table=table, fits=fits, laws=laws, curves=curves,
                     diagnostics={"fourier": fourier, "points": {"b": A[:, 0], "v3": A[:, 1], "T1": A[:, 2],

@@ -330,7 +330,11 @@ class FeedForwardModel:
             b = min(self.laws["screw_diff"], key=lambda x: abs(x - base))
             c, law = self.laws["screw_diff"][b]
             ff1 = c + _drive(law, rel, dt)
-            ff2 = self.laws["nut_diff"].steady_state(v1 + v2, schedule=v2)
+            nb = self.laws.get("nut_by_base", {})
+            if b == 0.0 and 0.0 in nb:      # single drive: the nut stands; its own b = 0 fit
+                ff2 = nb[0.0].steady_state(v1 + v2, schedule=v2)
+            else:
+                ff2 = self.laws["nut_diff"].steady_state(v1 + v2, schedule=v2)
         return Z.FeedForward(ff1=np.nan_to_num(ff1), ff2=np.nan_to_num(ff2), name=self.name)
 
 
@@ -370,7 +374,8 @@ def _wsim_feedforward(result, model, assumptions) -> FeedForwardModel:
     laws = {"screw_co": _pair(L4, "screw +", "screw -"),
             "nut_co": _pair(L4, "nut -", "nut +"),     # nut '+' column = nut turning negative
             "screw_diff": diff,
-            "nut_diff": result.steps["table5"].laws["nut"]}
+            "nut_diff": result.steps["table5"].laws["nut"],
+            "nut_by_base": result.steps["table5"].laws.get("nut_by_base", {})}
     if model == "LuGre":
         laws.update(screw_co=_as_lugre(laws["screw_co"], J1), nut_co=_as_lugre(laws["nut_co"], J2))
     return FeedForwardModel("WSIM", laws, f"WSIM + {model}")
@@ -583,10 +588,15 @@ def recovery(result: W.WSIMResult, truth=None, assumptions=None) -> dict:
         tr = lumped_truth(q["v3"][m], b, tf, a)["screw"]
         out[f"differential_screw_b{b * 1e3:g}"] = _err((c + D.steady_state(q["v3"][m])) / R, tr)
     if "nut" in s3.laws:
-        tr = np.concatenate([lumped_truth(q["v3"][q["b"] == b], b, tf, a)["nut"] for b in np.unique(q["b"])])
+        bs = [b for b in np.unique(q["b"]) if b > 0]
+        tr = np.concatenate([lumped_truth(q["v3"][q["b"] == b], b, tf, a)["nut"] for b in bs])
         ids = np.concatenate([s3.laws["nut"].steady_state(q["v3"][q["b"] == b], schedule=q["s"][q["b"] == b]) / R
-                              for b in np.unique(q["b"])])
-        out["differential_nut"] = _err(ids, tr)
+                              for b in bs])
+        out["differential_nut_tdmssc"] = _err(ids, tr)
+    for b, law in s3.laws.get("nut_by_base", {}).items():
+        m = q["b"] == b
+        out[f"differential_nut_b{b * 1e3:g}"] = _err(law.steady_state(q["v3"][m], schedule=q["s"][m]) / R,
+                                                     lumped_truth(q["v3"][m], b, tf, a)["nut"])
     return out
 
 
@@ -737,8 +747,16 @@ ROBUSTNESS_ASSUMPTIONS = ("table_mass", "k_axial", "c_axial", "ball_load_coeffic
                           "torque_noise")
 
 
+#: Tracking-error differences below this [µm] are ties (a tenth of the 10 nm scale count: the
+#: worktable errors here are a few nm to a few tens of nm, sub-nm differences are numerical noise).
+TIE_UM = 1e-3
+
+
 def findings(summary: dict) -> dict:
-    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.summary`."""
+    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.summary`.
+
+    "Better" needs an improvement beyond :data:`TIE_UM` in both |mean| and std; "no larger"
+    allows a tie within it."""
     def cell(tab, key, speeds, base, structure):
         for r in summary[tab]:
             if (r.get("method", r.get("model")) == key and r["speeds"] == speeds and r["base_speed_mm_s"] == base
@@ -750,14 +768,17 @@ def findings(summary: dict) -> dict:
     for base in (0, 6):
         am, as_ = cell("table7", "ACIM", "different", base, "worktable")
         wm, ws_ = cell("table7", "WSIM", "different", base, "worktable")
-        out[f"t7_diff{base}_wsim_better"] = {"holds": bool(wm < am and ws_ < as_), "ACIM": [am, as_], "WSIM": [wm, ws_]}
+        out[f"t7_diff{base}_wsim_better"] = {"holds": bool(wm < am - TIE_UM and ws_ < as_ - TIE_UM),
+                                             "ACIM": [am, as_], "WSIM": [wm, ws_]}
         am, as_ = cell("table7", "ACIM", "same", base, "worktable")
         wm, ws_ = cell("table7", "WSIM", "same", base, "worktable")
-        out[f"t7_same{base}_acim_better"] = {"holds": bool(am < wm and as_ < ws_), "ACIM": [am, as_], "WSIM": [wm, ws_]}
+        out[f"t7_same{base}_acim_better"] = {"holds": bool(am < wm - TIE_UM and as_ < ws_ - TIE_UM),
+                                             "ACIM": [am, as_], "WSIM": [wm, ws_]}
     for speeds, base in CASES:
         lm, ls = cell("table8", "LuGre", speeds, base, "worktable")
         gm, gs = cell("table8", "GMS", speeds, base, "worktable")
-        out[f"t8_{speeds}{base}_gms_not_worse"] = {"holds": bool(gm <= lm and gs <= ls), "LuGre": [lm, ls],
+        out[f"t8_{speeds}{base}_gms_not_worse"] = {"holds": bool(gm <= lm + TIE_UM and gs <= ls + TIE_UM),
+                                                   "LuGre": [lm, ls],
                                                    "GMS": [gm, gs]}
     h = summary.get("hysteresis_rms_force_N") or {}
     if h:

@@ -20,15 +20,20 @@ WSIM (whole-system identification method, seed 000 §3 and Fig. 6), four steps
    the virgin branch gives the breakpoints P1..P3 (M = 3), ``xi_i`` by eq. 19 with
    ``s = s(v)`` of step 1 at the creep speed (= T_S), ``C`` chosen for fast convergence and a
    simulation refinement (:func:`~frictionkit.identify.fit_presliding`). Table 4 layout.
-3. :func:`differential_static` — at each base speed the nut is held at the base speed and
-   the screw speed is stepped (screw driving, eq. 11). The lumped per-motor torques are
-   plotted against the **table speed** ``v3`` (eq. 20: ``T_s = T_fs + T_fbs + F_ft R``,
-   ``T_n = T_fn - T_fbn``), each curve is first described by a second-order Fourier series
-   (the paper's pre-fit, :func:`fourier2_fit`), and then
-   * the screw's Stribeck curve is fitted (static-map fitter) at one base speed
-     (``screw_base_speed``; the paper takes 4 mm/s);
-   * the nut's curve is fitted per base speed and synthesised into TDMSSC (eq. 21): levels
-     affine in the base speed, ``sigma`` and the ``-eps v3**2`` term. Table 5 layout.
+3. :func:`differential_static` — at each base speed ``b >= 0`` the nut is held at the base speed
+   and the screw speed is raised (table speed ``v3 > 0``, screw driving, eq. 11) or lowered
+   (``v3 < 0``) through plateaus (§5.2.2). The lumped per-motor torques are taken against the
+   **table speed** (eq. 20: ``T_s = T_fs + T_fbs + F_ft R``, ``T_n = T_fn - T_fbn``), each curve
+   is first described by a second-order Fourier series (the paper's pre-fit,
+   :func:`fourier2_fit`, when a direction has >= 7 plateaus), and then
+   * the screw's curve per base speed as an offset plus a friction, ``c(b) + D_b(v3)`` (the
+     screw's own support keeps turning one way while ball pair and guide reverse with ``v3``),
+     ``D_b`` by the static-map fitter; Table 5's screw columns are the lumped levels at
+     ``screw_base_speed`` (the paper: 4 mm/s);
+   * the nut's curve per base speed (constant levels) and synthesised into TDMSSC (eq. 21,
+     :class:`~frictionkit.models.TDMSSC`): levels affine in the nut speed, ``sigma2``,
+     ``- eps v3 |v3|``, over the base speeds > 0 (at ``b = 0`` the nut stands and its support
+     sticks; that case keeps its own fit). Table 5 layout.
 4. :func:`differential_presliding` — nut held still, the screw reciprocates within microns;
    the screw torque is the friction; breakpoints as in step 2. Table 6 layout.
 
@@ -51,8 +56,11 @@ Choices the paper does not make (documented assumptions)
 * **Linear equivalents.** The paper prints torques in N and speeds in mm/s: the tables here
   give torque / R [N], speed x R [mm/s], stiffness / R**2 [N/µm], viscous / R**2 [N·s/m]
   (the fits themselves run in rad, rad/s, N·m).
-* **Base speed** ``b`` [m/s] is the co-rotation speed in the screw's sign: the nut turns at
-  ``theta2' = -b/R`` (positive ``b``: clockwise co-rotation, the "+" column).
+* **Base speed** ``b`` [m/s] >= 0 is the common speed both shafts reach before the sweep; the
+  nut is then held at ``theta2' = -b/R`` (§2.3 signs) and the screw raised or lowered. The "+"
+  columns of Tables 5-6 are ``v3 > 0``, the "-" columns ``v3 < 0``. TDMSSC's schedule is the
+  nut's measured linear-equivalent speed ``R theta2'`` (signed), as
+  :class:`~frictionkit.models.TDMSSC` defines it.
 
 ACIM (all-components identification method, Feng/Du [25])
 ----------------------------------------------------------

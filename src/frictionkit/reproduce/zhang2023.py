@@ -450,7 +450,7 @@ def table8(wsim_result, design: Design = FULL, *, assumptions=None, truth=None, 
 @dataclass(frozen=True, eq=False)
 class Fig16Result:
     """Hysteresis in differential mode (nut still): the plant's lumped screw-side friction vs the
-    models driven by the logged relative angle. ``rms`` model -> {"reciprocating", "unidirectional",
+    models driven by the plant's relative angle. ``rms`` model -> {"reciprocating", "unidirectional",
     "all"} [N, linear-equivalent]; ``rms_vs_log`` the same against the logged torque (noise included)."""
 
     x_um: np.ndarray
@@ -496,7 +496,9 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
     # the plant's screw-side friction (linear-equivalent N): support + ball pair + axial (guide, inertia)
     plant = sf["screw_support"] + sf["ball_preload"] + sf["ball_load"] + rec.F_axial
     logged = rec.force1
-    rel = rec.theta1 + rec.theta2
+    # the models run on the plant's true relative angle: this compares model structures, and
+    # the encoder's count steps, differentiated, would enter LuGre's sigma1 term as noise
+    rel = rec.theta1_true + rec.theta2_true
     dt = rec.t[1] - rec.t[0]
     L6 = wsim_result.steps["table6"].laws
     gms3 = _pair(L6, "positive", "negative")
@@ -681,7 +683,7 @@ class Zhang2023Result:
         if self.fig16 is not None:
             self.fig16.plot(ax=ax[0])
         rows = [r for r in self.table7 if r["structure"] == "worktable"]
-        labels = [f"{r['speeds'][:4]} {r['base_speed_mm_s']} {r['method']}" for r in rows]
+        labels = [f"{r['speeds'][:4]}-{r['base_speed_mm_s']} {r['method']}" for r in rows]
         ax[1].bar(range(len(rows)), [abs(r["mean_um"]) for r in rows], yerr=[r["std_um"] for r in rows])
         ax[1].set_xticks(range(len(rows)), labels, rotation=60, fontsize=7)
         ax[1].set_ylabel("worktable |mean| (std) [µm]")

@@ -169,8 +169,9 @@ def _read_mat(p: Path) -> dict[str, np.ndarray]:
         return {k: np.asarray(v).T for k, v in data.items()}
     try:
         raw = scipy.io.loadmat(p, squeeze_me=False)
-    except (ValueError, TypeError, NotImplementedError) as exc:
-        raise DataError(f"file '{p}': cannot be read as a MATLAB .mat file ({str(exc).splitlines()[0]})") from None
+    except Exception as exc:  # noqa: BLE001 - scipy raises MatReadError, ValueError, struct.error ... on damaged files
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise DataError(f"file '{p}': cannot be read as a MATLAB .mat file ({text})") from None
     return {k: v for k, v in raw.items() if not k.startswith("__")}
 
 

@@ -303,6 +303,15 @@ def _drive(
             rown, pn, _ = _side(vn, p0, p1, C0, C1)
             gn = g_row(pn, abs(vn))
             svn = _sgn(vn)
+            if reversed_ and theta > 1.0 and vn != 0.0:
+                # A breakaway in the new direction after a reversal inside this step would
+                # only be applied at the step's end, late and past its threshold (found by the
+                # issue-13 property test: 1.5 % of the stroke off the twin). Land at the
+                # reversal first; the next sub-step locates the breakaway.
+                for i in range(M):
+                    if st_[i] and svn * (Fi[i] + k[row, i] * xi_n) >= xi[rown, i] * gn:
+                        theta = th_r
+                        break
             if vn != 0.0 and not reversed_:
                 for i in range(M):
                     if st_[i]:

@@ -51,8 +51,12 @@ def nonnegative(owner: str, name: str, value: Any) -> float:
 
 def integer(owner: str, name: str, value: Any, *, minimum: int | None = None,
             maximum: int | None = None) -> int:
-    """Return ``value`` as an int, or raise unless it is an integer (not a bool) within bounds."""
-    if is_bool(value) or not isinstance(value, (int, np.integer)):
+    """Return ``value`` as an int, or raise unless it is an integer within bounds.
+
+    Booleans are refused; a float is taken only when it is finite and whole (``10.0``).
+    """
+    whole_float = isinstance(value, (float, np.floating)) and math.isfinite(value) and float(value).is_integer()
+    if is_bool(value) or not (isinstance(value, (int, np.integer)) or whole_float):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be an integer")
     out = int(value)
     if (minimum is not None and out < minimum) or (maximum is not None and out > maximum):

@@ -135,9 +135,7 @@ def _find_plateaus(
     dt = val.positive("find_plateaus", "dt", dt)
     if not 0.0 <= trim < 0.5:
         raise ParameterError(f"find_plateaus.trim = {trim!r}: must be in [0, 0.5)")
-    if int(window) != window or window < 1:
-        raise ParameterError(f"find_plateaus.window = {window!r}: must be a positive integer")
-    window = int(window)
+    window = val.integer("find_plateaus", "window", window, minimum=1)
     vmax = float(np.max(np.abs(x)))
     if vmax == 0.0:
         return [], [], 0.0

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..data.recording import Recording
 from ..data.signals import decimate, derivative, lowpass
+from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.static import CoulombViscous, Directional
 from ..plants.rigid_body import RigidBody
@@ -89,10 +90,8 @@ def rigid_body_regressors(
     recording.require("x", "F")
     if not recording.is_regular:
         raise DataError(f"recording '{recording.name}': irregular sampling; call recording.resample() first")
-    if int(skip) != skip or skip < 0:
-        raise ParameterError(f"skip = {skip!r}: must be a non-negative integer")
-    if int(q) != q or q < 1:
-        raise ParameterError(f"q = {q!r}: must be a positive integer")
+    skip = val.integer("rigid_body_regressors", "skip", skip, minimum=0)
+    q = val.integer("rigid_body_regressors", "q", q, minimum=1)
     need = int(skip) + 30 * int(q) + 20
     if recording.n < need:
         raise DataError(
@@ -201,8 +200,8 @@ def fit_rigid_body(
         raise ParameterError(f"fit_rigid_body.law = {law!r}: must be one of {list(RIGID_BODY_LAWS)}")
     if delta is not None and law != "stribeck":
         raise ParameterError(f"fit_rigid_body.delta = {delta!r}: only the 'stribeck' law has an exponent")
-    if delta is not None and not (math.isfinite(float(delta)) and float(delta) > 0):
-        raise ParameterError(f"fit_rigid_body.delta = {delta!r}: must be finite and > 0")
+    if delta is not None:
+        delta = val.positive("fit_rigid_body", "delta", delta)
     linear = _fit_linear(recording, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
     if law == "coulomb_viscous":
         return linear

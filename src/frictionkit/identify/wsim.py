@@ -94,7 +94,6 @@ from ..errors import DataError, IdentificationError, ParameterError
 from ..models.gms import GMS, GMSWeightWarning
 from ..models.static import Directional, Stribeck
 from .presliding import fit_presliding
-from .result import IdentificationResult
 from .static_map import fit_static_map, stribeck_model
 
 __all__ = [
@@ -1041,15 +1040,15 @@ def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TD
         # step 4 runs with the nut still: the static map is step 3's screw curve at the base
         # speed nearest 0 (against the table speed; the fit runs on the screw angle)
         b0 = min(by_base, key=abs)
-        steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], cospeed_R(cospeed)),
+        steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], _run_R(cospeed)),
                                                   elements=elements, refine=refine, max_nfev=max_nfev)
     worst = max(s.status for s in steps.values())
     msgs = [f"{k}: {s.message}" for k, s in steps.items() if s.status]
-    return WSIMResult(steps=steps, R=cospeed_R(cospeed), status=min(worst, 1) if worst < 2 else 2,
+    return WSIMResult(steps=steps, R=_run_R(cospeed), status=min(worst, 1) if worst < 2 else 2,
                       message="; ".join(msgs) if msgs else "ok")
 
 
-def cospeed_R(run) -> float:
+def _run_R(run) -> float:
     r = run if isinstance(run, TDMSRun) else next(iter(run))
     return float(r.R)
 

@@ -597,6 +597,128 @@ def _loads(X, mvals, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
         lam[j] = new
 
 
+@njit(error_model="numpy")
+def merge_maps(Phi, G0, G1, Gf, Cq, Cm, n_sub, o_rate):
+    """Rows of the sample-spanning step (see ``machines.simulate._merge_maps``), over
+    ``[X, w_start, w_end - w_start, F]``: ``R[i, j]`` site ``j``'s velocity at the end of
+    sub-step ``i + 1`` with the site forces ``F`` held, ``M`` the state at the end of the
+    sample. ``o_rate``: offset of the motion rates in ``w``. The recursion is the sub-step
+    scheme's own: ``X_i = Phi X_(i-1) + G0 w_(i-1) + G1 (w_i - w_(i-1)) + Gf F``."""
+    n2 = Phi.shape[0]
+    n = n2 // 2
+    nw = G0.shape[1]
+    ns = Cq.shape[0]
+    nmot = Cm.shape[1]
+    L = n2 + 2 * nw + ns
+    M = np.zeros((n2, L))
+    T = np.zeros((n2, L))
+    for r in range(n2):
+        M[r, r] = 1.0
+    R = np.zeros((n_sub, ns, L))
+    for i in range(n_sub):
+        for r in range(n2):  # T = Phi M + [0, G0, G0 i/n + G1/n, Gf]
+            for c in range(L):
+                y = 0.0
+                for q in range(n2):
+                    y += Phi[r, q] * M[q, c]
+                T[r, c] = y
+            for c in range(nw):
+                T[r, n2 + c] += G0[r, c]
+                T[r, n2 + nw + c] += G0[r, c] * (i / n_sub) + G1[r, c] / n_sub
+            for c in range(ns):
+                T[r, n2 + 2 * nw + c] += Gf[r, c]
+        for j in range(ns):
+            for c in range(L):
+                y = 0.0
+                for b in range(n):
+                    y += Cq[j, b] * T[n + b, c]
+                R[i, j, c] = y
+            for m in range(nmot):
+                R[i, j, n2 + o_rate + m] += Cm[j, m]
+        for r in range(n2):
+            for c in range(L):
+                M[r, c] = T[r, c]
+    return R, M
+
+
+@njit(error_model="numpy")
+def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
+                 Cq, Cm, par, site_po, R, Mx, wA, wB, Fh, Xn, z, Fbar):
+    """Advance ``X`` over the whole sample ``k`` in one map if every site keeps sliding one way.
+
+    Every site is a flat static law (force ``+Fc+`` / ``-Fc-`` while sliding, viscous term in
+    the chain). The site velocities at every sub-step end (rows ``R``) must keep their sign
+    under the held forces: exactly the sub-step scheme's own decision to keep sliding, so the
+    result is the sub-steps' to round-off. Returns False (``X``, ``Fbar`` untouched) when an
+    input is not affine over the sample (a clipped FOH actuator), a site is at rest, or a site
+    would stop or turn (the sub-steps then stick it exactly).
+    """
+    n2 = X.size
+    n = n2 // 2
+    nact = u_now.size
+    nmot = mot.shape[1]
+    nw = wA.size
+    ns = Fh.size
+    for i in range(nact):
+        if act_foh[i]:
+            d = act_delay[i]
+            ua = inputs[k - d, act_col[i]] if k >= d else 0.0
+            ub = inputs[kn - d, act_col[i]] if kn >= d else 0.0
+            lim = act_lim[i]
+            if not (-lim <= ua <= lim and -lim <= ub <= lim):
+                return False
+            wA[i] = ua
+            wB[i] = ub
+        else:
+            wA[i] = u_now[i]
+            wB[i] = u_now[i]
+    for m in range(nmot):
+        pa = mot[k, m]
+        pb = mot[kn, m]
+        wA[nact + m] = pa
+        wB[nact + m] = pb
+        wA[nact + nmot + m] = (pb - pa) / dt
+        wB[nact + nmot + m] = (pb - pa) / dt
+    # z = [X, w_start, w_end - w_start, F]: every map is a row over it
+    L = z.size
+    for r in range(n2):
+        z[r] = X[r]
+    for c in range(nw):
+        z[n2 + c] = wA[c]
+        z[n2 + nw + c] = wB[c] - wA[c]
+    for j in range(ns):
+        vj = 0.0
+        for b in range(n):
+            vj += Cq[j, b] * X[n + b]
+        for m in range(nmot):
+            vj += Cm[j, m] * wA[nact + nmot + m]
+        if vj > 0.0:
+            Fh[j] = par[site_po[j]]
+        elif vj < 0.0:
+            Fh[j] = -par[site_po[j] + N_ROW]
+        else:
+            return False  # at rest: the sub-steps decide (stick, or break away inside the sample)
+        z[n2 + 2 * nw + j] = Fh[j]
+    for ii in range(n_sub):  # the last sub-step first: a stop or a turn shows there first
+        i = n_sub - 1 if ii == 0 else ii - 1
+        for j in range(ns):
+            v = 0.0
+            for c in range(L):
+                v += R[i, j, c] * z[c]
+            if not v * Fh[j] > 0.0:
+                return False
+    for r in range(n2):
+        y = 0.0
+        for c in range(L):
+            y += Mx[r, c] * z[c]
+        Xn[r] = y
+    for r in range(n2):
+        X[r] = Xn[r]
+    for j in range(ns):
+        Fbar[j] = Fh[j]
+    return True
+
+
 @njit(inline="always", error_model="numpy")
 def _quantise(x, q):
     if q > 0.0:
@@ -607,7 +729,7 @@ def _quantise(x, q):
 # --------------------------------------------------------------------------- main loop
 @njit(error_model="numpy")
 def run(
-    n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off,
+    n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off, s_visc, mg_on, mg_R, mg_M,
     site_kind, site_po, site_so, par, st, xtol,
     ld_mode, ld_row, ld_mrow, ld_site, ld_par,
     sch_mode, sch_row, sch_mrow,
@@ -619,6 +741,13 @@ def run(
     q_out, v_out, F_out, sig_out, u_out,
 ):
     """Run ``N = q_out.shape[0]`` samples. ``X``, ``st``, ``sig``, ``blk_st`` are updated in place.
+
+    ``s_visc[j]``: a static site's viscous coefficient, folded into the chain (``Phi ...``) by
+    the wrapper; added to the recorded force. ``mg_on``: every site is a flat static law
+    (``machines.simulate._merge_maps``): a sample in which every site keeps sliding one way
+    at every sub-step end is advanced by the one map ``mg_M`` (rows over ``[X, w_start,
+    w_end - w_start, F]``) after checking the site velocities ``mg_R`` at the sub-step ends;
+    otherwise by the ``n_sub`` sub-steps (same result, to round-off).
 
     ``sch_mode[j]`` (0 none, 1 position, 2 velocity) gives a static site a schedule input
     ``s = sch_row[j] . q`` (or ``. q'``) ``+ sch_mrow[j] . p`` (motion positions, or their
@@ -690,6 +819,11 @@ def run(
             Fbar[j] = _elastic(kind, par, site_po[j], sj)
 
     mv = np.zeros(nmot)
+    wA = np.zeros(nw)
+    wB = np.zeros(nw)
+    Fh = np.zeros(ns)
+    Xn = np.zeros(n2)
+    zm = np.zeros(n2 + 2 * nw + ns)
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
         # the rate of a prescribed motion at t_k (it is piecewise linear, so its rate jumps at
@@ -707,6 +841,13 @@ def run(
             kind = site_kind[j]
             if kind == S_STATIC:
                 F_out[k, j] = Fbar[j]
+                if s_visc[j] != 0.0:
+                    vj = 0.0
+                    for b in range(n):
+                        vj += Cq[j, b] * X[n + b]
+                    for m in range(nmot):
+                        vj += Cm[j, m] * (mot[kb, m] - mot[ka, m]) / dt
+                    F_out[k, j] += s_visc[j] * vj
                 continue
             sj = s_off[j]
             vj = 0.0
@@ -833,6 +974,13 @@ def run(
             sig_out[k, r] = sig[r]
         if k == N - 1:
             break
+        # ---- plant: one sample-spanning step when every (flat static) site keeps sliding
+        if mg_on and _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
+                                  Cq, Cm, par, site_po, mg_R, mg_M, wA, wB, Fh, Xn, zm, Fbar):
+            for r in range(n2):
+                if not math.isfinite(X[r]):
+                    return STATUS_NONFINITE, k + 1, n_bad
+            continue
         # ---- plant: n_sub sub-steps
         for sub in range(n_sub):
             f0 = sub / n_sub

@@ -11,6 +11,7 @@ from scipy.linalg import expm
 from .. import _validate as val
 from ..errors import DataError, ParameterError, SimulationError
 from ..kernels import machine as _k
+from ..kernels._expm import expm_small
 from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
                        StateSpace, Sum)
@@ -60,6 +61,59 @@ def _ff_par(law) -> list[float]:
     r = _static_rows(law)
     z = np.zeros(2)
     return _static_par(np.column_stack([r[:, 0], z, r[:, 1], z, r[:, 2], r[:, 3], r[:, 4], r[:, 5], z]))
+
+
+def _folded_viscous(machine: Machine) -> np.ndarray:
+    """Per site, the viscous coefficient the core folds into the linear chain (else 0).
+
+    A static law's ``sigma2 v`` (the same ``sigma2`` both ways) is linear in the site velocity:
+    as a damper of the chain it is integrated exactly (matrix exponential) instead of held over
+    a sub-step, and a site that slides on a flat level (``CoulombViscous``) is then exact at any
+    sub-step — which lets :func:`_merge_maps` span whole samples. The law keeps ``s(v)``.
+    """
+    from ..models.tdmssc import schedule_rows
+
+    fold = np.zeros(len(machine.sites))
+    for j, s in enumerate(machine.sites):
+        if s.role == "friction" and law_family(s.law) == "static":
+            r = schedule_rows(s.law)
+            if r[0, 6] == r[1, 6]:
+                fold[j] = float(r[0, 6])
+    return fold
+
+
+def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.ndarray, has_loads: bool,
+                Phi, G0, G1, Gf, Cq, Cm, n_sub: int):
+    """Maps for a sample-spanning step, or ``None`` when the machine does not qualify.
+
+    Qualifies: every site a static friction law with flat, non-negative levels (``Fc = Fs``,
+    no ``eps``, no schedule: ``CoulombViscous``) whose viscous term is folded into the chain,
+    no normal loads. While every site keeps sliding one way over a sample, its force is a
+    constant ``+-Fc`` and the sub-step scheme is exact; the kernel then advances the whole
+    sample with one map instead of ``n_sub`` sub-steps. The maps are the sub-step recursion
+    itself (same results to round-off): ``R[i, j]`` gives site ``j``'s velocity at the end of
+    sub-step ``i + 1`` and ``Mx`` the state at the end of the sample, each as a row over
+    ``[X, w_start, w_end - w_start, F]`` (inputs affine over the sample, forces held). The
+    kernel checks every site's direction at every sub-step end (as the sub-step scheme would
+    decide) and falls back to the sub-steps when one stops or turns.
+    """
+    ns = len(kinds)
+    if ns == 0 or n_sub < 2 or has_loads:
+        return None
+    for j in range(ns):
+        o = po[j]
+        if kinds[j] != _k.S_STATIC or machine.sites[j].schedule is not None:
+            return None
+        if par[o + 4] != 0.0 or par[o + _k.N_ROW + 4] != 0.0:  # a viscous term not folded
+            return None
+        for r in (0, _k.N_ROW):
+            if par[o + r] != par[o + r + 1] or not par[o + r] > 0.0:
+                return None
+        if par[o + 12] != 0.0 or par[o + 13] != 0.0:
+            return None
+    nact = len(machine.actuators)
+    nm = len(machine._motion_names)
+    return _k.merge_maps(Phi, G0, G1, Gf, np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), n_sub, nact + nm)
 
 
 def _pack_law(law) -> tuple[int, list[float], list[float]]:
@@ -185,12 +239,17 @@ class MachineResult(TraceAccess):
         return ax
 
 
-def discretise(machine: Machine, h: float):
+def discretise(machine: Machine, h: float, *, site_damping=None):
     """Exact discretisation of the linear chain over a sub-step ``h``.
 
     Returns ``(Phi, G0, G1, Gf, parts)``: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf Fbar`` for
     inputs ``w`` affine over the sub-step (actuators, motions, motion rates) and site
     forces ``Fbar`` held over it; ``parts`` holds ``M, D, K, Bw, Cq, Cm``.
+
+    ``site_damping`` (one value per site, optional) adds a linear damper on each site's
+    coordinate to the chain: the machine core folds a static law's viscous term
+    ``sigma2 v`` in here, where it is integrated exactly, and leaves the site only its
+    level ``s(v)``.
     """
     n = machine.n
     nm = len(machine._motion_names)
@@ -221,6 +280,10 @@ def discretise(machine: Machine, h: float):
         if kl:
             K += kl * np.outer(Cq[j], Cq[j])
             Bw[:, nact:nact + nm] -= kl * np.outer(Cq[j], Cm[j])
+        cs = 0.0 if site_damping is None else float(site_damping[j])
+        if cs:
+            D += cs * np.outer(Cq[j], Cq[j])
+            Bw[:, nact + nm:] -= cs * np.outer(Cq[j], Cm[j])
     for i, a in enumerate(machine.actuators):
         c, cm = machine.row(a.at)
         Bw[:, i] = a.gain * c
@@ -238,7 +301,9 @@ def discretise(machine: Machine, h: float):
     Z[:2 * n, :2 * n] = A * h
     Z[:2 * n, 2 * n:2 * n + m] = B * h
     Z[2 * n:2 * n + m, 2 * n + m:] = np.eye(m)
-    E = expm(Z)
+    # small: our compiled Padé-13 (no threaded BLAS: scipy's expm of a 4x4 took 13 ms on a loaded
+    # 2-core machine, OpenBLAS threads waiting on each other; see kernels/_expm.py)
+    E = expm_small(np.ascontiguousarray(Z)) if Z.shape[0] <= 64 else expm(Z)
     Phi = E[:2 * n, :2 * n]
     G0 = E[:2 * n, 2 * n:2 * n + m]
     G1 = E[:2 * n, 2 * n + m:]
@@ -355,7 +420,8 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         if fast is not None:
             return fast
     h = dt / int(substeps)
-    Phi, G0, G1, Gf, parts = discretise(machine, h)
+    fold = _folded_viscous(machine)
+    Phi, G0, G1, Gf, parts = discretise(machine, h, site_damping=fold)
     Cq, Cm = parts["Cq"], parts["Cm"]
     ns = len(machine.sites)
     Gss = -(Cq @ Gf[:n]) if ns else np.zeros((0, 0))  # sub-step displacement compliance
@@ -372,9 +438,11 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
 
     # sites
     kinds, po, so, par, st, xtol = [], [], [], [], [], []
-    for s in machine.sites:
+    for j, s in enumerate(machine.sites):
         if s.role == "friction":
             kind, p, s0 = _pack_law(s.law)
+            if fold[j]:  # its viscous term lives in the chain (see _folded_viscous)
+                p[4] = p[_k.N_ROW + 4] = 0.0
         else:
             kind = {HertzContact: _k.S_HERTZ, PiecewiseLinearSpring: _k.S_PWL, SineLoad: _k.S_SINE}[type(s.law)]
             p, s0 = s.law.pack(), []
@@ -544,10 +612,13 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     sig_out = np.full((N, len(sig_names)), np.nan)
     u_out = np.full((N, nact), np.nan)
     I64 = np.int64
+    mg = _merge_maps(machine, par, po, kinds, fold, bool(np.any(ld_mode)), Phi, G0, G1, Gf, Cq, Cm,
+                     int(substeps))
+    mg_R, mg_M = mg if mg is not None else (np.zeros((0, 0, 0)), np.zeros((0, 0)))
     status, k_end, n_bad = _k.run(
         int(substeps), dt, Phi, G0, G1, Gf, np.ascontiguousarray(Gss, dtype=float),
         np.ascontiguousarray(Hss, dtype=float),
-        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns),
+        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns), fold, mg is not None, mg_R, mg_M,
         np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
         np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
         ld_mode, ld_row, ld_mrow, ld_site, ld_par,

@@ -79,6 +79,8 @@ def _g(par, o, av):
     """``g = |s(v)|`` at speed ``av >= 0`` of the packed row ``par[o:o+6]``."""
     Fc = par[o]
     Fs = par[o + 1]
+    if Fs == Fc:  # flat (Dahl, Coulomb): no shape to evaluate, the same value
+        return Fc
     r = av / par[o + 2]
     if r == 0.0:
         return Fs
@@ -218,9 +220,10 @@ def _gms_rows(par, o, M, d):
 
 
 @njit(error_model="numpy")
-def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
+def _gms_mean(par, o, st, so, ds, h, out, lam, v0):
     """Mean GMS force over ``h`` for a site moving by ``ds`` from velocity ``v0``; element
-    states updated when ``commit``.
+    states written to ``out`` (at ``so``; ``out`` may be ``st`` itself: each element reads its
+    own state before writing it).
 
     The site's velocity is taken as linear in time over the sub-step, from ``v0`` with mean
     ``ds / h`` (end velocity ``v1 = 2 ds / h - v0``). When it changes sign inside the sub-step,
@@ -272,9 +275,8 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
             F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2, 0.0, v1)
             mean += m2 * w2
         fric += mean
-        if commit:
-            st[so + i] = F1
-            st[so + M + i] = mode
+        out[so + i] = F1
+        out[so + M + i] = mode
     visc = par[ro1 + 4] * d1 / h + (par[ro2 + 4] * d2 / h if two else 0.0)
     return lam * fric + visc
 
@@ -311,7 +313,7 @@ def _elastic(kind, par, o, d):
 
 
 @njit(error_model="numpy")
-def _site_mean(kind, par, o, st, so, s0, ds, h, lam, v0):
+def _site_mean(kind, par, o, st, stw, so, s0, ds, h, lam, v0):
     """``(mean force, LuGre end state)`` over the sub-step for displacement ``ds`` from ``s0``.
 
     ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
@@ -321,9 +323,9 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, lam, v0):
     if kind == S_LUGRE:
         return _lugre_mean(par, o, st[so], ds, h, lam)
     if kind == S_GMS:
-        # ``h < 0`` is False at run time but not a literal: one compiled _gms_mean serves both
-        # this call and the committing one in run (a literal would compile a second copy)
-        return _gms_mean(par, o, st, so, ds, h, h < 0.0, lam, v0), 0.0
+        # the element states at ``ds`` go to the scratch ``stw``; 1.0 says they are there, so
+        # the commit in run copies them instead of evaluating the law once more
+        return _gms_mean(par, o, st, so, ds, h, stw, lam, v0), 1.0
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
@@ -356,7 +358,7 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit(error_model="numpy")
-def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
+def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
     ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
@@ -365,7 +367,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
     Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, lam, v0)
+        Fa, za = _site_mean(kind, par, o, st, stw, so, s0, a, h, lam, v0)
         return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
@@ -445,7 +447,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
                 fhi = f1
     else:
         x0 = a - Gjj * Fguess
-        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, lam, v0)
+        F0, z0e = _site_mean(kind, par, o, st, stw, so, s0, x0, h, lam, v0)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
             return x0, F0, kt, z0e
@@ -465,7 +467,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         x1 = x0 - f0 / slope
         n = 0
         while n < 80:
-            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, lam, v0)
+            F1, z1e = _site_mean(kind, par, o, st, stw, so, s0, x1, h, lam, v0)
             f1 = x1 + Gjj * F1 - a
             n += 1
             if x1 != x0:
@@ -501,7 +503,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         if x1 != x0 and f1 != f0:
             x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
             if lo < x2 < hi:
-                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, lam, v0)
+                F2, z2e = _site_mean(kind, par, o, st, stw, so, s0, x2, h, lam, v0)
                 f2 = x2 + Gjj * F2 - a
                 if abs(f2) <= xtol:
                     return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt, z2e
@@ -522,7 +524,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         if kind == S_STATIC:
             fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, lam, v0)
+            Fx, zx = _site_mean(kind, par, o, st, stw, so, s0, x, h, lam, v0)
             fx = x + Gjj * Fx - a
         if fx == 0.0:
             break
@@ -799,7 +801,8 @@ def run(
     for j in range(ns):
         if ld_mode[j] != 0:
             has_load = True
-    zend = np.zeros(ns)  # LuGre end state of the converged solve
+    stw = np.zeros(st.size)  # scratch: GMS element states of a site's last evaluation
+    zend = np.zeros(ns)  # LuGre end state of the converged solve (GMS: 1.0, states in stw)
     kt = np.zeros(ns)  # last secant slope dFbar/dds per site (first guess of the next solve)
     for j in range(ns):
         if ld_mode[j] != 0:
@@ -1075,7 +1078,7 @@ def run(
                                     aj -= Gss[j, i] * Fbar[i]
                             Gjj = Gss[j, j]
                         tj = xtol[j] + 1e-13 * abs(aj)
-                        dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
+                        dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, stw, site_so[j], s0[j], aj,
                                                        Gjj, h, Fbar[j], tj, lam[j], kt[j], v0s[j])
                         kt[j] = ktj
                         zend[j] = zj
@@ -1097,7 +1100,12 @@ def run(
                         else:
                             st[site_so[j]] = _lugre_mean(par, site_po[j], st[site_so[j]], ds[j], h, lam[j])[1]
                     elif site_kind[j] == S_GMS:
-                        _gms_mean(par, site_po[j], st, site_so[j], ds[j], h, h > 0.0, lam[j], v0s[j])
+                        so_j = site_so[j]
+                        if zend[j] == 1.0:  # the last evaluation was at ds[j]: its states are in stw
+                            for i in range(2 * int(par[site_po[j] + 12])):
+                                st[so_j + i] = stw[so_j + i]
+                        else:
+                            _gms_mean(par, site_po[j], st, so_j, ds[j], h, st, lam[j], v0s[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

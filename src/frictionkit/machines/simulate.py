@@ -11,7 +11,6 @@ from scipy.linalg import expm
 from .. import _validate as val
 from ..errors import DataError, ParameterError, SimulationError
 from ..kernels import machine as _k
-from ..kernels._expm import expm_small
 from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
                        StateSpace, Sum)
@@ -66,20 +65,42 @@ def _ff_par(law) -> list[float]:
 def _folded_viscous(machine: Machine) -> np.ndarray:
     """Per site, the viscous coefficient the core folds into the linear chain (else 0).
 
-    A static law's ``sigma2 v`` (the same ``sigma2`` both ways) is linear in the site velocity:
-    as a damper of the chain it is integrated exactly (matrix exponential) instead of held over
-    a sub-step, and a site that slides on a flat level (``CoulombViscous``) is then exact at any
-    sub-step — which lets :func:`_merge_maps` span whole samples. The law keeps ``s(v)``.
+    Only for a machine whose sites are all flat static laws (``CoulombViscous``, or
+    ``Stribeck`` with ``Fs = Fc``, and ``Directional`` of those with one ``sigma2``; no
+    normal load, no schedule): ``sigma2 v`` is linear in the site velocity, so as a damper of
+    the chain it is integrated exactly (matrix exponential) instead of held over a sub-step,
+    and a sliding site is then exact at any sub-step — which lets :func:`_merge_maps` span
+    whole samples. Any other machine keeps the viscous term in its sites (all zeros here).
     """
     from ..models.tdmssc import schedule_rows
 
-    fold = np.zeros(len(machine.sites))
+    ns = len(machine.sites)
+    fold = np.zeros(ns)
     for j, s in enumerate(machine.sites):
-        if s.role == "friction" and law_family(s.law) == "static":
-            r = schedule_rows(s.law)
-            if r[0, 6] == r[1, 6]:
-                fold[j] = float(r[0, 6])
+        if (s.role != "friction" or s.load is not None or s.schedule is not None
+                or law_family(s.law) != "static"):
+            return np.zeros(ns)
+        r = schedule_rows(s.law)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
+        flat = all(x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 for x in r)
+        if not flat or r[0, 6] != r[1, 6]:
+            return np.zeros(ns)
+        fold[j] = float(r[0, 6])
     return fold
+
+
+def _all_flat(machine: Machine) -> bool:
+    """Every site a flat static law without viscous term (then nothing is folded, but the
+    machine still qualifies for the sample-spanning step)."""
+    from ..models.tdmssc import schedule_rows
+
+    for s in machine.sites:
+        if (s.role != "friction" or s.load is not None or s.schedule is not None
+                or law_family(s.law) != "static"):
+            return False
+        r = schedule_rows(s.law)
+        if not all(x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 and x[6] == 0.0 for x in r):
+            return False
+    return True
 
 
 def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.ndarray, has_loads: bool,
@@ -98,13 +119,11 @@ def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.nda
     decide) and falls back to the sub-steps when one stops or turns.
     """
     ns = len(kinds)
-    if ns == 0 or n_sub < 2 or has_loads:
+    if ns == 0 or n_sub < 2 or has_loads or not np.any(fold != 0.0) and not _all_flat(machine):
         return None
-    for j in range(ns):
+    for j in range(ns):  # the packed form agrees with _folded_viscous's reading of the laws
         o = po[j]
-        if kinds[j] != _k.S_STATIC or machine.sites[j].schedule is not None:
-            return None
-        if par[o + 4] != 0.0 or par[o + _k.N_ROW + 4] != 0.0:  # a viscous term not folded
+        if kinds[j] != _k.S_STATIC or par[o + 4] != 0.0 or par[o + _k.N_ROW + 4] != 0.0:
             return None
         for r in (0, _k.N_ROW):
             if par[o + r] != par[o + r + 1] or not par[o + r] > 0.0:
@@ -301,9 +320,7 @@ def discretise(machine: Machine, h: float, *, site_damping=None):
     Z[:2 * n, :2 * n] = A * h
     Z[:2 * n, 2 * n:2 * n + m] = B * h
     Z[2 * n:2 * n + m, 2 * n + m:] = np.eye(m)
-    # small: our compiled Padé-13 (no threaded BLAS: scipy's expm of a 4x4 took 13 ms on a loaded
-    # 2-core machine, OpenBLAS threads waiting on each other; see kernels/_expm.py)
-    E = expm_small(np.ascontiguousarray(Z)) if Z.shape[0] <= 64 else expm(Z)
+    E = expm(Z)
     Phi = E[:2 * n, :2 * n]
     G0 = E[:2 * n, 2 * n:2 * n + m]
     G1 = E[:2 * n, 2 * n + m:]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 
@@ -370,10 +371,15 @@ def _length(inputs: dict, n_samples):
     return n_samples
 
 
+#: ``MachineResult.status`` when ``atol`` could not be met within ``max_substeps``.
+STATUS_TOLERANCE = 2
+
+
 def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
                      n_samples: int | None = None, duration: float | None = None,
                      substeps: int = 10, seed: int | None = 0, fast_path: bool = True,
-                     raise_on_failure: bool = False) -> MachineResult:
+                     raise_on_failure: bool = False, atol: float | None = None,
+                     max_substeps: int = 640) -> MachineResult:
     """Run a machine in its compiled closed loop.
 
     Parameters
@@ -394,6 +400,15 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         kernels of :func:`frictionkit.simulate` (error-controlled, breakaways located inside
         the step; ``substeps`` does not apply). ``False`` forces the general loop.
     raise_on_failure : bool — raise :class:`SimulationError` instead of returning status 1.
+    atol : float, optional — error control: a tolerance on the positions of the degrees of
+        freedom [m or rad]. The run is repeated with ``substeps``, ``2 substeps``, ... and stops
+        at the first doubling that moves no position by more than ``atol`` at any sample (the
+        scheme is first order, so that change estimates the finer run's error); the result is
+        that finer run (``substeps`` says which count was chosen, ``message`` the estimate).
+        If ``max_substeps`` is reached first, ``status`` is 2 (``STATUS_TOLERANCE``) and the
+        message says by how much the tolerance was missed. A machine on the one-DOF fast path
+        is error-controlled already and ignores ``atol``.
+    max_substeps : int — cap of the error control's doubling.
 
     Returns
     -------
@@ -431,11 +446,46 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     if N < 2:
         raise DataError(f"simulate_machine: {N} samples; need at least 2")
 
-    n = machine.n
     if fast_path:
         fast = _fast_path(machine, dt, inputs, N, raise_on_failure)
         if fast is not None:
             return fast
+    if atol is not None:
+        return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
+                                 val.positive("simulate_machine", "atol", atol), max_substeps)
+    return _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+
+
+def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, atol, max_substeps):
+    """Double the sub-steps until the positions move by at most ``atol`` (see simulate_machine)."""
+    if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < substeps:
+        raise ParameterError(f"simulate_machine max_substeps = {max_substeps!r}: must be an integer >= substeps "
+                             f"({substeps})")
+    prev = _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure)
+    n = substeps
+    err = None
+    while True:
+        if prev.status != 0:
+            return prev
+        if 2 * n > max_substeps:
+            est = ("no estimate (one run)" if err is None else
+                   f"the error estimate {n // 2} -> {n} sub-steps is {err:.3g} m or rad")
+            return dataclasses.replace(prev, status=STATUS_TOLERANCE,
+                                       message=f"atol = {atol:.3g} not met within max_substeps = {max_substeps}: {est}")
+        nxt = _run_machine(machine, dt, inputs, N, 2 * n, seed, raise_on_failure)
+        if nxt.status != 0:
+            return nxt
+        with np.errstate(invalid="ignore"):
+            err = float(np.nanmax(np.abs(nxt.q - prev.q))) if nxt.q.size else 0.0
+        n *= 2
+        if err <= atol:
+            return dataclasses.replace(nxt, message=f"{nxt.message}; error estimate {err:.3g} <= atol = {atol:.3g} "
+                                                    f"(positions, {n // 2} -> {n} sub-steps)")
+        prev = nxt
+
+
+def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+    n = machine.n
     h = dt / int(substeps)
     fold = _folded_viscous(machine)
     Phi, G0, G1, Gf, parts = discretise(machine, h, site_damping=fold)

@@ -28,6 +28,12 @@ with ``F = s(v_j) + sigma2 v_j`` otherwise (Karnopp's stick model, made exact in
 The scheme is first order in ``h`` overall (site forces held over the sub-step); raise
 ``n_sub`` for accuracy. The parity tests against the ``solve_ivp`` twin measure it.
 
+Sample-spanning step. When every site is a flat static law (``CoulombViscous``: EMPS), the
+wrapper folds the viscous terms into the chain, so a sliding site's force is a constant
+``+-Fc`` and the sub-steps are exact; a sample in which every site keeps sliding one way at
+every sub-step end (checked with precomputed rows, :func:`merge_maps`) is then advanced by one
+map instead of ``n_sub`` sub-steps — the same result to round-off (:func:`_merged_step`).
+
 Controller (once per sample, before the plant step)
 ---------------------------------------------------
 ``sig`` holds every named signal; a signal keeps its value until written again, so a block

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -259,6 +260,30 @@ class MachineResult(TraceAccess):
         return ax
 
 
+_EXPM_CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()
+_EXPM_CACHE_SIZE = 64
+
+
+def _expm_cached(Z: np.ndarray) -> np.ndarray:
+    """``scipy.linalg.expm(Z)``, remembered for the last 64 distinct ``Z`` (bit for bit).
+
+    Repeated runs of one machine at one step (identification loops, studies, benchmarks)
+    then skip the exponential: on a loaded 2-core machine scipy's expm of a small matrix was
+    measured at up to 13 ms (OpenBLAS threads waiting on each other), more than the whole
+    compiled run of the EMPS axis. The result is the same array values either way.
+    """
+    key = Z.tobytes() + repr(Z.shape).encode()
+    E = _EXPM_CACHE.get(key)
+    if E is None:
+        E = expm(Z)
+        _EXPM_CACHE[key] = E
+        if len(_EXPM_CACHE) > _EXPM_CACHE_SIZE:
+            _EXPM_CACHE.popitem(last=False)
+    else:
+        _EXPM_CACHE.move_to_end(key)
+    return E
+
+
 def discretise(machine: Machine, h: float, *, site_damping=None):
     """Exact discretisation of the linear chain over a sub-step ``h``.
 
@@ -321,14 +346,15 @@ def discretise(machine: Machine, h: float, *, site_damping=None):
     Z[:2 * n, :2 * n] = A * h
     Z[:2 * n, 2 * n:2 * n + m] = B * h
     Z[2 * n:2 * n + m, 2 * n + m:] = np.eye(m)
-    E = expm(Z)
+    E = _expm_cached(Z)
     Phi = E[:2 * n, :2 * n]
     G0 = E[:2 * n, 2 * n:2 * n + m]
     G1 = E[:2 * n, 2 * n + m:]
     nw = Bw.shape[1]
     parts = {"M": Mm, "D": D, "K": K, "Bw": Bw, "Cq": Cq, "Cm": Cm}
-    return (np.ascontiguousarray(Phi), np.ascontiguousarray(G0[:, :nw]), np.ascontiguousarray(G1[:, :nw]),
-            np.ascontiguousarray(G0[:, nw:]), parts)
+    # copies: E may be the cached array, which must never reach a caller
+    return (np.array(Phi, order="C"), np.array(G0[:, :nw], order="C"), np.array(G1[:, :nw], order="C"),
+            np.array(G0[:, nw:], order="C"), parts)
 
 
 def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failure: bool):

@@ -19,7 +19,11 @@ with the right frequency and amplitude. Only the slipping elements (rate
 load, predicted from their rates and corrected twice with the secant of their
 exact exponential update at the mean velocity; the change between passes is the
 error estimate that sizes the adaptive sub-step. In pure pre-sliding the step is
-exact and one sub-step covers a sample interval.
+exact and one sub-step covers a sample interval — except that, since switches are
+tested at the ends of a sub-step, an underdamped oscillation with a breakaway
+within reach (or with slipping elements that a reversal would re-stick) is crossed
+in sub-steps of at most an eighth of its period ``2 pi sqrt(m / K)``, so that a
+swing out and back inside one sub-step cannot hide a switch.
 
 Switches are located inside the sample interval instead of on the step grid:
 when a trial sub-step crosses a breakaway or velocity-reversal surface, the event
@@ -56,7 +60,7 @@ import numpy as np
 
 from .._jit import njit, prange
 from ._oscillator import coefficients
-from ._stribeck import R_S2, g_row
+from ._stribeck import R_FC, R_FS, R_S2, g_row
 from ._stribeck import row as static_row
 
 OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
@@ -122,6 +126,14 @@ def _drive(
     C0 = C[0]
     C1 = C[1]
     directional = _is_directional(static, k, xi, C)
+    # smallest |s| of either direction and, per element, the smallest weight and largest
+    # stiffness: a direction-free test whether a breakaway is within reach (see below)
+    g_lo = min(min(p0[R_FC], p0[R_FS]), min(p1[R_FC], p1[R_FS]))
+    xi_lo = np.empty(M)
+    k_hi = np.empty(M)
+    for i in range(M):
+        xi_lo[i] = min(xi[0, i], xi[1, i])
+        k_hi[i] = max(k[0, i], k[1, i])
     im = 1.0 / m
     h_ev = EVENT_TOL * dt
     # oscillator coefficients cached across sub-steps and intervals: key (K, c, h)
@@ -184,6 +196,30 @@ def _drive(
                     any_slip = True
                     P0 += Fi[i]
                     R0 += Cr * (xi[row, i] * sv - Fi[i] / g0)
+            if K > 0.0 and c * c < 4.0 * K * m:
+                # The sticking springs are solved exactly, so one sub-step may span a large
+                # part of an oscillation while the switches are tested at its ends only: a
+                # breakaway or reversal in the middle (velocity swinging out and back) would
+                # go unseen. When an element could reach its breakaway within the step (the
+                # oscillation amplitude about the moving equilibrium bounds the excursion),
+                # or some element slips (a reversal re-sticks it), the sub-step is capped at an
+                # eighth of the period 2 pi sqrt(m / K). Only an underdamped oscillator can swing
+                # back within a step (an overdamped one crosses its equilibrium at most once).
+                # Found by the issue-13 property test.
+                om = math.sqrt(K * im)
+                h_cap = 0.785 / om
+                if h > h_cap:
+                    near = any_slip
+                    if not near:
+                        dxe = (w - S0 - P0) / K
+                        amp = math.sqrt(dxe * dxe + (v / om) * (v / om))
+                        reach = 2.0 * amp + (abs(du) + abs(R0)) * h / K
+                        for i in range(M):
+                            if st_[i] and xi_lo[i] * g_lo - abs(Fi[i]) <= k_hi[i] * reach:
+                                near = True
+                                break
+                    if near:
+                        h = h_cap
             if K != cK or c != cc_ or h != cH:
                 _, E12, _, E22, q1, r1, q2, r2 = coefficients(K, c, m, h)
                 cK = K

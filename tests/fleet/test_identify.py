@@ -164,3 +164,32 @@ def test_several_files_per_task_give_the_same_table(dask_run, cluster, small_fle
     cols = ["axis", "period", "ok", "error", *PARAM_COLUMNS]
     pd.testing.assert_frame_equal(run.table[cols], dask_run.table[cols], check_exact=True)
     assert len(list(parts_dir(run.out).glob("*.parquet"))) == 12  # still one part per file
+
+
+def test_settle_removes_the_slow_plateau_transient():
+    """Noise-free LuGre through the daily test motion: the slowest plateau (0.5 mm/s, entered
+    from 0.9 mm/s, lower friction) starts with the pre-sliding state catching up, so its mean
+    is below the static map; dropping 40 % more of each plateau at its start removes most of it."""
+    import frictionkit as fk
+    from frictionkit.data import Recording
+    from frictionkit.fleet import daily_test_motion
+    from frictionkit.fleet.task import _plateau_points
+
+    law = fk.Stribeck(Fc=20.0, Fs=30.0, vs=2e-3, delta=2.0, sigma2=200.0)
+    t, v = daily_test_motion()
+    res = fk.simulate(fk.LuGre(law, sigma0=5e5, sigma1=1000.0), velocity=v, dt=t[1] - t[0])
+    rec = Recording(t=t, v=v, F=res.F)
+
+    def slowest_error(seg):
+        pts = _plateau_points(rec, seg)
+        k = np.argmin(np.where(pts.v > 0, pts.v, np.inf))
+        return pts.F[k] / float(law.steady_state(np.array([pts.v[k]]))[0]) - 1.0
+
+    plain = slowest_error({"min_speed": 2e-4, "min_duration": 0.3})
+    settled = slowest_error({"min_speed": 2e-4, "min_duration": 0.3, "settle": 0.4})
+    assert plain < -1e-3  # measured -0.30 % (settle 0.4: -0.07 %): biased low
+    assert abs(settled) < 0.5 * abs(plain)
+    with pytest.raises(Exception, match="settle"):
+        from frictionkit.fleet import config_from_dict
+
+        config_from_dict({"columns": {"time": "t", "force": "F", "velocity": "v"}, "segmentation": {"settle": 1.0}})

@@ -31,6 +31,7 @@ Example (``frictionkit fleet simulate`` writes one like it beside the logs)::
     [segmentation]         # keywords of frictionkit.data.find_plateaus (SI units)
     min_speed = 2e-4
     min_duration = 0.3
+    settle = 0.4           # and: fraction of each plateau dropped at its start (transient)
 
     [fit]                  # keywords of frictionkit.identify.fit_static_map
     model = "auto"
@@ -101,7 +102,7 @@ DEFAULT_PATTERNS = (
 LAYOUT_KEYS = ("axis", "period", "axis_column", "period_column", "record_column")
 
 _SECTIONS = {"layout", "columns", "units", "scales", "schedule", "segmentation", "fit", "dynamic", "monitor"}
-_SEGMENTATION_KEYS = {"window", "rel_tol", "abs_tol", "min_speed", "min_duration", "min_samples", "trim"}
+_SEGMENTATION_KEYS = {"window", "rel_tol", "abs_tol", "min_speed", "min_duration", "min_samples", "trim", "settle"}
 _FIT_KEYS = {"model", "criterion", "loss", "f_scale", "delta", "direction"}
 _MONITOR_KEYS = {"alpha", "min_periods", "parameters", "n_null", "seed", "se_floor", "method", "weights", "scale"}
 _DYNAMIC_KEYS = {"lugre"}
@@ -201,6 +202,9 @@ class FleetConfig:
         object.__setattr__(self, "patterns", pats)
         if not isinstance(self.dynamic.get("lugre", True), bool):
             raise DataError(f"{where}: [dynamic] lugre = {self.dynamic.get('lugre')!r}: must be true or false")
+        settle = self.segmentation.get("settle", 0.0)
+        if isinstance(settle, bool) or not isinstance(settle, (int, float)) or not 0.0 <= settle < 0.9:
+            raise DataError(f"{where}: [segmentation] settle = {settle!r}: must be a number in [0, 0.9)")
         for sec, keys in (("segmentation", _SEGMENTATION_KEYS), ("fit", _FIT_KEYS), ("monitor", _MONITOR_KEYS),
                           ("dynamic", _DYNAMIC_KEYS)):
             bad = set(getattr(self, sec)) - keys

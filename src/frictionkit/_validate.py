@@ -133,16 +133,23 @@ def outlier(arr: np.ndarray) -> tuple[int, float] | None:
 
     The limit is ``OUTLIER_FACTOR`` times the 99th percentile of ``|arr|`` (which
     one corrupt sample cannot move), capped at :data:`HUGE`. A signal that is zero
-    in 99 % of its samples is judged by :data:`HUGE` alone.
+    in 99 % of its samples is judged by :data:`HUGE` alone. Below :data:`HUGE` a
+    sample counts only when it is also ``OUTLIER_FACTOR`` times larger than both its
+    neighbours — a spike, not the start of a short, real motion in a long quiet log.
     """
     a = np.abs(np.asarray(arr, dtype=float))
     if a.size == 0:
         return None
-    p = float(np.percentile(a, 99.0))
+    p = float(np.percentile(a, 99.0, method="lower"))  # "lower": one spike in 100 samples cannot move it
     limit = HUGE if p == 0.0 else min(HUGE, OUTLIER_FACTOR * p)
     big = a > limit
     if not big.any():
         return None
+    if limit < HUGE and a.size > 1:
+        nb = np.maximum(np.r_[a[1], a[:-1]], np.r_[a[1:], a[-2]])  # larger neighbour
+        big &= (a > HUGE) | (a > OUTLIER_FACTOR * nb)
+        if not big.any():
+            return None
     return int(np.flatnonzero(big)[0]), limit
 
 

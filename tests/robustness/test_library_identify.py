@@ -63,6 +63,18 @@ def test_a_1e300_sample_is_named_not_an_overflow(signal):
         Recording(t=t, **arrs)
 
 
+def test_a_short_real_motion_in_a_quiet_log_is_not_an_outlier():
+    # 40 samples at 0.1 m/s in 10,000 of 1e-9 m/s noise: 0.4 % of the record, so the 99th
+    # percentile is the noise, 1e8 times smaller; only isolated spikes are corrupt samples
+    t = np.arange(10_000) * DT
+    v = np.full(t.size, 1e-9)
+    v[5000:5040] = 0.1
+    assert Recording(t=t, v=v).n == 10_000
+    v[7000] = 0.1  # the same value alone between quiet neighbours is a spike
+    with pytest.raises(DataError, match="signal 'v', row 7000"):
+        Recording(t=t, v=v)
+
+
 def test_fit_static_map_refuses_points_that_overflow():
     v = np.r_[np.geomspace(1e-3, 0.1, 6), -np.geomspace(1e-3, 0.1, 6)]
     F = LAW.steady_state(v)

@@ -16,7 +16,22 @@ def _interrupted() -> None:
     sys.exit(130)
 
 
+def _fast_version() -> bool:
+    """``frictionkit --version`` alone: answered from the installed metadata, without importing frictionkit."""
+    if sys.argv[1:] != ["--version"]:
+        return False
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        sys.stdout.write(f"frictionkit {version('frictionkit')}\n")
+    except PackageNotFoundError:  # running from a source tree that is not installed: ask the package
+        return False
+    return True
+
+
 def main() -> None:
+    if _fast_version():
+        return
     try:
         from frictionkit.cli import main as cli_main
     except KeyboardInterrupt:

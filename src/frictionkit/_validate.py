@@ -51,8 +51,12 @@ def nonnegative(owner: str, name: str, value: Any) -> float:
 
 def integer(owner: str, name: str, value: Any, *, minimum: int | None = None,
             maximum: int | None = None) -> int:
-    """Return ``value`` as an int, or raise unless it is an integer (not a bool) within bounds."""
-    if is_bool(value) or not isinstance(value, (int, np.integer)):
+    """Return ``value`` as an int, or raise unless it is an integer within bounds.
+
+    Booleans are refused; a float is taken only when it is finite and whole (``10.0``).
+    """
+    whole_float = isinstance(value, (float, np.floating)) and math.isfinite(value) and float(value).is_integer()
+    if is_bool(value) or not (isinstance(value, (int, np.integer)) or whole_float):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be an integer")
     out = int(value)
     if (minimum is not None and out < minimum) or (maximum is not None and out > maximum):
@@ -111,3 +115,45 @@ def signal(name: str, value: Any, *, min_len: int = 2) -> np.ndarray:
         i = int(np.flatnonzero(bad)[0])
         raise DataError(f"{name}[{i}] = {float(arr[i])!r}: samples must be finite (not NaN or inf)")
     return np.ascontiguousarray(arr)
+
+
+#: A sample whose magnitude exceeds this many times the 99th percentile of the
+#: signal's magnitudes is taken for a corrupt sample or a unit slip (assumption,
+#: issue 13: a one-sample spike of 1e300 otherwise overflows a fit or hides every
+#: plateau; no real axis log spans six decades between its 99th percentile and its
+#: largest sample).
+OUTLIER_FACTOR = 1e6
+
+#: Magnitudes whose squares overflow float64 are never usable.
+HUGE = 1e150
+
+
+def outlier(arr: np.ndarray) -> tuple[int, float] | None:
+    """``(index, limit)`` of the first sample beyond the outlier limit, or ``None``.
+
+    The limit is ``OUTLIER_FACTOR`` times the 99th percentile of ``|arr|`` (which
+    one corrupt sample cannot move), capped at :data:`HUGE`. A signal that is zero
+    in 99 % of its samples is judged by :data:`HUGE` alone.
+    """
+    a = np.abs(np.asarray(arr, dtype=float))
+    if a.size == 0:
+        return None
+    p = float(np.percentile(a, 99.0))
+    limit = HUGE if p == 0.0 else min(HUGE, OUTLIER_FACTOR * p)
+    big = a > limit
+    if not big.any():
+        return None
+    return int(np.flatnonzero(big)[0]), limit
+
+
+def no_outlier(name: str, arr: np.ndarray, *, unit: str = "") -> None:
+    """Raise :class:`DataError` naming the first outlying sample of ``arr`` (see :func:`outlier`)."""
+    hit = outlier(arr)
+    if hit is not None:
+        i, limit = hit
+        u = f" {unit}" if unit else ""
+        raise DataError(
+            f"{name}[{i}] = {float(arr[i]):.6g}{u} is beyond {limit:.3g}{u} "
+            f"({OUTLIER_FACTOR:.0e} times the 99th percentile of its magnitudes): a corrupt sample "
+            "or a unit/scale slip; remove or repair it"
+        )

@@ -29,7 +29,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Catalog", "LAW_SOURCES", "LawInfo", "PresetInfo", "catalog"]
+__all__ = ["Catalog", "CompensatorInfo", "LAW_SOURCES", "LawInfo", "PresetInfo", "catalog"]
 
 #: Source of each law shipped with frictionkit (paper and equation; see the README's law table).
 LAW_SOURCES = {
@@ -70,11 +70,24 @@ class PresetInfo:
 
 
 @dataclass(frozen=True)
+class CompensatorInfo:
+    """One reversal compensation law of :mod:`frictionkit.models.rolling`: ``name``, ``parameters``, ``source``."""
+
+    name: str
+    parameters: tuple[str, ...]
+    source: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "parameters": list(self.parameters), "source": self.source}
+
+
+@dataclass(frozen=True)
 class Catalog:
     """The laws and presets frictionkit knows, with their sources (see :func:`catalog`)."""
 
     laws: tuple[LawInfo, ...]
     presets: tuple[PresetInfo, ...]
+    compensators: tuple[CompensatorInfo, ...] = ()
     errors: dict[str, str] = field(default_factory=dict)
     status: int = 0
     message: str = "ok"
@@ -83,7 +96,8 @@ class Catalog:
         from . import __version__
 
         return {"frictionkit_version": __version__, "laws": [law.to_dict() for law in self.laws],
-                "presets": [p.to_dict() for p in self.presets], "errors": dict(self.errors),
+                "presets": [p.to_dict() for p in self.presets],
+                "compensators": [c.to_dict() for c in self.compensators], "errors": dict(self.errors),
                 "status": self.status, "message": self.message}
 
     def summary(self) -> str:
@@ -92,6 +106,9 @@ class Catalog:
         for law in self.laws:
             fields = ", ".join(f"{k} [{u}]" if u else k for k, u in law.fields.items())
             lines += [f"  {law.name:<15} {law.family:<7} {fields}", f"  {'':<15} source: {law.source}"]
+        lines.append("Reversal compensation laws (frictionkit.models.rolling):")
+        for c in self.compensators:
+            lines += [f"  {c.name:<22} ({', '.join(c.parameters)})", f"  {'':<22} source: {c.source}"]
         lines.append("Machine presets (frictionkit.presets):")
         for p in self.presets:
             lines.append(f"  {p.name:<15} {p.title}")
@@ -208,5 +225,12 @@ def catalog() -> Catalog:
         doc = mod.__doc__ or ""
         found.append(PresetInfo(name=info.name, title=_sentence(doc.strip().split("\n\n")[0]),
                                 sources=_sources(doc), builders=_builders(mod)))
+    from .models import rolling
+
+    comps = []
+    for name, fn in sorted(vars(rolling).items()):
+        if inspect.isfunction(fn) and fn.__module__ == rolling.__name__ and name.endswith("_compensation"):
+            params = tuple(p for p in inspect.signature(fn).parameters)
+            comps.append(CompensatorInfo(name=name, parameters=params, source=_sentence(_first_line(fn.__doc__))))
     status, message = (1, f"{len(errors)} preset module(s) failed to import") if errors else (0, "ok")
-    return Catalog(laws=tuple(laws), presets=tuple(found), errors=errors, status=status, message=message)
+    return Catalog(laws=tuple(laws), presets=tuple(found), compensators=tuple(comps), errors=errors, status=status, message=message)

@@ -19,18 +19,22 @@ Formats (:data:`FORMATS`):
 ``"csv"``
     ``v [unit], F [unit]`` on an odd, uniform grid over ``[-v_max, v_max]`` (0 included;
     interpolating linearly across 0 smooths the sign step over one grid interval).
+``"json"``
+    A model file (``frictionkit.model/1``, :mod:`frictionkit.models.files`): the law, its
+    units and the provenance given — e.g. an identification result reduced to its model.
 ``"c"``
     A self-contained C99 header (``static inline`` functions, ``<math.h>``):
     ``<name>_steady(v)`` and, for the LuGre family, ``<name>_state``,
     ``<name>_reset(&s)`` and ``<name>_update(&s, v, dt)``.
 ``"st"``
-    An IEC 61131-3 ``FUNCTION_BLOCK``: inputs ``v`` (and ``dt``, ``reset`` for the LuGre
-    family), output ``F``; one statement per line; ``EXP``, ``EXPT``, ``ABS``, ``MAX``
+    An IEC 61131-3 ``FUNCTION_BLOCK``: the steady-state map (input ``v``) or, for the
+    LuGre family, the update with state (inputs ``v``, ``dt``, ``reset``); output ``F``; one statement per line; ``EXP``, ``EXPT`` and ``ABS``
     from the standard library.
 
 Parameters are written per direction (row 0 for ``v >= 0``, row 1 for ``v < 0``, as the
-kernels read them) in SI with 17 significant digits, and every file starts with the
-law, the units and the provenance it was exported from.
+kernels read them) in SI, as the shortest decimals that read back to the same doubles;
+the C and ST files start with a comment naming the law, the units and the provenance
+(method, date, data SHA-256) of the model they came from.
 
 Where a level is zero, the LuGre update divides by ``|s(v)| = 0``; like the kernels
 (``kernels/_stribeck.row``) it uses ``Fc`` and ``Fs`` floored at ``G_FLOOR = 1e-9`` times
@@ -39,8 +43,8 @@ the largest level (the C header keeps the unfloored levels for the steady-state 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from datetime import datetime, timezone
 from typing import Any
@@ -53,7 +57,7 @@ from .models.base import kernel_family, law_entry
 __all__ = ["FORMATS", "export_model", "lookup_table"]
 
 #: Export formats: lookup table, C header, IEC 61131-3 structured text.
-FORMATS = ("csv", "c", "st")
+FORMATS = ("csv", "json", "c", "st")
 
 #: Floor of ``|s(v)|`` in the LuGre update, as a fraction of the largest level (the kernels' G_FLOOR).
 G_FLOOR = 1e-9
@@ -88,6 +92,10 @@ def _rows(model: Any) -> _Rows:
     family = kernel_family(model)
     dyn = None
     if family == "static":
+        if not callable(getattr(model, "static_rows", None)):  # e.g. a TDMSSC: its levels follow a schedule input
+            raise ParameterError(f"export: {law_entry(model).name} has no fixed static map (its levels depend on "
+                                 "a scheduling input); export a law with fixed levels, e.g. the Stribeck curve at "
+                                 "one operating point")
         st = np.asarray(model.static_rows(), dtype=float)
     elif family == "lugre":
         pk = pack_lugre(model)
@@ -315,7 +323,7 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
     ----------
     model : friction law
         Any registered law; see the module docstring for what each family exports.
-    fmt : {"csv", "c", "st"}
+    fmt : {"csv", "json", "c", "st"}
         Format.
     name : str, optional
         Identifier prefix of the C functions (default ``fk_friction``) or name of the
@@ -351,6 +359,13 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
         v, F = lookup_table(model, v_max=v_max, points=points)
         lines = [f"v [{ax['v']}],F [{ax['F']}]"] + [f"{a!r},{b!r}" for a, b in zip(v.tolist(), F.tolist())]
         return "\n".join(lines) + "\n"
+    if fmt == "json":
+        import json
+
+        from .models.files import ModelFile
+
+        doc = ModelFile(model=model, units=ax, provenance=prov).to_dict()
+        return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
     if fmt == "c":
         return _ascii(_c_source(model, _check_name(name or "fk_friction", "C"), ax, prov))
     return _ascii(_st_source(model, _check_name(name or "FK_Friction", "structured-text"), ax, prov))

@@ -50,6 +50,18 @@ The study is described by a TOML file::
     seeds = 2
     compensators = ["none", "coulomb", "static"]
     seed = 0
+
+**A preset machine** instead of the generic axis: ``[machine] preset = "emps"`` is the EMPS
+benchmark axis in its own position loop (:func:`frictionkit.presets.emps.emps_machine`: the
+published P/P cascade, ±10 V, one-sample delay, the published offset −3.1648 N), with the
+published mass and friction as the nominal values (M 95.1089 kg, Fc 20.3935 N, σ2
+203.5034 N·s/m). Named assumptions (the benchmark gives no Stribeck or dynamic friction):
+``Fs = Fc`` (no Stribeck rise) and ``law = "stribeck"`` (static); set ``Fs``, ``vs``,
+``law = "lugre"``, ``sigma0``, ``sigma1`` to study them. The default reference is a
+0.1 m, 0.2 Hz sine (peak 0.126 m/s, the benchmark's fastest plateau) at the controller's
+1 kHz; ``Kp``, ``Ki``, ``Kd``, ``tau_d``, ``limit`` and ``noise`` do not apply (its own
+controller), ``resolution`` is the encoder count. The compensators add the nominal friction
+feed-forward on the reference velocity as a second force on the axis.
 """
 
 from __future__ import annotations
@@ -68,27 +80,40 @@ import numpy as np
 from .errors import DataError, ParameterError
 
 COMPENSATORS = ("none", "coulomb", "static")
-_MACHINE = {"mass": 20.0, "law": "lugre", "Fc": 20.0, "Fs": 30.0, "vs": 2e-3, "sigma2": 200.0, "sigma0": 1e6,
+#: Machines a study can be built on: the generic axis, or a preset.
+PRESETS = ("custom", "emps")
+_MACHINE = {"preset": "custom", "mass": 20.0, "law": "lugre", "Fc": 20.0, "Fs": 30.0, "vs": 2e-3, "sigma2": 200.0, "sigma0": 1e6,
             "sigma1": 2e3, "Kp": 2e5, "Ki": 2e6, "Kd": 2e3, "tau_d": 1e-3, "limit": 2000.0, "resolution": 1e-7,
             "noise": 5e-8}
 _REFERENCE = {"amplitude": 1e-3, "frequency": 0.5, "duration": 4.0, "dt": 5e-4}
 _SPREADABLE = ("Fc", "Fs", "vs", "sigma2", "sigma0", "sigma1", "mass")
 _STUDY = {"draws": 20, "seeds": 1, "compensators": list(COMPENSATORS), "seed": 0}
+#: The EMPS preset's nominal machine and reference (published values: README of
+#: ../shared/data/emps, EMPS_Description.pdf §3.4; Fs = Fc and the static law are assumptions).
+_EMPS_MACHINE = {"mass": 95.1089, "law": "stribeck", "Fc": 20.3935, "Fs": 20.3935, "sigma2": 203.5034,
+                 "resolution": 0.0}
+_EMPS_REFERENCE = {"amplitude": 0.1, "frequency": 0.2, "duration": 5.0, "dt": 1e-3}
 
 
 @dataclass(frozen=True, kw_only=True)
 class StudySpec:
     """A Monte-Carlo study (see the module docstring for the TOML form)."""
 
-    machine: dict = field(default_factory=lambda: dict(_MACHINE))
-    reference: dict = field(default_factory=lambda: dict(_REFERENCE))
+    machine: dict = field(default_factory=dict)  # defaults (of the preset) filled in on construction
+    reference: dict = field(default_factory=dict)
     spread: dict = field(default_factory=lambda: {"Fc": 0.3, "Fs": 0.3, "sigma2": 0.2, "sigma0": 0.3})
-    study: dict = field(default_factory=lambda: dict(_STUDY))
+    study: dict = field(default_factory=dict)
     source: str | None = None
 
     def __post_init__(self) -> None:
         where = f"study '{self.source}'" if self.source else "study"
-        for sec, defaults in (("machine", _MACHINE), ("reference", _REFERENCE), ("study", _STUDY)):
+        preset = self.machine.get("preset", "custom")
+        if preset not in PRESETS:
+            raise DataError(f"{where}: [machine] preset = {preset!r}: must be one of {list(PRESETS)}")
+        base = {"machine": _MACHINE, "reference": _REFERENCE, "study": _STUDY}
+        if preset == "emps":
+            base = {**base, "machine": {**_MACHINE, **_EMPS_MACHINE}, "reference": _EMPS_REFERENCE}
+        for sec, defaults in base.items():
             d = getattr(self, sec)
             bad = set(d) - set(defaults)
             if bad:
@@ -98,7 +123,7 @@ class StudySpec:
         if m["law"] not in ("lugre", "stribeck"):
             raise DataError(f"{where}: [machine] law = {m['law']!r}: must be 'lugre' or 'stribeck'")
         for k, v in {**m, **self.reference}.items():
-            if k == "law":
+            if k in ("law", "preset"):
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise DataError(f"{where}: {k} = {v!r}: must be a finite number >= 0")
@@ -122,7 +147,8 @@ class StudySpec:
 
     @property
     def sha256(self) -> str:
-        doc = {"machine": self.machine, "reference": self.reference, "spread": self.spread, "study": self.study}
+        machine = {k: v for k, v in self.machine.items() if not (k == "preset" and v == "custom")}  # old hashes stay
+        doc = {"machine": machine, "reference": self.reference, "spread": self.spread, "study": self.study}
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
     def runs(self) -> list[dict[str, Any]]:
@@ -158,6 +184,13 @@ def load_study(path: str | Path) -> StudySpec:
     return StudySpec(**{k: dict(v) for k, v in doc.items()}, source=str(p))
 
 
+def _nominal(m0: dict, comp: str):
+    import frictionkit as fk
+
+    return (fk.CoulombViscous(Fc=m0["Fc"], sigma2=m0["sigma2"]) if comp == "coulomb" else
+            fk.Stribeck(Fc=m0["Fc"], Fs=m0["Fs"], vs=m0["vs"], sigma2=m0["sigma2"]))
+
+
 def _machine(spec: StudySpec, run: dict):
     import frictionkit as fk
     from frictionkit.machines import PID, FrictionFeedforward, Sum
@@ -165,6 +198,16 @@ def _machine(spec: StudySpec, run: dict):
     m0 = spec.machine
     plant = fk.Stribeck(Fc=run["Fc"], Fs=run["Fs"], vs=run["vs"], sigma2=run["sigma2"])
     law = fk.LuGre(plant, sigma0=run["sigma0"], sigma1=run["sigma1"]) if m0["law"] == "lugre" else plant
+    comp = run["compensator"]
+    if m0["preset"] == "emps":
+        from .presets.emps import PUBLISHED, emps_machine
+
+        m = emps_machine(M=run["mass"], friction=law, offset=PUBLISHED["offset"],
+                         constants={"dt": float(spec.reference["dt"])}, encoder_resolution=m0["resolution"])
+        if comp != "none":  # the feed-forward as a second force on the axis (the preset's loop untouched)
+            m.add(FrictionFeedforward("ff", "vref", law=_nominal(m0, comp)))
+            m.actuator("ff_drive", m.sites[0].at, gain=1.0, command="ff")
+        return m
     m = fk.Machine("study axis")
     x = m.dof("table", inertia=run["mass"])
     m.friction("guide", x, law=law)
@@ -172,13 +215,10 @@ def _machine(spec: StudySpec, run: dict):
     m.sensor("scale", x, resolution=m0["resolution"], noise=m0["noise"])
     blocks = [Sum("e", {"r": 1.0, "scale": -1.0}),
               PID("pid", "e", Kp=m0["Kp"], Ki=m0["Ki"], Kd=m0["Kd"], tau_d=m0["tau_d"], antiwindup="drive")]
-    comp = run["compensator"]
     if comp == "none":
         blocks.append(Sum("u", {"pid": 1.0}))
     else:
-        nominal = (fk.CoulombViscous(Fc=m0["Fc"], sigma2=m0["sigma2"]) if comp == "coulomb" else
-                   fk.Stribeck(Fc=m0["Fc"], Fs=m0["Fs"], vs=m0["vs"], sigma2=m0["sigma2"]))
-        blocks += [FrictionFeedforward("ff", "vref", law=nominal), Sum("u", {"pid": 1.0, "ff": 1.0})]
+        blocks += [FrictionFeedforward("ff", "vref", law=_nominal(m0, comp)), Sum("u", {"pid": 1.0, "ff": 1.0})]
     m.add(*blocks)
     return m
 
@@ -199,15 +239,26 @@ def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, A
         w = 2.0 * math.pi * ref["frequency"]
         r = ref["amplitude"] * np.sin(w * t)
         vr = ref["amplitude"] * w * np.cos(w * t)
-        res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs={"r": r, "vref": vr}, seed=int(run["noise_seed"]))
+        emps = spec.machine["preset"] == "emps"
+        inputs = {"qg": r, "vref": vr} if emps else {"r": r, "vref": vr}
+        res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs=inputs, seed=int(run["noise_seed"]))
         if res.status != 0:
             raise fk.SimulationError(res.message)
         skip = int(0.1 * t.size)  # the first 10 %: the loop settles from rest
         e_true = r - res.q[:, 0]
+        if emps:  # measured error on the encoder; force = gtau · nu applied (+ feed-forward)
+            from .presets.emps import EMPS_CONSTANTS
+
+            e_meas = r - res.signal("qm")
+            force = res.signal("motor.applied") * EMPS_CONSTANTS["gtau"]
+            if run["compensator"] != "none":
+                force = force + res.signal("ff_drive.applied")
+        else:
+            e_meas, force = res.signal("e"), res.signal("u")
         row.update(ok=True, max_error=float(np.max(np.abs(e_true[skip:]))),
                    rms_error=float(np.sqrt(np.mean(e_true[skip:] ** 2))),
-                   max_error_measured=float(np.max(np.abs(res.signal("e")[skip:]))),
-                   max_force=float(np.max(np.abs(res.signal("u")))))
+                   max_error_measured=float(np.max(np.abs(e_meas[skip:]))),
+                   max_force=float(np.max(np.abs(force))))
     except (KeyboardInterrupt, SystemExit, MemoryError):
         raise
     except Exception as exc:  # noqa: BLE001 - a failing run is a row
@@ -332,4 +383,4 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
                        elapsed=time.perf_counter() - t_start)
 
 
-__all__ = ["COMPENSATORS", "StudyResult", "StudySpec", "load_study", "run_one", "run_study"]
+__all__ = ["COMPENSATORS", "PRESETS", "StudyResult", "StudySpec", "load_study", "run_one", "run_study"]

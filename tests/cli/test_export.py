@@ -268,7 +268,7 @@ def test_exports_an_identification_result_and_records_its_provenance(tmp_path):
 
 
 BAD_CLI = {
-    "format": (["--format", "xls"], "--format 'xls': must be one of csv, c, st"),
+    "format": (["--format", "xls"], "--format 'xls': must be one of csv, json, c, st"),
     "points_even": (["--format", "csv", "--points", "200"], "--points 200: must be odd"),
     "points_few": (["--format", "csv", "--points", "1"], "--points 1: must be between 3 and 1000001"),
     "v_max": (["--format", "csv", "--v-max", "-1"], "--v-max -1.0: must be > 0"),
@@ -312,3 +312,35 @@ def test_never_writes_over_the_model_file(tmp_path):
     err = res.stderr.strip()
     assert err.startswith("error: --out") and "input" in err and "\n" not in err, err
     assert model.read_bytes() == before
+
+
+def test_json_reduces_an_identification_result_to_a_model_file(tmp_path):
+    from frictionkit.identify.result import IdentificationResult
+
+    law = LAWS["directional_lugre"]
+    res = IdentificationResult(kind="output_error", model_name="lugre", model=law, names=("sigma0",),
+                               values=np.array([1e5]), stderr=np.array([1e3]), ci95=np.array([[9.8e4, 1.02e5]]),
+                               units=("N·m/rad",), correlation=np.eye(1), rms=0.01, relative_error_percent=1.0,
+                               n_obs=100, dof=99, data={"t": np.arange(1000.0)},
+                               provenance={"sha256": "ef" * 32, "units": {"F": "N·m", "v": "rad/s", "x": "rad"}})
+    fit = res.save_json(tmp_path / "fit.json")
+    out = tmp_path / "model.json"
+    _export(fit, "json", out)
+    doc = json.loads(out.read_text(encoding="utf-8"))
+    assert doc["format"] == "frictionkit.model/1" and "data" not in doc
+    assert doc["units"]["v"] == "rad/s" and doc["units"]["parameters"]["positive.sigma0"] == "N·m/rad"
+    prov = doc["provenance"]
+    assert prov["data_sha256"] == "ef" * 32 and prov["frictionkit_version"] == fk.__version__
+    assert prov["converted_from"] == {"file": str(fit), "format": "frictionkit.identification/1"}
+    assert fk.load_model(out) == law
+
+
+def test_a_scheduled_law_says_why_it_cannot_be_exported(tmp_path):
+    if not hasattr(fk, "TDMSSC"):  # pragma: no cover - the scheduled law of seed 000
+        pytest.skip("no scheduled law registered")
+    model = fk.save_model(fk.TDMSSC(Fc0=1.0, Fs0=1.5, vs=1e-3, Fc1=10.0), tmp_path / "tdmssc.json")
+    for fmt, why in (("c", "has no fixed static map"), ("st", "has no fixed static map"), ("csv", "schedule")):
+        res = runner.invoke(app, ["export", str(model), "--format", fmt, "--out", str(tmp_path / f"o.{fmt}")])
+        assert res.exit_code == 2, res.output
+        err = res.stderr.strip()
+        assert err.startswith("error: ") and "\n" not in err and why in err, err

@@ -48,7 +48,7 @@ def test_stribeck_asymmetric_from_tdms_with_validation(files):
     train, other, d = files
     out = d / "r.json"
     res = runner.invoke(app, ["identify", "rigid-body", str(train), *ARGS, "--law", "stribeck", "--asymmetric",
-                              "--no-profile", "--validate", str(other), "--json", str(out)])
+                              "--no-profile", "--validate", str(other), "--json", str(out), "--plot", str(d / "r.png")])
     assert res.exit_code == 0, res.output
     assert "rigid_body_stribeck_asymmetric" in res.stdout
     assert "for the Coulomb-viscous start (IDIM-LS)" in res.stdout and "validation on" in res.stdout
@@ -60,6 +60,7 @@ def test_stribeck_asymmetric_from_tdms_with_validation(files):
     assert back.diagnostics["validation"]["data"] == str(other)
     d = json.loads(out.read_text(encoding="utf-8"))
     assert d["provenance"]["columns"] == {"t": "Axis/t", "x": "Axis/x_mm", "F": "Axis/F"}
+    assert (d_png := files[2] / "r.png").stat().st_size > 1000, d_png
 
 
 @pytest.mark.parametrize("extra, message", [

@@ -27,6 +27,9 @@ def test_text_lists_laws_presets_and_sources():
     # the presets shipped today, their builders and where their numbers come from
     assert "emps_machine" in out and "Janot, M. Gautier and M. Brunot" in out
     assert "ballscrew_machine" in out and "Zhu & Fujimoto" in out
+    # the reversal compensation laws of the README's table, seed 001 eqs. 5-7
+    assert "sigmoid_compensation   (x, F0, sigma)" in out and "Seed 001 eq. 5" in out
+    assert "sinc_compensation" in out and "coulomb_compensation" in out
 
 
 def test_json_on_stdout_and_to_a_file(tmp_path):

@@ -139,3 +139,19 @@ def test_help_has_examples_and_units():
     assert res.exit_code == 0
     assert "frictionkit simulate lugre.json --position motion.csv --out traces.csv --plot loop.png" in res.stdout
     assert "[N]" in res.stdout and "[m/s]" in res.stdout
+
+
+def test_where_picks_one_drive_of_a_stacked_log(tmp_path, model):
+    t = T[:200]
+    drive = np.repeat([1.0, 2.0], t.size)
+    sig = _csv(tmp_path / "drives.csv", "drive,t,x", drive, np.tile(t, 2),
+               np.concatenate([1e-3 * t, -2e-3 * t]))
+    out = tmp_path / "tr.csv"
+    res = runner.invoke(app, ["simulate", str(model), "--position", str(sig), "--where", "drive=2", "--time", "t",
+                              "--column", "x", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    tr = _traces(out)
+    np.testing.assert_allclose(tr["x [m]"], -2e-3 * t, rtol=1e-15, atol=0)
+    res = runner.invoke(app, ["simulate", str(model), "--position", str(sig), "--time", "t", "--column", "x"])
+    assert res.exit_code == 2
+    assert "time stamps must be strictly increasing" in res.stderr and res.stderr.count("\n") == 1

@@ -24,6 +24,7 @@ def test_version_matches_the_installed_distribution():
 
 
 def test_version_through_the_console_script():
+    """The launcher answers ``--version`` alone from the installed metadata (no frictionkit import)."""
     exe = Path(sys.executable).parent / "frictionkit"
     cmd = [str(exe)] if exe.exists() else [sys.executable, "-c", "from frictionkit.cli import main; main()"]
     out = subprocess.run([*cmd, "--version"], capture_output=True, text=True, timeout=120,

@@ -92,7 +92,7 @@ def test_report_page(dask_run, tmp_path):
     res = runner.invoke(app, ["fleet", "report", str(dask_run.out), "--out", str(out), "--json", "-"])
     assert res.exit_code == 0, res.output
     doc = json.loads(res.stdout)
-    assert (doc["axes"], doc["rows"], doc["errors"]) == (6, 18, 4)
+    assert (doc["axes"], doc["rows"], doc["errors"]) == (4, 12, 4)
     page = out.read_text(encoding="utf-8")
     assert "fleet report" in page and page.count("data:image/png;base64,") == 1 + len(doc["drawn"])
     assert "Files that failed (4)" in page and "not finite" in page

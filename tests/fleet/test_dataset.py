@@ -86,3 +86,44 @@ def test_config_file_errors(tmp_path):
     ok.write_text('[columns]\ntime = "t"\nforce = "T"\nvelocity = "w"\n[units]\nforce = "N·m"\nvelocity = "rpm"\n')
     cfg = load_config(ok)
     assert cfg.si_units == {"v": "rad/s", "F": "N·m"} and abs(cfg.scales["velocity"] - 0.10471975511965977) < 1e-15
+
+
+def test_one_unpartitioned_parquet_file_of_many_axes_and_dates(small_fleet, single_run, tmp_path):
+    """Every good log of the small fleet stacked in one Parquet file with ``axis`` and ``date``
+    columns: the dataset is that file; one task per (axis, date); the same parameters."""
+    from dataclasses import replace
+
+    broken = {p for p, _ in small_fleet.broken}
+    good = [p for p in small_fleet.files if p not in broken][:5]
+    frames = []
+    for rel in good:
+        f = small_fleet.root / rel
+        df = pd.read_parquet(f) if rel.endswith(".parquet") else pd.read_csv(f)
+        frames.append(df.assign(axis=rel.split("/")[0], date=pd.Timestamp(rel.split("/")[1][:10])))
+    one = tmp_path / "fleet.parquet"
+    pd.concat(frames[::-1], ignore_index=True).to_parquet(one)  # rows in any order of the keys
+    cfg = replace(load_config(small_fleet.config), layout={"axis_column": "axis", "period_column": "date"},
+                  patterns=DEFAULT_PATTERNS)  # no pattern of its own: the columns give axis and period
+    logs, _ = discover(one, cfg)
+    assert [(g.axis, g.period) for g in logs] == sorted((r.split("/")[0], r.split("/")[1][:10]) for r in good)
+    assert all(g.select for g in logs) and len({g.fingerprint for g in logs}) == len(good)
+    run = identify_fleet(one, out=tmp_path / "r.parquet", config=cfg, scheduler="none", progress=False, monitor=False)
+    got = run.table.set_index(["axis", "period"])[list(PARAM_COLUMNS)]
+    ref = single_run.table.set_index(["axis", "period"]).loc[got.index, list(PARAM_COLUMNS)]
+    pd.testing.assert_frame_equal(got, ref, check_exact=True)
+    assert run.table["n_samples"].eq(20_000).all() and run.table["file"].eq("fleet.parquet").all()
+    again = identify_fleet(one, out=tmp_path / "r.parquet", config=cfg, scheduler="none", progress=False)
+    assert (again.computed, again.skipped) == (0, len(good))
+
+
+def test_layout_keys_are_checked():
+    base = {"columns": {"time": "t", "force": "F", "velocity": "v"}}
+    with pytest.raises(DataError, match="both axis and axis_column"):
+        config_from_dict({**base, "layout": {"axis": "a", "axis_column": "ax"}})
+    with pytest.raises(DataError, match="non-empty string"):
+        config_from_dict({**base, "layout": {"record_column": 3}})
+    with pytest.raises(DataError, match="unknown key"):
+        config_from_dict({**base, "layout": {"axes_column": "a"}})
+    cfg = config_from_dict({**base, "layout": {"axis": "a", "period_column": "day", "pattern": r"x\.csv$"}})
+    assert cfg.match("x.csv") == ("a", None) and cfg.match("y.csv") is None
+    assert config_from_dict(base).sha256 == config_from_dict({**base, "layout": {}}).sha256  # old parts stay valid

@@ -16,7 +16,7 @@ from _synth import results_table
 
 
 def test_known_drifting_axes_are_flagged(cluster, tmp_path):
-    fleet = simulate_fleet(tmp_path / "fleet", axes=4, days=12, seed=3, drifting=0.5, broken=0,
+    fleet = simulate_fleet(tmp_path / "fleet", axes=4, days=10, seed=3, drifting=0.5, broken=0,
                            wear_rate=(0.01, 0.02))
     cfg = replace(load_config(fleet.config), dynamic={"lugre": False})  # the monitor tracks the static map
     run = identify_fleet(fleet.root, out=tmp_path / "r.parquet", config=cfg, scheduler=cluster.scheduler_address,

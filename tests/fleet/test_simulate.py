@@ -19,7 +19,7 @@ def _sha(p):
 
 def test_layout_and_broken_list(small_fleet):
     root = small_fleet.root
-    assert len(small_fleet.files) == 18
+    assert len(small_fleet.files) == 12  # 4 axes x 3 days
     listed = (root / "broken.txt").read_text().split()
     assert listed == [p for p, _ in small_fleet.broken] and len(listed) == 4
     assert all((root / p).is_file() for p in listed)
@@ -33,7 +33,7 @@ def test_layout_and_broken_list(small_fleet):
     cfg = load_config(root / "fleet.toml")
     assert cfg.columns["force"] == "F_N" and cfg.scales["velocity"] == 1e-3 and "temperature" in cfg.schedule
     truth = pd.read_csv(root / "truth.csv")
-    assert truth["drifting"].sum() == 2 and len(truth) == 6
+    assert truth["drifting"].sum() == 2 and len(truth) == 4  # drifting=0.5 of 4 axes
 
 
 def test_test_motion_covers_the_stribeck_region():

@@ -13,6 +13,7 @@ def _fast_sections(monkeypatch):
     monkeypatch.setattr(demo, "section_laws", tiny("laws"))
     monkeypatch.setattr(demo, "section_parity", tiny("parity"))
     monkeypatch.setattr(demo, "section_zhu_fujimoto", tiny("zf"))
+    monkeypatch.setattr(demo, "section_fleet", tiny("fleet"))
 
 
 def test_missing_real_data_is_reported(tmp_path, monkeypatch):

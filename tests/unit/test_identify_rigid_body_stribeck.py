@@ -107,6 +107,15 @@ def test_vs_not_pinned_when_the_axis_never_moves_slowly():
     assert any(w.startswith(("vs is not identifiable", "Fs is not identifiable")) for w in res.warnings), res.warnings
 
 
+def test_several_records_jointly(fit):
+    recs = {"a": _record(5, n=6000), "b": _record(6, n=6000)}
+    res = fit_rigid_body(recs, law="stribeck", asymmetric=True, profile=False)
+    # each record: 6000 - 49 skipped samples, decimated by 10 -> ceil(5951 / 10) = 596 rows
+    assert res.n_obs == 2 * 596 and res.provenance["recording"] == "sines5, sines6"
+    for name, true in TRUTH.items():
+        assert abs(res[name] - true) < 5 * res.parameter(name)["stderr"], (name, res.parameter(name))
+
+
 def test_coulomb_viscous_path_is_unchanged():
     rec = _record(2)
     a = fit_rigid_body(rec)

@@ -108,7 +108,7 @@ def test_schedule_on_another_dof_velocity_changes_the_breakaway():
         res = fk.simulate_machine(m, dt=DT, inputs={"u": np.full(t.size, 1.2)})
         moved[vb] = float(res.position("x")[-1])
         if vb:  # base coasts at 1 m/s (nothing acts on it)
-            np.testing.assert_allclose(res.velocity("base"), 1.0, rtol=0, atol=0)
+            np.testing.assert_allclose(res.velocity("base"), 1.0, rtol=1e-12)
     assert moved[1.0] == 0.0
     assert moved[0.0] == pytest.approx(0.5 * 0.2 * 0.2**2, rel=1e-9)  # (1.2 - 1.0) / 1 kg
 
@@ -148,3 +148,35 @@ def test_api_errors_name_the_problem():
     with pytest.raises(ParameterError, match="reads no scheduling variable"):
         FrictionFeedforward("f", "v", fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3), schedule="s")
     assert repr(x.velocity) == "CoordSignal(Coord(x).velocity)"
+
+
+# --------------------------------------------------------------------------- error control (issue 8)
+def _stickslip():
+    """Canudas et al. 1995 set-up on a static Stribeck law: 1 kg, 2 N/m pulled at 0.1 m/s."""
+    m = fk.Machine("stick-slip")
+    x = m.dof("x", inertia=1.0)
+    pull = m.motion("pull")
+    m.spring(x, pull, k=2.0)
+    m.friction("contact", x, law=fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4))
+    return m, {"pull": 0.1 * _t(12.0)}
+
+
+def test_atol_picks_the_substeps_and_flags_a_miss():
+    m, inp = _stickslip()
+    runs = {s: fk.simulate_machine(m, dt=DT, inputs=inp, substeps=s) for s in (2, 4, 8, 16)}
+    change = {s: float(np.abs(runs[2 * s].q - runs[s].q).max()) for s in (2, 4, 8)}
+    # a tolerance between the 4 -> 8 and the 2 -> 4 changes stops at 8 sub-steps, with that run
+    tol = 0.5 * (change[2] + change[4])
+    assert change[4] < tol < change[2]
+    res = fk.simulate_machine(m, dt=DT, inputs=inp, substeps=2, atol=tol)
+    assert res.success and res.substeps == 8 and "error estimate" in res.message
+    np.testing.assert_array_equal(res.q, runs[8].q)
+    # a tolerance the cap does not allow: status 2, the finest run, the estimate in the message
+    miss = fk.simulate_machine(m, dt=DT, inputs=inp, substeps=2, atol=1e-3 * change[8], max_substeps=16)
+    assert miss.status == 2 and not miss.success and miss.substeps == 16
+    assert "not met within max_substeps = 16" in miss.message
+    np.testing.assert_array_equal(miss.q, runs[16].q)
+    with pytest.raises(ParameterError, match="max_substeps = 1"):
+        fk.simulate_machine(m, dt=DT, inputs=inp, substeps=2, atol=1e-6, max_substeps=1)
+    with pytest.raises(ParameterError, match="atol = -1.0"):
+        fk.simulate_machine(m, dt=DT, inputs=inp, atol=-1.0)

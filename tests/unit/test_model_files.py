@@ -92,6 +92,23 @@ def test_identification_result_loads_with_its_provenance(tmp_path):
     assert mf.provenance["data_sha256"] == "ab" * 32
     assert mf.provenance["file"] == "log.csv"
     assert "output_error" in mf.provenance["method"]
+    assert mf.provenance["frictionkit_version"] == fk.__version__  # save_json records who wrote the file, and when
+    created = datetime.fromisoformat(mf.provenance["created"])
+    assert abs((datetime.now(timezone.utc) - created).total_seconds()) < 600
+
+
+def test_data_hashes_of_a_fit_over_several_records(tmp_path):
+    from frictionkit.identify.result import IdentificationResult
+
+    res = IdentificationResult(kind="output_error", model_name="lugre", model=LAWS["lugre"], names=("sigma0",),
+                               values=np.array([1e5]), stderr=np.array([1e3]), ci95=np.array([[9.8e4, 1.02e5]]),
+                               units=("N/m",), correlation=np.eye(1), rms=0.01, relative_error_percent=1.0,
+                               n_obs=100, dof=99,
+                               provenance={"records": [{"name": "a", "sha256": "22" * 32},
+                                                       {"name": "b", "sha256": "11" * 32},
+                                                       {"name": "c", "sha256": "22" * 32}]})
+    mf = ModelFile.load(res.save_json(tmp_path / "fit.json"))
+    assert mf.provenance["data_sha256"] == ["11" * 32, "22" * 32]
 
 
 def test_rigid_body_result_gives_its_friction(tmp_path):

@@ -178,23 +178,6 @@ def _fields(law: Any) -> dict[str, float]:
     return {k: float(getattr(law, k)) for k in ("Fc", "Fs", "vs", "delta", "sigma2")}
 
 
-def _check_model_types(node: Any, at: str) -> None:
-    """Model fields must be JSON numbers (``true`` or ``"1.0"`` are not taken as 1)."""
-    if not isinstance(node, dict):
-        return
-    for key, val in node.items():
-        if key in ("type", "shape"):
-            continue
-        if isinstance(val, dict):
-            _check_model_types(val, f"{at}.{key}")
-            continue
-        items = val if isinstance(val, list) else [val]
-        for x in items:
-            if isinstance(x, bool) or not isinstance(x, (int, float)):
-                raise DataError(f"{at}.{key} is {json.dumps(val)}, expected a number"
-                                + (" or a list of numbers" if isinstance(val, list) else ""))
-
-
 def load_static_json(path: Path, option: str = "--static-json") -> Any:
     """The static map (``Directional`` of two ``Stribeck``) in a JSON written by ``identify static --json``.
 
@@ -205,36 +188,20 @@ def load_static_json(path: Path, option: str = "--static-json") -> Any:
     ``parameters`` table and the per-direction ``parts`` must agree).
     """
     from ..identify import IdentificationResult, stribeck_model
-    from ..identify.result import JSON_FORMAT, model_from_dict
+    from ..identify.result import JSON_FORMAT, model_from_dict, read_json_object
 
     where = f"{option} '{path}'"
-    raw = Path(path).read_bytes()
     try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"{where}: not UTF-8 text (byte {exc.start}); expected the JSON of "
-                        "'frictionkit identify static --json'") from None
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"{where}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
-    except RecursionError:
-        raise DataError(f"{where}: JSON nested too deeply") from None
-    if not isinstance(doc, dict):
-        raise DataError(f"{where}: the top level is a JSON {type(doc).__name__}, expected an object "
-                        "(the JSON of 'frictionkit identify static --json')")
+        doc = read_json_object(path, where)  # the library's checks: UTF-8, JSON, an object
+    except DataError as exc:
+        raise DataError(f"{exc}; expected the JSON of 'frictionkit identify static --json'") from None
     if doc.get("format") != JSON_FORMAT:
         raise DataError(f"{where}: not a frictionkit identification result "
                         f"(\"format\" is {doc.get('format')!r}, expected {JSON_FORMAT!r})")
     if doc.get("kind") != "static_map":
         raise DataError(f"{where}: not a static-map result (\"kind\" is {doc.get('kind')!r}, expected 'static_map')")
     try:
-        _check_model_types(doc.get("model"), "model")
-        parts = doc.get("parts")
-        for side, part in (parts.items() if isinstance(parts, dict) else ()):
-            if isinstance(part, dict):
-                _check_model_types(part.get("model"), f"parts.{side}.model")
-        res = IdentificationResult.from_dict(doc)
+        res = IdentificationResult.from_dict(doc)  # validated in the library (types, keys, model fields)
         law = stribeck_model(res)
         top = model_from_dict(doc["model"]) if doc.get("model") is not None else None
     except KeyError as exc:

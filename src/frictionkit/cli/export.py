@@ -20,8 +20,10 @@ Examples:
   frictionkit export fit.json --format csv --out friction_table.csv --v-max 0.05 --points 1001
   frictionkit export lugre.json --format c --out friction.h --name axis1_friction
   frictionkit export lugre.json --format st --out friction.st --json -
+  frictionkit export fit.json --format json --out model.json
 \b
-csv: steady-state map F(v) on a uniform grid. c: C99 header, steady-state map and, for
+csv: steady-state map F(v) on a uniform grid. json: a model file (frictionkit.model/1),
+e.g. an identification result reduced to its model. c: C99 header, steady-state map and, for
 LuGre/Dahl, a discrete-time update with state. st: IEC 61131-3 FUNCTION_BLOCK, same."""
 
 
@@ -29,7 +31,7 @@ LuGre/Dahl, a discrete-time update with state. st: IEC 61131-3 FUNCTION_BLOCK, s
 def export(
     model: Path = typer.Argument(..., help="Model file: 'frictionkit.model/1' JSON, an identification result or a "
                                  "law's JSON form."),
-    fmt: str = typer.Option(..., "--format", help="csv (lookup table), c (C header) or st (IEC 61131-3 structured "
+    fmt: str = typer.Option(..., "--format", help="csv (lookup table), json (model file), c (C header) or st (IEC 61131-3 structured "
                             "text)."),
     out: Path = typer.Option(..., "--out", help="File to write."),
     name: Optional[str] = typer.Option(None, "--name", help="C function prefix (default fk_friction) or function "
@@ -59,11 +61,19 @@ def export(
     from ..models.files import ModelFile
 
     mf = ModelFile.load(model)
-    text = export_model(mf.model, fmt, name=name, v_max=v_max, points=points, units=mf.units,
-                        provenance=mf.provenance)
+    prov = dict(mf.provenance)
+    if fmt == "json":  # the new file says where it came from and which frictionkit wrote it
+        from datetime import datetime, timezone
+
+        from .. import __version__
+
+        prov["converted_from"] = {"file": str(model), "format": mf.format}
+        prov["converted"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        prov.setdefault("frictionkit_version", __version__)
+    text = export_model(mf.model, fmt, name=name, v_max=v_max, points=points, units=mf.units, provenance=prov)
     atomic_write_text(out, text)
     family = kernel_family(mf.model)
-    what = {"csv": "steady-state map", "c": "steady-state map" + (" and discrete-time update with state"
+    what = {"csv": "steady-state map", "json": "model file", "c": "steady-state map" + (" and discrete-time update with state"
                                                                   if family == "lugre" else ""),
             "st": "discrete-time update with state" if family == "lugre" else "steady-state map"}[fmt]
     doc = {"model": str(model), "law": law_entry(mf.model).name, "family": family, "format": fmt, "out": str(out),

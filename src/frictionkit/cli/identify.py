@@ -184,6 +184,8 @@ def static(
     group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming steady-state records; each record is averaged."),
     where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
     trim: Optional[float] = typer.Option(None, "--trim", help="Fraction dropped at both ends of each segment."),
+    min_speed: Optional[float] = typer.Option(None, "--min-speed", help="Plateaus slower than this are left out "
+                                              "(after scaling; default 1 %% of the top speed; 0 keeps every one)."),
     direction: str = typer.Option("both", "--direction", help="both, positive or negative."),
     model: str = typer.Option("auto", "--model", help="auto, coulomb_viscous, exponential or lorentzian."),
     delta: Optional[float] = typer.Option(None, "--delta", help="Fix the Stribeck exponent."),
@@ -201,6 +203,7 @@ def static(
     scales = {"force": chk.scale(force_scale, "--force-scale"), "velocity": chk.scale(velocity_scale, "--velocity-scale"),
               "position": chk.scale(position_scale, "--position-scale")}
     trim = chk.optional(chk.fraction, trim, "--trim")
+    min_speed = chk.optional(chk.nonnegative, min_speed, "--min-speed")
     delta = chk.optional(chk.positive, delta, "--delta")
     chk.choice(direction, "--direction", ("both", "positive", "negative"))
     chk.choice(criterion, "--criterion", ("aic", "bic"))
@@ -215,7 +218,7 @@ def static(
         return _load(path, group=group, where=where, time=time, velocity=velocity, position=position, force=force,
                      scales=scales, units=units)
 
-    pts = steady_state_points(loader(recording), trim=trim)
+    pts = steady_state_points(loader(recording), trim=trim, **({} if min_speed is None else {"min_speed": min_speed}))
     res = fit_static_map(pts, model=model, direction=direction, delta=delta, loss=loss, criterion=criterion)
     typer.echo(f"{len(pts)} steady-state point(s)")
     typer.echo(res.summary())

@@ -21,7 +21,8 @@ _EPILOG = """\b
 Examples:
   frictionkit simulate lugre.json --position motion.csv --out traces.csv --plot loop.png
   frictionkit simulate fit.json --force u.csv --mass 1.0 --json -
-  frictionkit simulate fit.json --velocity log.csv --time t_s --column v_m_per_s --velocity-integration held
+  frictionkit simulate lugre1.json --velocity start_stop_200rpm.csv --where drive_id=1 --time t_s
+      --column motor_velocity_rad_per_s --velocity-integration held --out sim1.csv
 \b
 The signal file (.csv, .parquet, .mat, .h5) holds a time column [s] (default: the first
 column) and the signal (default: the second column) in SI units, or scaled to SI by --scale."""
@@ -61,6 +62,8 @@ def simulate(
     velocity: Optional[Path] = typer.Option(None, "--velocity", help="Motion-driven run: file with the velocity [m/s]."),
     time: Optional[str] = typer.Option(None, "--time", help="Time column [s] (default: the first column)."),
     column: Optional[str] = typer.Option(None, "--column", help="Signal column (default: the second column)."),
+    where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable), e.g. "
+                                              "drive_id=1 in a file of several drives."),
     scale: float = typer.Option(1.0, "--scale", help="Factor from the file's signal unit to SI (e.g. 1e-3 for mm)."),
     mass: Optional[float] = typer.Option(None, "--mass", help="Moving mass [kg] (inertia [kg·m²] for a rotary axis) "
                                          "of a force-driven run."),
@@ -79,6 +82,7 @@ def simulate(
 
     kind, signal = _signal(force, position, velocity)
     factor = chk.scale(scale, "--scale")
+    rows = chk.where_items(where)
     chk.choice(velocity_integration, "--velocity-integration", ("trapezoidal", "held"))
     if kind == "force":
         if mass is None:
@@ -112,7 +116,7 @@ def simulate(
     role = {"force": "force", "position": "position", "velocity": "velocity"}[kind]
     with warnings.catch_warnings():  # irregular sampling is an error here, not a warning
         warnings.simplefilter("ignore", IrregularSamplingWarning)
-        rec = load_recording(signal, time=tcol, **{role: scol}, scales={role: factor})
+        rec = load_recording(signal, time=tcol, **{role: scol}, scales={role: factor}, where=rows)
     if not rec.is_regular:
         raise DataError(f"'{signal}': irregular sampling (time column {tcol!r}); simulate needs a uniform step "
                         "(resample the log first, frictionkit.data.Recording.resample)")

@@ -86,19 +86,46 @@ def _file_kind(p: Path) -> str:
     return kind
 
 
+class Table(dict):
+    """Column name → array, plus the names the file's header holds more than once.
+
+    ``duplicates`` maps such a name to its 0-based column positions; selecting it is
+    refused (:func:`_column`) instead of silently taking the first.
+    """
+
+    duplicates: dict[str, list[int]]
+
+    def __init__(self, *args: Any, duplicates: Mapping[str, list[int]] | None = None, **kw: Any) -> None:
+        super().__init__(*args, **kw)
+        self.duplicates = dict(duplicates or {})
+
+
+def _duplicates(names: Sequence[str]) -> dict[str, list[int]]:
+    pos: dict[str, list[int]] = {}
+    for i, n in enumerate(names):
+        pos.setdefault(str(n), []).append(i)
+    return {n: ix for n, ix in pos.items() if len(ix) > 1}
+
+
 def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
+    import csv
+
     import pandas as pd
 
+    with p.open("r", errors="replace") as fh:
+        head = fh.readline()
     if delimiter is None:
-        with p.open("r", errors="replace") as fh:
-            head = fh.readline()
         counts = {d: head.count(d) for d in (",", ";", "\t")}
         delimiter = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
     try:
         df = pd.read_csv(p, sep=delimiter)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise DataError(f"file '{p}': cannot be parsed as CSV ({str(exc).splitlines()[0]})") from None
-    return {str(c): df[c].to_numpy() for c in df.columns}
+    try:  # pandas renames a repeated header name 'F' to 'F.1': find repeats in the raw header
+        header = next(csv.reader([head], delimiter=delimiter)) if len(delimiter) == 1 else []
+    except csv.Error:
+        header = []
+    return Table({str(c): df[c].to_numpy() for c in df.columns}, duplicates=_duplicates([h.strip() for h in header]))
 
 
 def _read_parquet(p: Path) -> dict[str, np.ndarray]:
@@ -108,7 +135,11 @@ def _read_parquet(p: Path) -> dict[str, np.ndarray]:
         df = pd.read_parquet(p)
     except Exception as exc:  # pyarrow raises several unrelated types
         raise DataError(f"file '{p}': cannot be read as Parquet ({str(exc).splitlines()[0]})") from None
-    return {str(c): df[c].to_numpy() for c in df.columns}
+    dup = _duplicates([str(c) for c in df.columns])
+    out = Table(duplicates=dup)
+    for i, c in enumerate(df.columns):
+        out.setdefault(str(c), df.iloc[:, i].to_numpy())
+    return out
 
 
 def _read_hdf5(p: Path) -> dict[str, np.ndarray]:
@@ -138,8 +169,9 @@ def _read_mat(p: Path) -> dict[str, np.ndarray]:
         return {k: np.asarray(v).T for k, v in data.items()}
     try:
         raw = scipy.io.loadmat(p, squeeze_me=False)
-    except (ValueError, TypeError, NotImplementedError) as exc:
-        raise DataError(f"file '{p}': cannot be read as a MATLAB .mat file ({str(exc).splitlines()[0]})") from None
+    except Exception as exc:  # noqa: BLE001 - scipy raises MatReadError, ValueError, struct.error ... on damaged files
+        text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise DataError(f"file '{p}': cannot be read as a MATLAB .mat file ({text})") from None
     return {k: v for k, v in raw.items() if not k.startswith("__")}
 
 
@@ -244,7 +276,14 @@ def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np
     if col not in table:
         avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")
         raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: {avail}")
+    dup = getattr(table, "duplicates", {}).get(col)
+    if dup:
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) appears {len(dup)} times in the header "
+                        f"(columns {', '.join(str(i + 1) for i in dup)}); rename them so the choice is unambiguous")
     arr = np.asarray(table[col])
+    if arr.dtype.kind == "b" or (arr.dtype.kind == "O" and any(isinstance(x, (bool, np.bool_)) for x in arr.ravel()[:1000])):
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) holds true/false values, not numbers; "
+                        "a flag column cannot be a signal (True/False would become 1/0)")
     if arr.dtype.kind not in "biuf":
         try:
             arr = arr.astype(np.float64)

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as _val
 from ..errors import DataError
 
 #: Names of the optional sampled signals, in the order they are reported.
@@ -82,6 +83,14 @@ def _as_signal(provenance: Mapping[str, Any], signal: str, value: Any, n: int | 
         raise DataError(
             f"{where}, row {i}: value {float(arr[i])!r} is not finite "
             f"({int(bad.sum())} bad sample(s) in total); remove or repair them before loading"
+        )
+    hit = _val.outlier(arr)
+    if hit is not None:
+        i, limit = hit
+        raise DataError(
+            f"{where}, row {i}: value {float(arr[i]):.6g} is beyond {limit:.3g}, "
+            f"{_val.OUTLIER_FACTOR:.0e} times the 99th percentile of the column's magnitudes: "
+            "a corrupt sample or a unit/scale slip; remove or repair it before loading"
         )
     arr = np.ascontiguousarray(arr)
     arr.setflags(write=False)

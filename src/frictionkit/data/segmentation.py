@@ -120,16 +120,25 @@ def find_plateaus(
     >>> [(s.direction, len(s)) for s in find_plateaus(v, 1e-3, trim=0.0)]
     [(1, 190), (-1, 195)]
     """
+    return _find_plateaus(v, dt, window=window, rel_tol=rel_tol, abs_tol=abs_tol, min_speed=min_speed,
+                          min_duration=min_duration, min_samples=min_samples, trim=trim)[0]
+
+
+def _find_plateaus(
+    v, dt, *, window=11, rel_tol=0.02, abs_tol=None, min_speed=None, min_duration=0.0,
+    min_samples=10, trim=0.1,
+) -> tuple[list[Segment], list[Segment], float]:
+    """:func:`find_plateaus`, plus the plateaus left out only for being slower than
+    ``min_speed`` (still above the noise floor ``abs_tol``, so not rests) and the
+    ``min_speed`` used — so that callers can say what was dropped and why."""
     x = val.signal("v", v, min_len=3)
     dt = val.positive("find_plateaus", "dt", dt)
     if not 0.0 <= trim < 0.5:
         raise ParameterError(f"find_plateaus.trim = {trim!r}: must be in [0, 0.5)")
-    if int(window) != window or window < 1:
-        raise ParameterError(f"find_plateaus.window = {window!r}: must be a positive integer")
-    window = int(window)
+    window = val.integer("find_plateaus", "window", window, minimum=1)
     vmax = float(np.max(np.abs(x)))
     if vmax == 0.0:
-        return []
+        return [], [], 0.0
     if abs_tol is None:
         # noise floor: robust std of v from first differences, carried through the moving average
         sigma_v = 1.4826 * float(np.median(np.abs(np.diff(x)))) / np.sqrt(2.0)
@@ -142,23 +151,28 @@ def find_plateaus(
     mp = np.pad(m, h, mode="edge")
     change = np.abs(mp[2 * h:] - mp[: -2 * h])
     tol = np.maximum(abs_tol, rel_tol * np.abs(m))
-    steady = (change <= tol) & (np.abs(m) > min_speed)
-    out: list[Segment] = []
-    for sign in (1, -1):
-        for a, b in _runs(steady & (np.sign(m) == sign)):
-            start = a
-            ref = m[a]
-            for i in range(a, b + 1):
-                if i == b or abs(m[i] - ref) > 2.0 * max(abs_tol, rel_tol * abs(ref)):
-                    n = i - start
-                    k = int(np.floor(trim * n))
-                    s0, s1 = start + k, i - k
-                    if n * dt >= min_duration and s1 - s0 >= min_samples:
-                        out.append(Segment(start=s0, stop=s1, direction=sign))
-                    if i < b:
-                        start, ref = i, m[i]
-    out.sort(key=lambda s: s.start)
-    return out
+    calm = change <= tol
+    found = []
+    for fast in (True, False):
+        speed_ok = (np.abs(m) > min_speed) if fast else ((np.abs(m) <= min_speed) & (np.abs(m) > abs_tol))
+        steady = calm & speed_ok
+        out: list[Segment] = []
+        for sign in (1, -1):
+            for a, b in _runs(steady & (np.sign(m) == sign)):
+                start = a
+                ref = m[a]
+                for i in range(a, b + 1):
+                    if i == b or abs(m[i] - ref) > 2.0 * max(abs_tol, rel_tol * abs(ref)):
+                        n = i - start
+                        k = int(np.floor(trim * n))
+                        s0, s1 = start + k, i - k
+                        if n * dt >= min_duration and s1 - s0 >= min_samples:
+                            out.append(Segment(start=s0, stop=s1, direction=sign))
+                        if i < b:
+                            start, ref = i, m[i]
+        out.sort(key=lambda s: s.start)
+        found.append(out)
+    return found[0], found[1], float(min_speed)
 
 
 def find_reversals(v, *, deadband: float = 0.0) -> np.ndarray:
@@ -262,6 +276,10 @@ class SteadyStatePoints:
         Name of each point (record name or ``"start:stop"``).
     units : mapping
         ``{"v": ..., "F": ...}``.
+    dropped : tuple of str
+        What the automatic segmentation left out and why (plateaus slower than
+        ``min_speed``); empty when nothing was dropped. Fits carry these notes into
+        their warnings.
     """
 
     v: np.ndarray
@@ -271,6 +289,7 @@ class SteadyStatePoints:
     n: np.ndarray
     labels: tuple[str, ...]
     units: Mapping[str, str] = field(default_factory=lambda: {"v": "m/s", "F": "N"})
+    dropped: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return int(self.v.size)
@@ -281,7 +300,7 @@ class SteadyStatePoints:
         return SteadyStatePoints(v=self.v[keep], F=self.F[keep], v_std=self.v_std[keep],
                                  F_std=self.F_std[keep], n=self.n[keep],
                                  labels=tuple(lab for lab, k in zip(self.labels, keep) if k),
-                                 units=self.units)
+                                 units=self.units, dropped=self.dropped)
 
 
 def _velocity(rec: Recording) -> np.ndarray:
@@ -340,6 +359,7 @@ def steady_state_points(
     [2.0, -3.0]
     """
     rows = []
+    dropped: tuple[str, ...] = ()
     if isinstance(source, Recording):
         source.require("F")
         v = _velocity(source)
@@ -347,10 +367,20 @@ def steady_state_points(
         if plateaus is None:
             if trim is not None:
                 find_kw["trim"] = trim
-            plateaus = find_plateaus(v, source.dt, **find_kw)
+            find_plateaus(v, source.dt, **find_kw)  # checks the keywords by its signature
+            plateaus, slow, min_speed = _find_plateaus(v, source.dt, **find_kw)
+            # a plateau straddling min_speed (its noisy samples cut into pieces on both sides)
+            # is kept in part: report only plateaus clearly below it
+            slow = [s for s in slow if abs(float(np.mean(v[s.slice]))) < 0.8 * min_speed]
+            if slow:
+                dropped = (_dropped_note(v, slow, min_speed, "min_speed" in find_kw, source.units["v"]),)
         if not plateaus:
+            vmax = float(np.max(np.abs(v))) if v.size else 0.0
+            imax = int(np.argmax(np.abs(v))) if v.size else 0
+            why = (f" ({dropped[0]})" if dropped else
+                   f"; the largest |v| is {vmax:.6g} {source.units['v']} at sample {imax}")
             raise DataError(
-                f"recording '{source.name}': no constant-velocity segment found; check the velocity "
+                f"recording '{source.name}': no constant-velocity segment found{why}; check the velocity "
                 "signal or pass plateaus=[Segment(...)] / adjust rel_tol, window, min_speed"
             )
         for s in plateaus:
@@ -379,4 +409,17 @@ def steady_state_points(
             units = units or {"v": rec.units["v"], "F": rec.units["F"]}
     a = np.array([r[:5] for r in rows], dtype=float)
     return SteadyStatePoints(v=a[:, 0], F=a[:, 1], v_std=a[:, 2], F_std=a[:, 3],
-                             n=a[:, 4].astype(int), labels=tuple(r[5] for r in rows), units=units)
+                             n=a[:, 4].astype(int), labels=tuple(r[5] for r in rows), units=units,
+                             dropped=dropped)
+
+
+def _dropped_note(v: np.ndarray, slow: Sequence[Segment], min_speed: float, given: bool, vu: str) -> str:
+    """One sentence: which slow plateaus were left out, at which speeds, and how to keep them."""
+    speeds = np.array([abs(float(np.mean(v[s.slice]))) for s in slow])
+    rule = "min_speed" if given else "min_speed, by default 1 % of the top speed,"
+    where = ", ".join(f"{s.start}:{s.stop}" for s in slow[:6]) + (", ..." if len(slow) > 6 else "")
+    return (
+        f"{len(slow)} constant-velocity plateau(s) at |v| = {speeds.min():.3g} … {speeds.max():.3g} {vu} "
+        f"(samples {where}) were left out: slower than {rule} = {min_speed:.3g} {vu}; the Stribeck "
+        "region lies at low speed, pass min_speed=0 (CLI: identify static --min-speed 0) to keep them"
+    )

@@ -48,8 +48,7 @@ def lowpass(y, fs: float, cutoff: float, *, order: int = 4) -> np.ndarray:
     cutoff = val.positive("lowpass", "cutoff", cutoff)
     if cutoff >= fs / 2.0:
         raise ParameterError(f"lowpass.cutoff = {cutoff!r} Hz: must be below the Nyquist frequency {fs / 2.0:g} Hz")
-    if int(order) != order or order < 1:
-        raise ParameterError(f"lowpass.order = {order!r}: must be a positive integer")
+    order = val.integer("lowpass", "order", order, minimum=1)
     b, a = _sig.butter(int(order), cutoff / (fs / 2.0))
     padlen = 3 * max(len(a), len(b))
     if x.size <= padlen:
@@ -137,8 +136,7 @@ def decimate(y, q: int, *, ftype: str = "iir", zero_phase: bool = True) -> np.nd
     (10,)
     """
     x = val.signal("y", y, min_len=2)
-    if int(q) != q or q < 1:
-        raise ParameterError(f"decimate.q = {q!r}: must be a positive integer")
+    q = val.integer("decimate", "q", q, minimum=1)
     q = int(q)
     if q == 1:
         return x.copy()

@@ -31,6 +31,7 @@ Example (``frictionkit fleet simulate`` writes one like it beside the logs)::
     [segmentation]         # keywords of frictionkit.data.find_plateaus (SI units)
     min_speed = 2e-4
     min_duration = 0.3
+    settle = 0.4           # and: fraction of each plateau dropped at its start (transient)
 
     [fit]                  # keywords of frictionkit.identify.fit_static_map
     model = "auto"
@@ -41,6 +42,21 @@ Example (``frictionkit fleet simulate`` writes one like it beside the logs)::
 
     [monitor]              # keywords of frictionkit.fleet.monitor_drift
     alpha = 0.01
+
+**Many axis-periods in one file** (one unpartitioned Parquet/CSV file, or a long table of
+records): ``[layout]`` names the columns that hold them, and a constant for what neither
+the path nor a column gives::
+
+    [layout]
+    axis_column = "axis"       # rows are split into one task per (axis, period) value pair
+    period_column = "date"
+    # axis = "emps"            # a constant instead (a single-axis file)
+    # period = "2018-11-06"
+    # record_column = "source_file"  # within one task, records whose time restarts: each
+    #                                # record is one steady-state point, averaged whole
+
+A pattern is then needed only for what no column or constant gives. Discovering the tasks
+reads those key columns of each such file (not the signals).
 """
 
 from __future__ import annotations
@@ -82,8 +98,11 @@ DEFAULT_PATTERNS = (
     r"(?:^|/)(?P<axis>[^/]+)/(?P<period>[^/]+)\.(?:csv|txt|tsv|parquet|pq|h5|hdf5|hdf|mat)$",
 )
 
+#: ``[layout]`` keys besides the patterns: axis/period from columns or constants, records.
+LAYOUT_KEYS = ("axis", "period", "axis_column", "period_column", "record_column")
+
 _SECTIONS = {"layout", "columns", "units", "scales", "schedule", "segmentation", "fit", "dynamic", "monitor"}
-_SEGMENTATION_KEYS = {"window", "rel_tol", "abs_tol", "min_speed", "min_duration", "min_samples", "trim"}
+_SEGMENTATION_KEYS = {"window", "rel_tol", "abs_tol", "min_speed", "min_duration", "min_samples", "trim", "settle"}
 _FIT_KEYS = {"model", "criterion", "loss", "f_scale", "delta", "direction"}
 _MONITOR_KEYS = {"alpha", "min_periods", "parameters", "n_null", "seed", "se_floor", "method", "weights", "scale"}
 _DYNAMIC_KEYS = {"lugre"}
@@ -114,6 +133,11 @@ class FleetConfig:
     dynamic : dict
         ``{"lugre": bool}``: fit LuGre σ0, σ1 through the reversals where the data allow
         (:mod:`frictionkit.fleet.dynamic`; default true).
+    layout : dict
+        Any of :data:`LAYOUT_KEYS`: ``axis_column`` / ``period_column`` split the rows of a
+        file into one task per value pair; ``axis`` / ``period`` are constants used when
+        neither the path nor a column gives them; ``record_column`` marks records (time
+        restarting) inside one task, each averaged whole into one steady-state point.
     source : str, optional
         File the configuration came from.
     """
@@ -127,6 +151,7 @@ class FleetConfig:
     fit: dict = field(default_factory=dict)
     monitor: dict = field(default_factory=dict)
     dynamic: dict = field(default_factory=lambda: {"lugre": True})
+    layout: dict = field(default_factory=dict)
     source: str | None = None
 
     def __post_init__(self) -> None:
@@ -152,17 +177,34 @@ class FleetConfig:
                 raise DataError(f"{where}: [schedule] name {name!r}: use letters, digits and _ (it becomes a column)")
             if not isinstance(spec, dict) or not isinstance(spec.get("column"), str):
                 raise DataError(f"{where}: [schedule.{name}] needs column = \"<column>\"")
+        lay = dict(self.layout)
+        bad = set(lay) - set(LAYOUT_KEYS)
+        if bad:
+            raise DataError(f"{where}: [layout] unknown key(s) {sorted(bad)}; use pattern, patterns or {list(LAYOUT_KEYS)}")
+        for key, val in lay.items():
+            if not isinstance(val, str) or not val:
+                raise DataError(f"{where}: [layout] {key} = {val!r}: must be a non-empty string")
+        for what in ("axis", "period"):
+            if what in lay and f"{what}_column" in lay:
+                raise DataError(f"{where}: [layout] gives both {what} and {what}_column; keep one")
+        object.__setattr__(self, "layout", lay)
+        need = {g for g in ("axis", "period") if g not in lay and f"{g}_column" not in lay}
         pats = tuple(self.patterns)
         for p in pats:
             try:
                 rx = re.compile(p)
             except re.error as exc:
                 raise DataError(f"{where}: [layout] pattern {p!r} is not a regular expression ({exc})") from None
-            if not {"axis", "period"} <= set(rx.groupindex):
-                raise DataError(f"{where}: [layout] pattern {p!r} needs the named groups (?P<axis>...) and (?P<period>...)")
+            if not need <= set(rx.groupindex):
+                raise DataError(f"{where}: [layout] pattern {p!r} needs the named group(s) "
+                                + " and ".join(f"(?P<{g}>...)" for g in sorted(need))
+                                + " (or give them as [layout] <name> / <name>_column)")
         object.__setattr__(self, "patterns", pats)
         if not isinstance(self.dynamic.get("lugre", True), bool):
             raise DataError(f"{where}: [dynamic] lugre = {self.dynamic.get('lugre')!r}: must be true or false")
+        settle = self.segmentation.get("settle", 0.0)
+        if isinstance(settle, bool) or not isinstance(settle, (int, float)) or not 0.0 <= settle < 0.9:
+            raise DataError(f"{where}: [segmentation] settle = {settle!r}: must be a number in [0, 0.9)")
         for sec, keys in (("segmentation", _SEGMENTATION_KEYS), ("fit", _FIT_KEYS), ("monitor", _MONITOR_KEYS),
                           ("dynamic", _DYNAMIC_KEYS)):
             bad = set(getattr(self, sec)) - keys
@@ -172,10 +214,18 @@ class FleetConfig:
     # ------------------------------------------------------------------ identity
     def to_dict(self) -> dict[str, Any]:
         """The configuration as plain data (the fingerprint of results depends on it)."""
-        return {"columns": dict(self.columns), "scales": dict(self.scales), "si_units": dict(self.si_units),
-                "schedule": {k: dict(v) for k, v in self.schedule.items()}, "patterns": list(self.patterns),
-                "segmentation": dict(self.segmentation), "fit": dict(self.fit), "monitor": dict(self.monitor),
-                "dynamic": dict(self.dynamic)}
+        d = {"columns": dict(self.columns), "scales": dict(self.scales), "si_units": dict(self.si_units),
+             "schedule": {k: dict(v) for k, v in self.schedule.items()}, "patterns": list(self.patterns),
+             "segmentation": dict(self.segmentation), "fit": dict(self.fit), "monitor": dict(self.monitor),
+             "dynamic": dict(self.dynamic)}
+        if self.layout:  # only when used: configurations without it keep their hash (and their parts)
+            d["layout"] = dict(self.layout)
+        return d
+
+    @property
+    def key_columns(self) -> tuple[str, ...]:
+        """Columns whose values split a file into tasks (``axis_column``, ``period_column``)."""
+        return tuple(self.layout[k] for k in ("axis_column", "period_column") if k in self.layout)
 
     @property
     def sha256(self) -> str:
@@ -184,12 +234,22 @@ class FleetConfig:
         d.pop("monitor")
         return hashlib.sha256(json.dumps(d, sort_keys=True, default=str).encode()).hexdigest()
 
-    def match(self, relpath: str) -> tuple[str, str] | None:
-        """``(axis, period)`` read from a relative path, or None when no pattern matches."""
+    def match(self, relpath: str) -> tuple[str | None, str | None] | None:
+        """``(axis, period)`` read from a relative path, or None when no pattern matches.
+
+        A constant ``[layout] axis`` / ``period`` fills what the pattern lacks; what a
+        column gives (``axis_column`` ...) is None here. When constants and columns give
+        both and no pattern was set (the defaults), every path matches; a pattern set in
+        the configuration always filters.
+        """
+        lay = self.layout
         for p in self.patterns:
             m = re.search(p, relpath)
             if m:
-                return m.group("axis"), m.group("period")
+                g = m.groupdict()
+                return tuple(None if f"{w}_column" in lay else lay.get(w, g.get(w)) for w in ("axis", "period"))
+        if self.patterns == DEFAULT_PATTERNS and all(w in lay or f"{w}_column" in lay for w in ("axis", "period")):
+            return tuple(lay.get(w) for w in ("axis", "period"))
         return None
 
 
@@ -207,9 +267,9 @@ def config_from_dict(doc: dict, *, source: str | None = None) -> FleetConfig:
     if unknown:
         raise DataError(f"{where}: unknown section(s) {sorted(unknown)}; allowed: {sorted(_SECTIONS)}")
     layout = _table(doc, "layout", where)
-    bad = set(layout) - {"pattern", "patterns"}
+    bad = set(layout) - {"pattern", "patterns", *LAYOUT_KEYS}
     if bad:
-        raise DataError(f"{where}: [layout] unknown key(s) {sorted(bad)}; use pattern or patterns")
+        raise DataError(f"{where}: [layout] unknown key(s) {sorted(bad)}; use pattern, patterns or {list(LAYOUT_KEYS)}")
     if "pattern" in layout:
         patterns = (layout["pattern"],)
     elif "patterns" in layout:
@@ -253,7 +313,8 @@ def config_from_dict(doc: dict, *, source: str | None = None) -> FleetConfig:
     return FleetConfig(columns=columns, scales=scales, si_units=si, schedule=schedule, patterns=patterns,
                        segmentation=_table(doc, "segmentation", where), fit=_table(doc, "fit", where),
                        monitor=_table(doc, "monitor", where),
-                       dynamic={"lugre": True, **_table(doc, "dynamic", where)}, source=source)
+                       dynamic={"lugre": True, **_table(doc, "dynamic", where)},
+                       layout={k: v for k, v in layout.items() if k in LAYOUT_KEYS}, source=source)
 
 
 def load_config(path: str | Path) -> FleetConfig:
@@ -315,4 +376,4 @@ def config_toml(sections: dict[str, dict], *, header: str = "") -> str:
     return "\n".join(lines).lstrip("\n") + "\n"
 
 
-__all__ = ["FleetConfig", "ROLES", "UNITS", "config_from_dict", "config_toml", "load_config"]
+__all__ = ["FleetConfig", "LAYOUT_KEYS", "ROLES", "UNITS", "config_from_dict", "config_toml", "load_config"]

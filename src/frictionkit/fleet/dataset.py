@@ -1,15 +1,19 @@
 """Find the log files of a fleet and give each its axis, period and fingerprint.
 
-A dataset is a folder (searched recursively), a glob (``"plant/*/2026-*.parquet"``) or a
-list of files. Axis and period come from each path relative to the dataset folder
+A dataset is a folder (searched recursively), a glob (``"plant/*/2026-*.parquet"``), a
+list of files or one file. Axis and period come from each path relative to the dataset folder
 through the configuration's patterns (:attr:`FleetConfig.patterns`): by default
-``AXIS/PERIOD.ext`` and Hive-style partitions ``axis=AXIS/date=PERIOD/part.parquet``.
+``AXIS/PERIOD.ext`` and Hive-style partitions ``axis=AXIS/date=PERIOD/part.parquet``;
+or from columns of the file (``[layout] axis_column``, ``period_column``: one unpartitioned
+file holding many axes and dates gives one task per value pair, :attr:`LogFile.select`),
+or from constants (``[layout] axis``, ``period``).
 
 The fingerprint of a file is a hash of its relative path, size, modification time, the
 configuration and the frictionkit version: a result part carrying it is still valid
 (the rerun skips the file); any change recomputes it. Checking it costs one ``stat`` per
-file — no file is read to decide what is done. The content hash (SHA-256) is computed by
-the task that reads the file and stored with its result.
+file — no file is read to decide what is done (files split by columns have their key columns
+read once, to list their tasks). The content hash (SHA-256, of the whole file) is computed
+by the task that reads the file and stored with its result.
 """
 
 from __future__ import annotations
@@ -21,6 +25,8 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from ..data.loaders import SUFFIXES
 from ..errors import DataError
@@ -45,7 +51,11 @@ class LogFile:
     size, mtime_ns : int
         From ``stat``.
     fingerprint : str
-        Hash of ``file``, ``size``, ``mtime_ns``, the configuration and the frictionkit version.
+        Hash of ``file``, ``size``, ``mtime_ns``, ``select``, the configuration and the
+        frictionkit version.
+    select : tuple of (str, value)
+        Rows of the file that are this task: ``(column, value)`` pairs all equal (empty: the
+        whole file).
     """
 
     axis: str
@@ -55,6 +65,7 @@ class LogFile:
     size: int
     mtime_ns: int
     fingerprint: str
+    select: tuple = ()
 
     @property
     def part_name(self) -> str:
@@ -97,8 +108,8 @@ def _candidates(dataset) -> tuple[Path, list[Path]]:
     root = Path(text)
     if not root.exists():
         raise DataError(f"fleet dataset '{root}': not found")
-    if root.is_file():
-        raise DataError(f"fleet dataset '{root}': is a file; give the folder of the logs, a glob or a list of files")
+    if root.is_file():  # one file (e.g. many axes and dates in one Parquet file)
+        return root.parent.absolute(), [root.absolute()]
     paths = []
     for dirpath, dirnames, filenames in os.walk(root):
         dirnames[:] = sorted(d for d in dirnames if not d.startswith(".") and not d.endswith(PARTS_SUFFIX))
@@ -150,9 +161,13 @@ def discover(dataset, config: FleetConfig, *, exclude: Iterable[str | Path] = ()
             unmatched.append(rel)
             continue
         st = p.stat()
-        fp = hashlib.sha256(f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0{cfg_hash}\0{__version__}".encode()).hexdigest()
-        logs.append(LogFile(axis=hit[0], period=hit[1], path=str(p), file=rel, size=int(st.st_size),
-                            mtime_ns=int(st.st_mtime_ns), fingerprint=fp))
+        for axis, period, select in _tasks_of(p, hit, config):
+            key = f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0{cfg_hash}\0{__version__}"
+            if select:
+                key += "\0" + repr(select)
+            fp = hashlib.sha256(key.encode()).hexdigest()
+            logs.append(LogFile(axis=axis, period=period, path=str(p), file=rel, size=int(st.st_size),
+                                mtime_ns=int(st.st_mtime_ns), fingerprint=fp, select=select))
     if not logs:
         shown = ", ".join(unmatched[:3]) + (" ..." if len(unmatched) > 3 else "")
         why = f"; {len(unmatched)} data file(s) match no [layout] pattern (e.g. {shown})" if unmatched else ""
@@ -161,10 +176,95 @@ def discover(dataset, config: FleetConfig, *, exclude: Iterable[str | Path] = ()
     return logs, unmatched
 
 
+def _key_array(vals) -> np.ndarray:
+    """A key column as numbers or strings (dates as ISO text: ``2026-01-05``, or with the time
+    of day when there is one)."""
+    vals = np.asarray(vals)
+    if vals.dtype.kind == "M":
+        day = vals.astype("datetime64[D]")
+        unit = "D" if (vals == day).all() else "s"
+        return np.datetime_as_string(vals, unit=unit)
+    if vals.dtype.kind in "biuf":
+        return vals
+    return vals.astype(str)
+
+
+def _plain(v):
+    """A key value as a plain Python scalar (str, int, float) for selection and hashing."""
+    v = v.item() if hasattr(v, "item") else v
+    if isinstance(v, float) and v.is_integer():
+        return int(v)
+    return v if isinstance(v, (str, int, float)) else str(v)
+
+
+def read_key_columns(path: str | Path, columns: Iterable[str]) -> dict:
+    """The given columns of a data file (only those are read from Parquet)."""
+    from ..data.loaders import read_table
+
+    columns = list(columns)
+    p = Path(path)
+    if p.suffix.lower() in (".parquet", ".pq"):
+        import pyarrow.parquet as pq
+
+        try:
+            t = pq.read_table(p, columns=columns)
+        except Exception as exc:  # noqa: BLE001 - one line naming the file
+            raise DataError(f"file '{p}': cannot read the key column(s) {columns}: {' '.join(str(exc).split())}") from None
+        return {c: _key_array(t.column(c).to_numpy(zero_copy_only=False)) for c in columns}
+    table = read_table(p)
+    missing = [c for c in columns if c not in table]
+    if missing:
+        raise DataError(f"file '{p}': key column(s) {missing} ([layout] axis_column/period_column) not found; "
+                        f"available columns: {', '.join(list(table)[:20])}")
+    return {c: _key_array(table[c]) for c in columns}
+
+
+def _tasks_of(p: Path, hit: tuple, config: FleetConfig) -> list[tuple[str, str, tuple]]:
+    """``(axis, period, select)`` of every task in one file."""
+    lay = config.layout
+    cols = config.key_columns
+    if not cols:
+        return [(hit[0], hit[1], ())]
+    keys = read_key_columns(p, cols)
+    if len(cols) == 1:
+        uniq = [(_plain(v),) for v in dict.fromkeys(keys[cols[0]].tolist())]
+    else:
+        uniq = [tuple(_plain(v) for v in row) for row in dict.fromkeys(zip(*(keys[c].tolist() for c in cols)))]
+    seen = dict.fromkeys(uniq)
+    out = []
+    for vals in seen:
+        by = dict(zip(cols, vals))
+        axis = str(by[lay["axis_column"]]) if "axis_column" in lay else hit[0]
+        period = str(by[lay["period_column"]]) if "period_column" in lay else hit[1]
+        out.append((axis, period, tuple(zip(cols, vals))))
+    return out
+
+
+def select_rows(table, select: tuple, path: str | Path) -> np.ndarray | None:
+    """Indices of the rows of ``table`` (name → array) where every ``(column, value)`` of
+    ``select`` holds; None for an empty selection (the whole file)."""
+    if not select:
+        return None
+    mask = None
+    for col, want in select:
+        if col not in table:
+            raise DataError(f"file '{path}': key column '{col}' not found")
+        vals = _key_array(table[col])
+        if vals.dtype.kind in "biuf":
+            m = vals == want if isinstance(want, (int, float)) else np.zeros(vals.shape, bool)
+        else:
+            m = vals == str(want)
+        mask = m if mask is None else mask & m
+    rows = np.flatnonzero(mask)
+    if rows.size == 0:
+        raise DataError(f"file '{path}': no row has {dict(select)}")
+    return rows
+
+
 def parts_dir(out: str | Path) -> Path:
     """Folder of the result parts of a results file: ``R.parquet`` → ``R.parquet.parts``."""
     out = Path(out)
     return out.with_name(out.name + PARTS_SUFFIX)
 
 
-__all__ = ["LogFile", "PARTS_SUFFIX", "discover", "parts_dir"]
+__all__ = ["LogFile", "PARTS_SUFFIX", "discover", "parts_dir", "read_key_columns", "select_rows"]

@@ -56,6 +56,7 @@ from __future__ import annotations
 import functools
 import math
 import zlib
+from collections import Counter
 from collections.abc import Sequence
 from typing import Any
 
@@ -82,12 +83,19 @@ def infer_schedule(df) -> tuple[str, ...]:
                  and df[c].dtype.kind == "f")
 
 
-def _days(periods: np.ndarray) -> np.ndarray:
+def _when(periods) -> np.ndarray:
+    """Periods as datetime64[ns] (NaT where not a date)."""
     import pandas as pd
 
-    when = pd.to_datetime(pd.Series(periods), errors="coerce")
-    if when.notna().all():
-        return ((when - when.iloc[0]).dt.total_seconds() / 86400.0).to_numpy(float)
+    return pd.to_datetime(pd.Series(np.asarray(periods, dtype=object)), errors="coerce").to_numpy("datetime64[ns]")
+
+
+def _days(periods: np.ndarray, when: np.ndarray | None = None) -> np.ndarray:
+    """Days since the first period (``when``: the periods already parsed by :func:`_when`); the
+    period's index when any period is not a date."""
+    when = _when(periods) if when is None else when
+    if not np.isnat(when).any() and when.size:
+        return (when - when[0]) / np.timedelta64(1, "D")
     return np.arange(len(periods), dtype=float)
 
 
@@ -184,8 +192,6 @@ CUSUM_K = 0.5
 def _series(sub, p: str, sched: Sequence[str], days: np.ndarray, *, log: bool, weights: str,
             se_floor: float) -> dict | None:
     """The usable days of one parameter of one axis: indices, y, s, scheduling values, days."""
-    import pandas as pd
-
     if p not in sub or f"{p}_se" not in sub:
         return None
     n = len(sub)
@@ -201,9 +207,10 @@ def _series(sub, p: str, sched: Sequence[str], days: np.ndarray, *, log: bool, w
     mcol = "model_" + p.rsplit("_", 1)[-1]
     if mcol in sub:  # a parameter means the same only within one structure: keep the axis's usual one
         models = sub[mcol].to_numpy(object)
-        usual = pd.Series(models[keep]).mode()
-        if len(usual):
-            keep &= models == usual.iloc[0]
+        counts = Counter(m for m in models[keep] if isinstance(m, str))
+        if counts:  # the most frequent; among equals the first in sorted order (as pandas' mode)
+            top = max(counts.values())
+            keep &= models == min(m for m, c in counts.items() if c == top)
     idx = np.flatnonzero(keep)
     if idx.size == 0:
         return None
@@ -244,24 +251,26 @@ def _recursive_scores(ser: dict) -> np.ndarray:
     Sxx = np.cumsum(w[:, None, None] * X[:, :, None] * X[:, None, :], axis=0)
     Sxy = np.cumsum((w * y)[:, None] * X, axis=0)
     r = np.full(n, np.nan)
-    for L in range(k, n):
-        A = Sxx[L - 1]
-        c = np.linalg.cond(A)
-        if not np.isfinite(c) or c > 1e12:
-            continue
-        inv = np.linalg.inv(A)
-        x = X[L]
-        r[L] = (y[L] - x @ (inv @ Sxy[L - 1])) / np.sqrt(s[L] ** 2 + x @ inv @ x)
+    if n > k:  # every day L >= k at once: the fit on days < L predicts day L
+        A = Sxx[k - 1:n - 1]
+        with np.errstate(all="ignore"):
+            c = np.linalg.cond(A)
+        good = np.flatnonzero(np.isfinite(c) & (c <= 1e12))
+        if good.size:
+            inv = np.linalg.inv(A[good])
+            L = good + k
+            x = X[L]
+            pred = np.einsum("li,lij,lj->l", x, inv, Sxy[L - 1])
+            var = s[L] ** 2 + np.einsum("li,lij,lj->l", x, inv, x)
+            r[L] = (y[L] - pred) / np.sqrt(var)
     z = np.full(n, np.nan)
     fin = np.isfinite(r)
     prev = np.cumsum(np.where(fin, r * r, 0.0))
-    cnt = np.cumsum(fin)
-    for L in np.flatnonzero(fin):
-        nu = int(cnt[L] - 1)  # earlier residuals
-        if nu < 2:
-            continue
-        scale = max(1.0, float(prev[L] - r[L] ** 2) / nu)  # never tighter than the intervals
-        z[L] = special.ndtri(special.stdtr(nu, r[L] / np.sqrt(scale)))
+    nu = np.cumsum(fin) - 1  # earlier residuals
+    use = fin & (nu >= 2)
+    if use.any():
+        scale = np.maximum(1.0, (prev[use] - r[use] ** 2) / nu[use])  # never tighter than the intervals
+        z[use] = special.ndtri(special.stdtr(nu[use].astype(float), r[use] / np.sqrt(scale)))
     return np.clip(z, -8.0, 8.0)
 
 
@@ -310,10 +319,11 @@ def cusum_threshold(n_days: int, n_params: int, alpha: float, min_periods: int, 
 
 
 def _axis(sub, params: Sequence[str], schedule: Sequence[str], *, alpha: float, min_periods: int, n_null: int,
-          se_floor: float, seed: int, weights: str, log: bool, method: str) -> dict[str, Any]:
-    """Monitor one axis (rows with ``ok`` only, sorted by period)."""
+          se_floor: float, seed: int, weights: str, log: bool, method: str,
+          when: np.ndarray | None = None) -> dict[str, Any]:
+    """Monitor one axis (rows with ``ok`` only, sorted by period; ``when``: their periods parsed)."""
     periods = sub["period"].to_numpy()
-    days = _days(periods)
+    days = _days(periods, when)
     n = len(sub)
     sched = [u for u in schedule if u in sub and np.isfinite(sub[u].to_numpy(float)).sum() >= max(3, n // 2)]
     need = max(min_periods, 3 + len(sched))
@@ -522,6 +532,7 @@ def monitor_drift(
                 cols[f"drift_{p}_{u}_{name}"] = np.full(len(df), np.nan)
 
     ok = df["ok"].fillna(False).astype(bool)
+    when_all = _when(df["period"].to_numpy())
     for axis, sub_all in df.groupby("axis", sort=True):
         rows_all = sub_all.index.to_numpy()
         sub = sub_all[ok.loc[rows_all].to_numpy()].sort_values("period", kind="stable")
@@ -529,7 +540,8 @@ def monitor_drift(
             cols["drift_detail"][rows_all] = "not monitored: no period with a fit"
             continue
         res = _axis(sub, params, sched, alpha=float(alpha), min_periods=int(min_periods), n_null=int(n_null),
-                    se_floor=float(se_floor), seed=int(seed), weights=weights, log=scale == "log", method=method)
+                    se_floor=float(se_floor), seed=int(seed), weights=weights, log=scale == "log", method=method,
+                    when=when_all[sub.index.to_numpy()])
         periods = sub["period"].to_numpy()
         detail = _detail(res, periods)
         alarm = periods[res["alarm_index"]] if res.get("alarm_index") is not None else None

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import DataError
 from .config import FleetConfig
 from .dataset import LogFile
 
@@ -140,21 +141,42 @@ def _dynamic(row: dict[str, Any], rec, res) -> list[str]:
 
 
 def _recording(log: LogFile, config: FleetConfig, row: dict[str, Any], notes: list[str]):
+    """The log's Recording; with ``[layout] record_column``, a dict of its records (name → Recording)."""
     from ..data.loaders import _build, _column, read_table
+    from .dataset import select_rows
 
     table = read_table(log.path)
     p = Path(log.path)
+    rows = select_rows(table, log.select, p)  # None: the whole file
     roles = {role: config.columns.get(role) for role in ("time", "position", "velocity", "force", "current")}
     scales = {k: v for k, v in config.scales.items() if k != "current_gain"}
-    rec = _build(table, p, roles, scales, None, current_gain=config.scales.get("current_gain"),
-                 units=dict(config.si_units), name=f"{log.axis} {log.period}",
-                 extra_prov={"sha256": row["file_sha256"], "axis": log.axis, "period": log.period})
+    prov = {"sha256": row["file_sha256"], "axis": log.axis, "period": log.period}
+    if log.select:
+        prov["select"] = {c: v for c, v in log.select}
+
+    def build(idx, name, **extra):
+        return _build(table, p, roles, scales, idx, current_gain=config.scales.get("current_gain"),
+                      units=dict(config.si_units), name=name, extra_prov={**prov, **extra})
+
+    rcol = config.layout.get("record_column")
+    if rcol is None:
+        rec = build(rows, f"{log.axis} {log.period}")
+    else:
+        if rcol not in table:
+            raise DataError(f"file '{p}': column '{rcol}' ([layout] record_column) not found")
+        idx = np.arange(len(np.asarray(table[rcol]))) if rows is None else rows
+        labels = np.asarray(table[rcol])[idx].astype(str)
+        rec = {}
+        for lab in dict.fromkeys(labels.tolist()):  # records in file order
+            rec[lab] = build(idx[labels == lab], f"{log.axis} {log.period} {lab}", record=lab)
     for name, spec in config.schedule.items():
         col = spec["column"]
         if col not in table:
             notes.append(f"scheduling column '{col}' ({name}) not found")
             continue
         vals = _column(table, p, name, col)
+        if rows is not None:
+            vals = vals[rows]
         fin = np.isfinite(vals)
         if fin.any():
             row[name] = float(np.mean(vals[fin]))
@@ -195,13 +217,20 @@ def identify_log(log: LogFile, config: FleetConfig, parts: str | None = None) ->
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             rec = _recording(log, config, row, notes)
-            row["n_samples"] = int(rec.n)
-            row["duration_s"] = float(rec.duration)
+            records = rec if isinstance(rec, dict) else None
+            pieces = list(records.values()) if records else [rec]
+            row["n_samples"] = int(sum(r.n for r in pieces))
+            row["duration_s"] = float(sum(r.duration for r in pieces))
             with np.errstate(all="ignore"):
-                pts = steady_state_points(rec, **config.segmentation)
+                if records:  # one steady-state point per record, averaged whole (trim: [segmentation])
+                    pts = steady_state_points(records, trim=config.segmentation.get("trim"))
+                else:
+                    pts = _plateau_points(rec, config.segmentation)
                 res = fit_static_map(pts, units=dict(config.si_units), **config.fit)
         _fill(row, res)
-        if config.dynamic.get("lugre", True):
+        if config.dynamic.get("lugre", True) and records:
+            notes.append("LuGre not fitted: the log is separate steady-state records, not one continuous run")
+        elif config.dynamic.get("lugre", True):
             notes += _dynamic(row, rec, res)
         notes += [" ".join(str(w.message).split()) for w in caught
                   if not issubclass(w.category, RuntimeWarning) or "encountered" not in str(w.message)]
@@ -218,6 +247,27 @@ def identify_log(log: LogFile, config: FleetConfig, parts: str | None = None) ->
     if parts is not None:
         write_part(row, Path(parts) / log.part_name, config)
     return row
+
+
+def _plateau_points(rec, segmentation: dict):
+    """Steady-state points of one log: :func:`~frictionkit.data.steady_state_points` with the
+    ``[segmentation]`` keywords; ``settle`` (a fraction) drops that much more of each plateau
+    at its start, where the friction is still settling from the previous speed (the
+    pre-sliding state of a LuGre-like contact lags by ``~g(v)/(σ0·|v|)``: 30-120 ms at
+    0.5 mm/s on the simulated fleet)."""
+    from ..data.segmentation import Segment, _velocity, find_plateaus, steady_state_points
+
+    seg = dict(segmentation)
+    settle = float(seg.pop("settle", 0.0))
+    if settle <= 0.0:
+        return steady_state_points(rec, **seg)
+    plateaus = find_plateaus(_velocity(rec), rec.dt, **seg)
+    kept = []
+    for s in plateaus:
+        start = s.start + int(settle * len(s))
+        if s.stop - start >= max(2, int(seg.get("min_samples", 10))):
+            kept.append(Segment(start=start, stop=s.stop, direction=s.direction, kind=s.kind, amplitude=s.amplitude))
+    return steady_state_points(rec, plateaus=kept)
 
 
 def write_part(row: dict[str, Any], path: Path, config: FleetConfig) -> None:

@@ -5,6 +5,7 @@ from .motion_error import fit_motion_error, motion_start
 from .emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare, emps_stribeck_fit
 from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
 from .presliding import fit_presliding, piecewise_linear_fit
+from .reversal import fit_reversal
 from .result import IdentificationResult, parameter_statistics
 from ..plants.rigid_body import RigidBody  # re-exported: the plant fit_rigid_body identifies
 from .rigid_body import fit_rigid_body, rigid_body_regressors
@@ -23,6 +24,7 @@ __all__ = [
     "fit_motion_error",
     "fit_output_error",
     "fit_presliding",
+    "fit_reversal",
     "initial_guess_lugre",
     "motion_data",
     "motion_start",

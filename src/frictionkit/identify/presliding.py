@@ -140,6 +140,13 @@ def _s_abs(static, v: float) -> float:
     return float(abs(static.stribeck(np.array([v]))[0]))
 
 
+#: Most elements :func:`fit_presliding` takes (the CLI's ``--elements`` bound is the same).
+#: The breakpoint search grows about as M^3: 3 elements take 0.2 s, 16 about 2 s, 32 about
+#: 30 s and 100 more than 20 minutes on a 7,500-sample record, and one branch rarely
+#: resolves more than a dozen breakpoints — so larger requests are refused, not run.
+MAX_ELEMENTS = 32
+
+
 def fit_presliding(
     data,
     *,
@@ -158,7 +165,7 @@ def fit_presliding(
         Motion-driven test: uniformly sampled ``t`` [s], position ``x`` [m] and the
         friction force ``F`` [N] (e.g. a slow triangle of a few tens of µm).
     elements : int
-        Number ``M`` of Maxwell-slip elements (breakpoints).
+        Number ``M`` of Maxwell-slip elements (breakpoints), 1 … :data:`MAX_ELEMENTS` (32).
     static : Stribeck | CoulombViscous | Directional, optional
         The static map ``s(v)`` identified before (seed 000 step 1). Default: a
         Coulomb level equal to the plateau of the branch (``xi`` then sum to ≈ 1).
@@ -210,8 +217,11 @@ def fit_presliding(
     True
     """
     owner = "fit_presliding"
-    if not isinstance(elements, (int, np.integer)) or elements < 1:
-        raise ParameterError(f"{owner}: elements = {elements!r}: must be an integer >= 1")
+    if val.is_bool(elements) or not isinstance(elements, (int, np.integer)) or not 1 <= elements <= MAX_ELEMENTS:
+        raise ParameterError(
+            f"{owner}: elements = {elements!r}: must be an integer in 1 … {MAX_ELEMENTS} (the breakpoint "
+            "search grows about as M^3: 32 elements take about 30 s, 100 more than 20 minutes)"
+        )
     if branch not in ("auto", "virgin", "reversal"):
         raise ParameterError(f"{owner}: branch = {branch!r}: must be 'auto', 'virgin' or 'reversal'")
     if C is not None:

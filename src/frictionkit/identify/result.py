@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from ..errors import DataError, ParameterError
+from ..errors import DataError, FrictionKitError, ParameterError
 from ..models.base import law_from_dict, law_to_dict, registered_laws
 from ..control.compensators import RollingCompensator
 from ..plants.rigid_body import RigidBody
@@ -163,7 +163,55 @@ def _jsonable(x: Any) -> Any:
     return x
 
 
+def check_model_numbers(node: Any, at: str) -> None:
+    """Model fields in a JSON file must be JSON numbers: ``true`` or ``"1.0"`` are not taken as 1.
+
+    Raises :class:`DataError` naming the field by its path (``parts.positive.model.Fc``).
+    """
+    if not isinstance(node, Mapping):
+        return
+    for key, val in node.items():
+        if key in ("type", "law", "shape"):
+            continue
+        if isinstance(val, Mapping):
+            check_model_numbers(val, f"{at}.{key}")
+            continue
+        items = val if isinstance(val, list) else [val]
+        for x in items:
+            if isinstance(x, Mapping):
+                check_model_numbers(x, f"{at}.{key}")
+            elif isinstance(x, bool) or not isinstance(x, (int, float)):
+                raise DataError(f"{at}.{key} is {json.dumps(val)}, expected a number"
+                                + (" or a list of numbers" if isinstance(val, list) else ""))
+
+
+def read_json_object(path: str | Path, where: str | None = None) -> dict[str, Any]:
+    """The JSON object in a file, or one :class:`DataError` saying why not (prefixed by ``where``).
+
+    Not UTF-8 text, not JSON, nested too deeply, or not an object at the top level.
+    Missing files and folders raise the usual ``OSError``.
+    """
+    p = Path(path)
+    where = where or f"file '{p}'"
+    raw = p.read_bytes()
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise DataError(f"{where}: not UTF-8 text (byte {exc.start})") from None
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DataError(f"{where}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
+    except RecursionError:
+        raise DataError(f"{where}: JSON nested too deeply") from None
+    if not isinstance(doc, dict):
+        raise DataError(f"{where}: the top level is a JSON {type(doc).__name__}, expected an object")
+    return doc
+
+
 def _floats(x: Any) -> np.ndarray:
+    if any(isinstance(v, bool) for v in np.ravel(np.array(x, dtype=object))):
+        raise TypeError(f"{json.dumps(x)[:60]}: true/false where a number belongs")
     return np.array([np.nan if v is None else v for v in np.ravel(np.array(x, dtype=object))],
                     dtype=float).reshape(np.shape(x))
 
@@ -301,6 +349,8 @@ class IdentificationResult:
             ci = f"[{self.ci95[i, 0]:.6g}, {self.ci95[i, 1]:.6g}]"
             lines.append(f"{n:<12}{self.values[i]:>14.6g}{self.stderr[i]:>12.3g}{ci:>30}  {self.units[i]}")
         lines.append(f"RMS residual {self.rms:.6g}, relative error {self.relative_error_percent:.4g} %")
+        if self.diagnostics.get("data_scale_text"):
+            lines.append(f"data scale: {self.diagnostics['data_scale_text']}")
         for k, part in self.parts.items():
             lines.append(f"  {k}: {part.model_name}, n = {part.n_obs}, RMS residual {part.rms:.6g}, "
                          f"relative error {part.relative_error_percent:.4g} %")
@@ -355,11 +405,66 @@ class IdentificationResult:
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> IdentificationResult:
-        """Inverse of :meth:`to_dict`."""
+        """Inverse of :meth:`to_dict`, validated: every way a document can be wrong ends in
+        one :class:`DataError` saying what is wrong (missing key, a value of the wrong type,
+        a model field that is not a number or breaks its rule, malformed content)."""
+        if not isinstance(d, Mapping):
+            raise DataError(f"the top level is a JSON {type(d).__name__}, expected an object")
         if d.get("format") != JSON_FORMAT:
-            raise DataError(f"not a frictionkit identification result (format = {d.get('format')!r}, expected {JSON_FORMAT!r})")
+            raise DataError(f"not a frictionkit identification result "
+                            f"(\"format\" is {d.get('format')!r}, expected {JSON_FORMAT!r})")
+        try:
+            check_model_numbers(d.get("model"), "model")
+            parts = d.get("parts")
+            for side, part in (parts.items() if isinstance(parts, Mapping) else ()):
+                if isinstance(part, Mapping):
+                    check_model_numbers(part.get("model"), f"parts.{side}.model")
+            return cls._from_dict(d)
+        except KeyError as exc:
+            raise DataError(f"missing key {exc.args[0]!r}") from None
+        except RecursionError:
+            raise DataError("JSON nested too deeply") from None
+        except FrictionKitError as exc:
+            if isinstance(exc, DataError):
+                raise
+            raise DataError(" ".join(str(exc).split())) from None
+        except (TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
+            raise DataError(f"malformed content ({type(exc).__name__}: {' '.join(str(exc).split())})") from None
+
+    @classmethod
+    def _from_dict(cls, d: Mapping[str, Any]) -> IdentificationResult:
+        parts = d.get("parts") or {}
+        for k, v in (parts.items() if isinstance(parts, Mapping) else ()):
+            if not isinstance(v, Mapping):
+                raise TypeError(f"parts.{k} is a JSON {type(v).__name__}, expected an object")
         params = d["parameters"]
+        if not isinstance(params, Mapping) or not all(isinstance(v, Mapping) for v in params.values()):
+            raise TypeError("\"parameters\" must map each name to {\"value\", \"stderr\", \"ci95\", \"unit\"}")
         names = tuple(params)
+
+        def typed(key, kinds, what, default=dataclasses.MISSING):
+            x = d[key] if default is dataclasses.MISSING else d.get(key, default)
+            kinds = kinds if isinstance(kinds, tuple) else (kinds,)
+            if (isinstance(x, bool) and bool not in kinds) or not isinstance(x, kinds):
+                raise TypeError(f"\"{key}\" is {json.dumps(x)[:60]}, expected {what}")
+            return x
+
+        typed("kind", str, "a string")
+        typed("model_name", str, "a string")
+        typed("n_obs", int, "an integer")
+        typed("dof", int, "an integer")
+        typed("success", bool, "true or false", True)
+        typed("message", str, "a string", "")
+        typed("warnings", (list, tuple), "a list of strings", ())
+        typed("diagnostics", Mapping, "an object", {})
+        typed("provenance", Mapping, "an object", {})
+        for key in ("rms", "relative_error_percent"):
+            if isinstance(d[key], bool):
+                raise TypeError(f"\"{key}\" is {json.dumps(d[key])}, expected a number")
+        if not all(isinstance(w, str) for w in d.get("warnings", ())):
+            raise TypeError("\"warnings\" must be a list of strings")
+        if not all(isinstance(params[n].get("unit"), str) for n in names):
+            raise TypeError("every parameter's \"unit\" must be a string")
         return cls(
             kind=d["kind"],
             model_name=d["model_name"],
@@ -388,8 +493,9 @@ class IdentificationResult:
 
         The top level holds ``model`` (type and fields), ``parameters`` (each with
         ``value``, ``stderr``, ``ci95``, ``unit``), ``relative_error_percent``, ``rms``,
-        ``correlation``, ``warnings``, ``diagnostics``, ``provenance``, ``parts``
-        and, with ``include_data``, the fitted ``data``. Non-finite numbers become ``null``.
+        ``correlation``, ``warnings``, ``diagnostics``, ``provenance``, ``parts``,
+        ``written_by`` (frictionkit version and UTC date of the write) and, with
+        ``include_data``, the fitted ``data``. Non-finite numbers become ``null``.
 
         Examples
         --------
@@ -397,19 +503,34 @@ class IdentificationResult:
         >>> IdentificationResult.load_json("fit.json").params == res.params  # doctest: +SKIP
         True
         """
+        from datetime import datetime, timezone
+
+        from .. import __version__
         from .._io import atomic_write_text  # temporary file + rename: the old file survives a failed write
 
         p = Path(path)
-        text = json.dumps(self.to_dict(include_data=include_data), indent=1, ensure_ascii=False) + "\n"
+        doc = self.to_dict(include_data=include_data)
+        doc["written_by"] = {"frictionkit_version": __version__,
+                             "date": datetime.now(timezone.utc).isoformat(timespec="seconds")}
+        text = json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
         atomic_write_text(p, text, encoding="utf-8")
         return p
 
     @classmethod
     def load_json(cls, path: str | Path) -> IdentificationResult:
-        """Read a result written by :meth:`save_json`."""
+        """Read a result written by :meth:`save_json`.
+
+        Raises
+        ------
+        DataError
+            Naming the file and what is wrong with it (not UTF-8, not JSON, not an
+            identification result, a missing key or malformed value; see :meth:`from_dict`).
+        OSError
+            The file cannot be read.
+        """
         p = Path(path)
+        doc = read_json_object(p)
         try:
-            d = json.loads(p.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as exc:
-            raise DataError(f"file '{p}': not valid JSON ({exc})") from None
-        return cls.from_dict(d)
+            return cls.from_dict(doc)
+        except DataError as exc:
+            raise DataError(f"file '{p}': {exc}") from None

@@ -8,7 +8,8 @@ identifies them from the friction measured around velocity reversals, so that a
 Each reversal is a turning point of the position (the extremum between two runs, confirmed
 once the axis has moved ``min_travel`` away from it, so encoder noise makes no reversals).
 Around it, with ``d`` the new direction and the samples split halfway in time between
-turning points (as :meth:`RollingCompensator.signal` splits them), the displacement is
+turning points (as :meth:`RollingCompensator.signal` splits them; the samples before the
+first turn are left out: there the axis starts from rest, not from a steady slide), the displacement is
 ``xi = sgn(t - t0) |x - x0|`` and the friction in the new direction is ``d (F - J a)``.
 Fitted by least squares, one ``F0`` for both laws (seed 001 §5.3 uses one ``F0`` for all):
 
@@ -120,6 +121,8 @@ def reversal_samples(recordings, *, min_travel: float | None = None, inertia: fl
         seg = np.searchsorted(edges, t, side="right") - 1
         for j, k in enumerate(tp):
             sel = seg == j
+            if j == 0:  # before the first turn the axis starts from rest (a virgin branch), not a steady slide
+                sel &= t >= t[k]
             # the new direction: away from the extremum (a maximum turns the axis negative)
             after = -1.0 if x[k] >= np.max(x[sel]) else 1.0
             xi = np.sign(t[sel] - t[k]) * np.abs(x[sel] - x[k])

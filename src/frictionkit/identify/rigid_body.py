@@ -31,6 +31,7 @@ import numpy as np
 
 from ..data.recording import Recording
 from ..data.signals import decimate, derivative, lowpass
+from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.static import CoulombViscous, Directional
 from ..plants.rigid_body import RigidBody
@@ -89,10 +90,8 @@ def rigid_body_regressors(
     recording.require("x", "F")
     if not recording.is_regular:
         raise DataError(f"recording '{recording.name}': irregular sampling; call recording.resample() first")
-    if int(skip) != skip or skip < 0:
-        raise ParameterError(f"skip = {skip!r}: must be a non-negative integer")
-    if int(q) != q or q < 1:
-        raise ParameterError(f"q = {q!r}: must be a positive integer")
+    skip = val.integer("rigid_body_regressors", "skip", skip, minimum=0)
+    q = val.integer("rigid_body_regressors", "q", q, minimum=1)
     need = int(skip) + 30 * int(q) + 20
     if recording.n < need:
         raise DataError(
@@ -201,8 +200,8 @@ def fit_rigid_body(
         raise ParameterError(f"fit_rigid_body.law = {law!r}: must be one of {list(RIGID_BODY_LAWS)}")
     if delta is not None and law != "stribeck":
         raise ParameterError(f"fit_rigid_body.delta = {delta!r}: only the 'stribeck' law has an exponent")
-    if delta is not None and not (math.isfinite(float(delta)) and float(delta) > 0):
-        raise ParameterError(f"fit_rigid_body.delta = {delta!r}: must be finite and > 0")
+    if delta is not None:
+        delta = val.positive("fit_rigid_body", "delta", delta)
     linear = _fit_linear(recording, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
     if law == "coulomb_viscous":
         return linear
@@ -233,7 +232,7 @@ def _units(recording: Recording, names) -> tuple[tuple[str, ...], dict[str, str]
 def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, delta, cutoff, order, skip, q,
                   profile) -> IdentificationResult:
     """The Stribeck rigid body (:mod:`.rigid_body_stribeck`) as an :class:`IdentificationResult`."""
-    from .rigid_body_stribeck import fit_rigid_body_stribeck
+    from .rigid_body_stribeck import VS_START_FRACTIONS, fit_rigid_body_stribeck
 
     recs = _as_list(recording)
     full = [rigid_body_regressors(r, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=1)
@@ -253,10 +252,13 @@ def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, d
             warns.append(f"{nm} = {values[i]:.6g} is not significantly different from 0 "
                          f"(standard error {ident.stderr[i]:.3g})")
     units, sig_units = _units(recs[0], names)
+    scale = linear.diagnostics["data_scale"]
+    warns += _scale_warnings(scale, dict(zip(names, np.asarray(values, dtype=float).tolist())),
+                             sig_units["x"], sig_units["F"])
     prov = dict(linear.provenance)
     prov["procedure"] = dict(prov["procedure"], method="IDIM-NLS", law=law, delta=delta if law == "stribeck" else None,
                              evaluation="model at the full rate, then decimated like the IDIM-LS columns",
-                             vs_start_fractions_of_v95=list(_vs_fracs()), profile=bool(profile))
+                             vs_start_fractions_of_v95=list(VS_START_FRACTIONS), profile=bool(profile))
     s2 = float(r @ r) / fit["dof"]
     t = linear.data["t"]
     return IdentificationResult(
@@ -279,6 +281,7 @@ def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, d
         diagnostics={"condition_number": fit["condition_number"], "error_norm": float(np.linalg.norm(r)),
                      "error_std": float(np.std(r, ddof=1)), "sigma2": s2, "nfev": fit["nfev"],
                      "starts": fit["starts"], "v95": fit["v95"], "identifiability": ident.details,
+                     "data_scale": scale, "data_scale_text": linear.diagnostics["data_scale_text"],
                      "linear": {"parameters": linear.params,
                                 "relative_error_percent": linear.relative_error_percent}},
         provenance=prov,
@@ -286,10 +289,59 @@ def _fit_stribeck(recording, linear: IdentificationResult, *, law, asymmetric, d
     )
 
 
-def _vs_fracs():
-    from .rigid_body_stribeck import VS_START_FRACTIONS
+#: Kinematic limits beyond which a record is not a plausible axis in the given position
+#: unit (assumption, issue 13). Linear: the longest machine-tool and gantry axes travel
+#: some tens of metres, the fastest linear-motor stages reach ~10 m/s and ~20 g; rotary:
+#: 2000 rad/s is ~19,000 rpm (spindle speed), 1e5 rad/s² far beyond any servo axis. The
+#: limits are generous on purpose: they catch unit and scale slips (a factor of 1000),
+#: not unusual machines.
+PLAUSIBLE_LIMITS = {
+    "m": {"travel": 50.0, "peak_speed": 20.0, "peak_acceleration": 500.0},
+    "rad": {"travel": math.inf, "peak_speed": 2000.0, "peak_acceleration": 1e5},
+}
 
-    return VS_START_FRACTIONS
+
+def data_scale(recs, regs, asymmetric: bool) -> dict[str, float]:
+    """Physical scale of the data a rigid-body fit saw: travel, peak speed and acceleration
+    (filtered, decimated regressor columns) and the force range."""
+    a = np.concatenate([np.asarray(g["X"])[:, 0] for g in regs])
+    if asymmetric:
+        v = np.concatenate([np.asarray(g["X"])[:, 1] + np.asarray(g["X"])[:, 3] for g in regs])
+    else:
+        v = np.concatenate([np.asarray(g["X"])[:, 1] for g in regs])
+    F = np.concatenate([r.force() for r in recs])
+    return {"travel": float(max(np.ptp(r.x) for r in recs)), "peak_speed": float(np.max(np.abs(v))),
+            "peak_acceleration": float(np.max(np.abs(a))), "force_min": float(F.min()),
+            "force_max": float(F.max())}
+
+
+def _scale_warnings(scale: dict[str, float], vals: dict[str, float], xu: str, Fu: str) -> list[str]:
+    """Flags for a record (and the fitted mass) implausible at the data's physical scale."""
+    out = []
+    lim = PLAUSIBLE_LIMITS.get(xu)
+    units = {"travel": xu, "peak_speed": f"{xu}/s", "peak_acceleration": f"{xu}/s²"}
+    over = [f"{key.replace('_', ' ')} {scale[key]:.4g} {units[key]} > {limit:.4g} {units[key]}"
+            for key, limit in (lim or {}).items() if scale[key] > limit]
+    if over:
+        out.append(
+            f"implausible physical scale of the data ({'; '.join(over)}), beyond any real axis: a position "
+            f"scale or unit slip (mm read as m?) would make M = {vals.get('M', math.nan):.4g} and the "
+            "viscous terms wrong by the same factor"
+        )
+    M = vals.get("M")
+    span = scale["force_max"] - scale["force_min"]
+    if M is not None and M > 0 and span > 0:
+        share = M * scale["peak_acceleration"] / span
+        if share < 1e-3:
+            out.append(f"the inertial force M·a reaches {100 * share:.2g} % of the force range "
+                       f"({span:.4g} {Fu}): the data barely see the mass")
+    return out
+
+
+def _scale_line(scale: dict[str, float], xu: str, Fu: str) -> str:
+    return (f"travel {scale['travel']:.4g} {xu}, peak speed {scale['peak_speed']:.4g} {xu}/s, "
+            f"peak acceleration {scale['peak_acceleration']:.4g} {xu}/s², "
+            f"force {scale['force_min']:.4g} … {scale['force_max']:.4g} {Fu}")
 
 
 def _fit_linear(recording, *, asymmetric: bool, cutoff: float, order: int, skip: int, q: int) -> IdentificationResult:
@@ -339,6 +391,8 @@ def _fit_linear(recording, *, asymmetric: bool, cutoff: float, order: int, skip:
             warns.append(f"{nm} = {theta[i]:.6g} is not significantly different from 0 "
                          f"(standard error {st['stderr'][i]:.3g})")
     units, sig_units = _units(recording, names)
+    scale = data_scale(recs, regs, asymmetric)
+    warns += _scale_warnings(scale, vals, sig_units["x"], sig_units["F"])
     prov = dict(recording.provenance)
     if len(recs) > 1:
         prov["records"] = [dict(r.provenance, name=r.name) for r in recs]
@@ -364,7 +418,8 @@ def _fit_linear(recording, *, asymmetric: bool, cutoff: float, order: int, skip:
         message="ordinary least squares",
         warnings=tuple(warns),
         diagnostics={"condition_number": float(np.linalg.cond(X)), "error_norm": float(np.linalg.norm(r)),
-                     "error_std": float(np.std(r, ddof=1)), "sigma2": s2},
+                     "error_std": float(np.std(r, ddof=1)), "sigma2": s2, "data_scale": scale,
+                     "data_scale_text": _scale_line(scale, sig_units["x"], sig_units["F"])},
         provenance=prov,
         data={"t": reg["t"], "y": y, "y_pred": X @ theta},
     )

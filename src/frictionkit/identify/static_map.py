@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from .. import _validate as val
 from ..data.recording import Recording
 from ..data.segmentation import SteadyStatePoints, steady_state_points
 from ..errors import DataError, IdentificationError, ParameterError
@@ -285,6 +286,18 @@ def _as_points(v, F, sigma) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, 
     return va, Fa, sigma, None
 
 
+def _check_magnitudes(va: np.ndarray, Fa: np.ndarray) -> None:
+    """Refuse points whose squares overflow (a 1e300 sample in a plateau mean): name the point."""
+    for nm, a in (("v", va), ("F", Fa)):
+        big = np.abs(a) > val.HUGE
+        if big.any():
+            i = int(np.flatnonzero(big)[0])
+            raise DataError(
+                f"fit_static_map: {nm}[{i}] = {float(a[i]):.6g} is beyond {val.HUGE:.0e}: a corrupt "
+                "sample or a unit/scale slip in that segment; remove or repair it"
+            )
+
+
 def fit_static_map(
     v,
     F=None,
@@ -357,6 +370,7 @@ def fit_static_map(
     (1.5, 0.01)
     """
     va, Fa, sig, pts = _as_points(v, F, sigma)
+    _check_magnitudes(va, Fa)
     if direction not in ("both", "positive", "negative"):
         raise ParameterError(f"fit_static_map.direction = {direction!r}: must be 'both', 'positive' or 'negative'")
     if loss not in _LOSSES:
@@ -365,8 +379,8 @@ def fit_static_map(
         raise ParameterError(f"fit_static_map.criterion = {criterion!r}: must be 'aic' or 'bic'")
     if model != "auto":
         _structure(model, delta)
-    if delta is not None and not (np.isfinite(delta) and delta > 0):
-        raise ParameterError(f"fit_static_map.delta = {delta!r}: must be finite and > 0")
+    if delta is not None:
+        delta = val.positive("fit_static_map", "delta", delta)
     if sig is not None:
         sig = np.asarray(sig, dtype=float).ravel()
         if sig.size != va.size or not np.all(np.isfinite(sig) & (sig > 0)):
@@ -454,6 +468,8 @@ def _combine(parts, laws, un, pts, direction) -> IdentificationResult:
         ci.append(r.ci95)
         warns += list(r.warnings)
         blocks.append(r.correlation)
+    if pts is not None:
+        warns += list(pts.dropped)  # what the segmentation left out, and why
     p = len(names)
     corr = np.full((p, p), 0.0)
     i = 0

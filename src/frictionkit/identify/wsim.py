@@ -20,15 +20,20 @@ WSIM (whole-system identification method, seed 000 §3 and Fig. 6), four steps
    the virgin branch gives the breakpoints P1..P3 (M = 3), ``xi_i`` by eq. 19 with
    ``s = s(v)`` of step 1 at the creep speed (= T_S), ``C`` chosen for fast convergence and a
    simulation refinement (:func:`~frictionkit.identify.fit_presliding`). Table 4 layout.
-3. :func:`differential_static` — at each base speed the nut is held at the base speed and
-   the screw speed is stepped (screw driving, eq. 11). The lumped per-motor torques are
-   plotted against the **table speed** ``v3`` (eq. 20: ``T_s = T_fs + T_fbs + F_ft R``,
-   ``T_n = T_fn - T_fbn``), each curve is first described by a second-order Fourier series
-   (the paper's pre-fit, :func:`fourier2_fit`), and then
-   * the screw's Stribeck curve is fitted (static-map fitter) at one base speed
-     (``screw_base_speed``; the paper takes 4 mm/s);
-   * the nut's curve is fitted per base speed and synthesised into TDMSSC (eq. 21): levels
-     affine in the base speed, ``sigma`` and the ``-eps v3**2`` term. Table 5 layout.
+3. :func:`differential_static` — at each base speed ``b >= 0`` the nut is held at the base speed
+   and the screw speed is raised (table speed ``v3 > 0``, screw driving, eq. 11) or lowered
+   (``v3 < 0``) through plateaus (§5.2.2). The lumped per-motor torques are taken against the
+   **table speed** (eq. 20: ``T_s = T_fs + T_fbs + F_ft R``, ``T_n = T_fn - T_fbn``), each curve
+   is first described by a second-order Fourier series (the paper's pre-fit,
+   :func:`fourier2_fit`, when a direction has >= 7 plateaus), and then
+   * the screw's curve per base speed as an offset plus a friction, ``c(b) + D_b(v3)`` (the
+     screw's own support keeps turning one way while ball pair and guide reverse with ``v3``),
+     ``D_b`` by the static-map fitter; Table 5's screw columns are the lumped levels at
+     ``screw_base_speed`` (the paper: 4 mm/s);
+   * the nut's curve per base speed (constant levels) and synthesised into TDMSSC (eq. 21,
+     :class:`~frictionkit.models.TDMSSC`): levels affine in the nut speed, ``sigma2``,
+     ``- eps v3 |v3|``, over the base speeds > 0 (at ``b = 0`` the nut stands and its support
+     sticks; that case keeps its own fit). Table 5 layout.
 4. :func:`differential_presliding` — nut held still, the screw reciprocates within microns;
    the screw torque is the friction; breakpoints as in step 2. Table 6 layout.
 
@@ -51,8 +56,11 @@ Choices the paper does not make (documented assumptions)
 * **Linear equivalents.** The paper prints torques in N and speeds in mm/s: the tables here
   give torque / R [N], speed x R [mm/s], stiffness / R**2 [N/µm], viscous / R**2 [N·s/m]
   (the fits themselves run in rad, rad/s, N·m).
-* **Base speed** ``b`` [m/s] is the co-rotation speed in the screw's sign: the nut turns at
-  ``theta2' = -b/R`` (positive ``b``: clockwise co-rotation, the "+" column).
+* **Base speed** ``b`` [m/s] >= 0 is the common speed both shafts reach before the sweep; the
+  nut is then held at ``theta2' = -b/R`` (§2.3 signs) and the screw raised or lowered. The "+"
+  columns of Tables 5-6 are ``v3 > 0``, the "-" columns ``v3 < 0``. TDMSSC's schedule is the
+  nut's measured linear-equivalent speed ``R theta2'`` (signed), as
+  :class:`~frictionkit.models.TDMSSC` defines it.
 
 ACIM (all-components identification method, Feng/Du [25])
 ----------------------------------------------------------
@@ -71,6 +79,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -82,10 +91,9 @@ from ..data.recording import Recording
 from ..data.segmentation import Segment, find_plateaus
 from ..data.signals import derivative
 from ..errors import DataError, IdentificationError, ParameterError
-from ..models.gms import GMS
+from ..models.gms import GMS, GMSWeightWarning
 from ..models.static import Directional, Stribeck
 from .presliding import fit_presliding
-from .result import IdentificationResult
 from .static_map import fit_static_map, stribeck_model
 
 __all__ = [
@@ -469,20 +477,41 @@ def _fit_tdmssc(v3, s, y, shape_grid, *, affine: bool) -> dict:
     best = None
     vs_grid, d_grid = shape_grid
     keep = list(range(6)) if affine else [0, 2, 4, 5]
+
+    def _supported(vs, d):
+        # the Stribeck part is identifiable only with >= 2 points inside its transition
+        phi = np.exp(-np.abs(v3 / vs) ** d)
+        return int(np.sum((phi > 0.05) & (phi < 0.95))) >= 2
+
     for vs in vs_grid:
         for d in d_grid:
+            if not _supported(vs, d):
+                continue
             A = _tdmssc_columns(v3, s, vs, d)[:, keep]
             coef, *_ = np.linalg.lstsq(A, y, rcond=None)
             r = y - A @ coef
             sse = float(r @ r)
             if best is None or sse < best[0]:
                 best = (sse, vs, d, coef)
+    if best is None:
+        # no Stribeck transition in the data: Coulomb + viscous + quadratic (Fs = Fc)
+        sg = np.sign(v3)
+        cols = [sg, sg * s, v3, -v3 * np.abs(v3)] if affine else [sg, v3, -v3 * np.abs(v3)]
+        coef, *_ = np.linalg.lstsq(np.column_stack(cols), y, rcond=None)
+        r = y - np.column_stack(cols) @ coef
+        c = dict(zip(("Fc0", "Fc1", "sigma2", "eps") if affine else ("Fc0", "sigma2", "eps"), coef.tolist()))
+        p = {"Fc0": c["Fc0"], "Fc1": c.get("Fc1", 0.0), "Fs0": c["Fc0"], "Fs1": c.get("Fc1", 0.0),
+             "sigma2": c["sigma2"], "eps": c["eps"], "vs": float(vs_grid[-1]), "delta": 1.0}
+        return {"params": p, "rms": math.sqrt(float(r @ r) / max(y.size, 1)), "at_grid_edge": False,
+                "no_transition": True}
     # second pass: a 9 x 9 grid over the neighbouring cells of the best point
     iv, idl = list(vs_grid).index(best[1]), list(d_grid).index(best[2])
     vlo, vhi = vs_grid[max(iv - 1, 0)], vs_grid[min(iv + 1, len(vs_grid) - 1)]
     dlo, dhi = d_grid[max(idl - 1, 0)], d_grid[min(idl + 1, len(d_grid) - 1)]
     for vs in np.geomspace(vlo, vhi, 9):
         for d in np.linspace(dlo, dhi, 9):
+            if not _supported(vs, d):
+                continue
             A = _tdmssc_columns(v3, s, vs, d)[:, keep]
             coef, *_ = np.linalg.lstsq(A, y, rcond=None)
             r = y - A @ coef
@@ -540,7 +569,11 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
     T2 = np.concatenate([p["T2"] for p in pts])
     warns, fits, laws, table, curves = [], {}, {}, {}, {}
     for shaft, w, T in (("screw", w1, T1), ("nut", w2, T2)):
-        fit = fit_static_map(w, T, model=model, units={"v": "rad/s", "F": "N·m"})
+        try:
+            fit = fit_static_map(w, T, model=model, units={"v": "rad/s", "F": "N·m"})
+        except IdentificationError as exc:
+            warns.append(f"{shaft}: {exc}; structure chosen by AIC among those the points allow")
+            fit = fit_static_map(w, T, model="auto", units={"v": "rad/s", "F": "N·m"})
         fits[shaft] = fit
         warns += [f"{shaft}: {m}" for m in fit.warnings]
         try:
@@ -567,7 +600,7 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
 # --------------------------------------------------------------------------- steps 2 and 4
 #: Retries of a pre-sliding fit that fails on a noisy record: (block-mean target samples, refine).
 #: Heavier averaging first, then the eq. 19 breakpoints without the simulation refinement.
-PRESLIDING_RETRIES = ((120, True), (60, True), (60, False))
+PRESLIDING_RETRIES = ((120, True), (60, False))
 
 
 def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfev):
@@ -580,8 +613,13 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
     for m, ref in attempts:
         try:
             used = _thin(rec, m)
-            fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
-                                 max_nfev=max_nfev)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", GMSWeightWarning)
+                fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
+                                     max_nfev=max_nfev)
+            seen = sorted({str(w.message) for w in caught if issubclass(w.category, GMSWeightWarning)})
+            if seen:
+                notes.append(f"during the fit: {seen[-1]} (the stroke ends before the curve reaches s(v))")
             if notes:
                 notes.append(f"fitted with block means to {m} samples, refine={ref}")
             return fit, notes, used
@@ -594,7 +632,10 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
     for e in range(int(elements) - 1, 0, -1):
         try:
             used = _thin(rec, m)
-            fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine, max_nfev=max_nfev)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GMSWeightWarning)     # the table reports sum_xi
+                fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine,
+                                     max_nfev=max_nfev)
             notes.append(f"fitted with M = {e} elements (block means to {m} samples), padded to M = {elements} "
                          "by splitting the last element")
             g = fit.model
@@ -602,7 +643,9 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             while len(k) < elements:
                 k[-1:] = [k[-1] / 2, k[-1] / 2]
                 xi[-1:] = [xi[-1] / 2, xi[-1] / 2]
-            padded = GMS(g.static, k=k, xi=xi, C=g.C)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GMSWeightWarning)
+                padded = GMS(g.static, k=k, xi=xi, C=g.C)
             fit = dataclasses.replace(fit, model=padded, model_name=f"gms_M{e}_padded_to_M{elements}")
             return fit, notes, used
         except (IdentificationError, DataError) as exc:
@@ -630,6 +673,9 @@ def _presliding_columns(shaft_runs: Mapping[str, Recording], static_of: Callable
         laws[col] = fit.model
         warns += [f"{col}: {m}" for m in fit.warnings]
         table[col] = _gms_column(fit.model, R)
+        # eq. 19 from the breakpoints alone, before the simulation refinement
+        table[col]["eq19_k_N_um"] = [float(k) / R**2 * 1e-6 for k in fit.diagnostics["initial_k"]]
+        table[col]["eq19_xi"] = [float(v) for v in fit.diagnostics["initial_xi"]]
         x = np.asarray(rec.x)
         F = np.asarray(rec.force())
         # P-points of the virgin branch (seed 000 §5.2.1): (displacement [µm], torque / R [N]) at
@@ -669,9 +715,15 @@ def _thin(rec: Recording, max_samples: int | None) -> Recording:
     F = np.asarray(rec.force(), float)
     d = np.abs(x - x[0])
     span = float(d.max())
-    start = max(int(np.argmax(d > 0.01 * span)) - 1, 0) if span > 0 else 0
+    start = max(int(np.argmax(d > 1e-3 * span)) - 1, 0) if span > 0 else 0
     x, F, t = x[start:], F[start:], rec.t[start:]
-    k = 1 if max_samples is None or x.size <= max_samples else int(math.ceil(x.size / max_samples))
+    # block size from the virgin stroke (up to the first turn): about max_samples / 2 blocks on it
+    u = x - x[0]
+    sg = np.sign(u[np.argmax(np.abs(u) > 0.01 * span)]) if span > 0 else 1.0
+    run = np.maximum.accumulate(sg * u)
+    back = np.flatnonzero(sg * u < run - 0.05 * span)
+    n_virgin = int(back[0]) if back.size else x.size
+    k = 1 if max_samples is None or n_virgin <= max_samples // 2 else int(math.ceil(n_virgin / (max_samples // 2)))
     n = (x.size // k) * k
     if k > 1:
         x = np.r_[x[0], x[:n].reshape(-1, k).mean(axis=1)]
@@ -786,7 +838,9 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
         [m/s] -> ``(c, D)``, the screw's lumped torque ``c + D(v3)`` [N·m] (``D`` Directional
         Stribeck against the table speed v3 [m/s]); ``laws["screw"]``/``laws["screw_offset"]``
         the pair at ``screw_base_speed``;  ``laws["nut"]`` (Directional TDMSSC, N·m against
-        v3 [m/s], schedule the nut's linear-equivalent speed ``R theta2'`` [m/s]).
+        v3 [m/s], schedule the nut's linear-equivalent speed ``R theta2'`` [m/s]; synthesised over
+        the base speeds > 0) and ``laws["nut_by_base"]`` (base speed -> Directional TDMSSC with
+        constant levels, the per-base-speed fits; b = 0 is only there).
     """
     runs = list(runs)
     if not runs:
@@ -844,38 +898,43 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
             lim.append(f["Fs0"])
         c = 0.5 * (lim[0] - lim[1])
         try:
-            fit = fit_static_map(A[m, 1], T1s[m] - c, model="exponential", units={"v": "m/s", "F": "N·m"})
+            try:
+                fit = fit_static_map(A[m, 1], T1s[m] - c, model="exponential", units={"v": "m/s", "F": "N·m"})
+            except IdentificationError as exc:
+                warns.append(f"screw, b = {b * 1e3:g} mm/s: {exc}; structure chosen by AIC")
+                fit = fit_static_map(A[m, 1], T1s[m] - c, model="auto", units={"v": "m/s", "F": "N·m"})
             law = stribeck_model(fit)
         except IdentificationError as exc:
             warns.append(f"screw, b = {b * 1e3:g} mm/s: {exc}")
             continue
         screw_by_base[float(b)] = (float(c), law)
         fits[f"screw b={b * 1e3:g}mm/s"] = fit
-        if b == bases[np.argmin(np.abs(bases - screw_base_speed))]:
-            warns += [f"screw (b = {b * 1e3:g} mm/s): {w}" for w in fit.warnings]
-            for sgn, col in ((1, "screw +"), (-1, "screw -")):
-                side = _side(law, sgn)
-                # lumped levels c + D against table speed: N·m -> /R N; vs in m/s; sigma N·m·s/m -> /R N·s/m
-                table[col] = {"T_C_N": (sgn * c + side.Fc) / R, "T_S_N": (sgn * c + side.Fs) / R,
-                              "vs_mm_s": sgn * side.vs * 1e3, "delta": side.delta, "sigma_N_s_m": side.sigma2 / R,
-                              "offset_c_N": c / R, "base_speed_mm_s": b * 1e3}
-                mm = m & (np.sign(A[:, 1]) == sgn)
-                vv = np.linspace(A[mm, 1].min(), A[mm, 1].max(), 200)
-                curves[col] = {"x": A[mm, 1] * 1e3, "y": A[mm, 2] / R, "x_fit": vv * 1e3,
-                               "y_fit": (c + law.steady_state(vv)) / R,
-                               "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
     laws["screw_by_base"] = screw_by_base
-    if screw_by_base:
-        kb = min(screw_by_base, key=lambda x: abs(x - screw_base_speed))
-        laws["screw"] = screw_by_base[kb][1]
-        laws["screw_offset"] = screw_by_base[kb][0]
-    else:
+    if not screw_by_base:
         warns.append("screw: no base speed with plateaus in both directions")
+    else:
+        b = min(screw_by_base, key=lambda x: abs(x - screw_base_speed))
+        c, law = screw_by_base[b]
+        laws["screw"], laws["screw_offset"] = law, c
+        m = A[:, 0] == b
+        warns += [f"screw (b = {b * 1e3:g} mm/s): {w}" for w in fits[f"screw b={b * 1e3:g}mm/s"].warnings]
+        for sgn, col in ((1, "screw +"), (-1, "screw -")):
+            side = _side(law, sgn)
+            # lumped levels c + D against table speed: N·m -> /R N; vs in m/s; sigma N·m·s/m -> /R N·s/m
+            table[col] = {"T_C_N": (sgn * c + side.Fc) / R, "T_S_N": (sgn * c + side.Fs) / R,
+                          "vs_mm_s": sgn * side.vs * 1e3, "delta": side.delta, "sigma_N_s_m": side.sigma2 / R,
+                          "structure": fits[f"screw b={b * 1e3:g}mm/s"].model_name,
+                          "offset_c_N": c / R, "base_speed_mm_s": b * 1e3}
+            mm = m & (np.sign(A[:, 1]) == sgn)
+            vv = np.linspace(A[mm, 1].min(), A[mm, 1].max(), 200)
+            curves[col] = {"x": A[mm, 1] * 1e3, "y": A[mm, 2] / R, "x_fit": vv * 1e3,
+                           "y_fit": (c + law.steady_state(vv)) / R,
+                           "xlabel": "table speed v3 [mm/s]", "ylabel": "lumped motor torque / R [N]"}
     # nut: per base speed (levels constant), then synthesis with affine levels (TDMSSC, eq. 21).
     # The schedule is the nut's measured linear-equivalent speed s = R theta2' [m/s], signed
     # (the convention of frictionkit.models.TDMSSC).
     sched = R * A[:, 5]
-    nut_laws = {}
+    nut_laws, nut_by_base = {}, {}
     for sgn, col in ((1, "nut +"), (-1, "nut -")):
         md = np.sign(A[:, 1]) == sgn
         if not md.any():
@@ -887,13 +946,24 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
                 continue
             f = _fit_tdmssc(A[m, 1], sched[m], T2s[m], shape_grid, affine=False)
             p = f["params"]
+            try:
+                nut_by_base.setdefault(float(b), {})[sgn] = _tdmssc_law(p)
+            except ParameterError as exc:
+                warns.append(f"{col}, b = {b * 1e3:g} mm/s: {exc}")
             table["per_base_speed"].append({"column": col, "base_speed_mm_s": b * 1e3,
                                             "nut_speed_mm_s": float(np.mean(sched[m])) * 1e3,
                                             "T_C_N": p["Fc0"] / R, "T_S_N": p["Fs0"] / R,
                                             "vs_mm_s": sgn * p["vs"] * 1e3, "delta": p["delta"],
                                             "sigma_N_s_m": p["sigma2"] / R, "eps_N_s2_m2": p["eps"] / R,
                                             "rms_N": f["rms"] / R})
-        f = _fit_tdmssc(A[md, 1], sched[md], T2s[md], shape_grid, affine=groups.size >= 2)
+        # synthesis over the base speeds > 0: at b = 0 the nut does not turn, its support friction
+        # sticks instead of sliding at a level, which no affine level can join (that case keeps its
+        # own per-base-speed law, laws["nut_by_base"][0.0])
+        ms = md & (A[:, 0] > 0) if np.any(groups > 0) else md
+        groups = np.unique(A[ms, 0])
+        f = _fit_tdmssc(A[ms, 1], sched[ms], T2s[ms], shape_grid, affine=groups.size >= 2)
+        if f.get("no_transition"):
+            warns.append(f"{col}: no plateau inside a Stribeck transition; Coulomb + viscous + eps fitted (Fs = Fc)")
         if groups.size < 2:
             warns.append(f"{col}: one base speed only; the levels' base-speed slopes are not identifiable (set 0)")
         if f["at_grid_edge"]:
@@ -919,6 +989,8 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
                            "y_fit": np.concatenate(ys)}
     if len(nut_laws) == 2:
         laws["nut"] = Directional(positive=nut_laws["nut +"], negative=nut_laws["nut -"])
+    laws["nut_by_base"] = {b: Directional(positive=d[1], negative=d[-1]) for b, d in nut_by_base.items()
+                           if 1 in d and -1 in d}
     st, msg = _status(warns)
     return WSIMStep(name="table5", status=st, message=msg, table=table, fits=fits, laws=laws, curves=curves,
                     diagnostics={"fourier": fourier, "points": {"b": A[:, 0], "v3": A[:, 1], "T1": A[:, 2],
@@ -968,15 +1040,15 @@ def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TD
         # step 4 runs with the nut still: the static map is step 3's screw curve at the base
         # speed nearest 0 (against the table speed; the fit runs on the screw angle)
         b0 = min(by_base, key=abs)
-        steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], cospeed_R(cospeed)),
+        steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], _run_R(cospeed)),
                                                   elements=elements, refine=refine, max_nfev=max_nfev)
     worst = max(s.status for s in steps.values())
     msgs = [f"{k}: {s.message}" for k, s in steps.items() if s.status]
-    return WSIMResult(steps=steps, R=cospeed_R(cospeed), status=min(worst, 1) if worst < 2 else 2,
+    return WSIMResult(steps=steps, R=_run_R(cospeed), status=min(worst, 1) if worst < 2 else 2,
                       message="; ".join(msgs) if msgs else "ok")
 
 
-def cospeed_R(run) -> float:
+def _run_R(run) -> float:
     r = run if isinstance(run, TDMSRun) else next(iter(run))
     return float(r.R)
 

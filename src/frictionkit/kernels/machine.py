@@ -28,6 +28,12 @@ with ``F = s(v_j) + sigma2 v_j`` otherwise (Karnopp's stick model, made exact in
 The scheme is first order in ``h`` overall (site forces held over the sub-step); raise
 ``n_sub`` for accuracy. The parity tests against the ``solve_ivp`` twin measure it.
 
+Sample-spanning step. When every site is a flat static law (``CoulombViscous``: EMPS), the
+wrapper folds the viscous terms into the chain, so a sliding site's force is a constant
+``+-Fc`` and the sub-steps are exact; a sample in which every site keeps sliding one way at
+every sub-step end (checked with precomputed rows, :func:`merge_maps`) is then advanced by one
+map instead of ``n_sub`` sub-steps — the same result to round-off (:func:`_merged_step`).
+
 Controller (once per sample, before the plant step)
 ---------------------------------------------------
 ``sig`` holds every named signal; a signal keeps its value until written again, so a block
@@ -79,6 +85,8 @@ def _g(par, o, av):
     """``g = |s(v)|`` at speed ``av >= 0`` of the packed row ``par[o:o+6]``."""
     Fc = par[o]
     Fs = par[o + 1]
+    if Fs == Fc:  # flat (Dahl, Coulomb): no shape to evaluate, the same value
+        return Fc
     r = av / par[o + 2]
     if r == 0.0:
         return Fs
@@ -218,9 +226,10 @@ def _gms_rows(par, o, M, d):
 
 
 @njit(error_model="numpy")
-def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
+def _gms_mean(par, o, st, so, ds, h, out, lam, v0):
     """Mean GMS force over ``h`` for a site moving by ``ds`` from velocity ``v0``; element
-    states updated when ``commit``.
+    states written to ``out`` (at ``so``; ``out`` may be ``st`` itself: each element reads its
+    own state before writing it).
 
     The site's velocity is taken as linear in time over the sub-step, from ``v0`` with mean
     ``ds / h`` (end velocity ``v1 = 2 ds / h - v0``). When it changes sign inside the sub-step,
@@ -272,9 +281,8 @@ def _gms_mean(par, o, st, so, ds, h, commit, lam, v0):
             F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2, 0.0, v1)
             mean += m2 * w2
         fric += mean
-        if commit:
-            st[so + i] = F1
-            st[so + M + i] = mode
+        out[so + i] = F1
+        out[so + M + i] = mode
     visc = par[ro1 + 4] * d1 / h + (par[ro2 + 4] * d2 / h if two else 0.0)
     return lam * fric + visc
 
@@ -311,7 +319,7 @@ def _elastic(kind, par, o, d):
 
 
 @njit(error_model="numpy")
-def _site_mean(kind, par, o, st, so, s0, ds, h, lam, v0):
+def _site_mean(kind, par, o, st, stw, so, s0, ds, h, lam, v0):
     """``(mean force, LuGre end state)`` over the sub-step for displacement ``ds`` from ``s0``.
 
     ``lam``: normal-load scale of a friction law (its state is load-normalised, see run).
@@ -321,9 +329,9 @@ def _site_mean(kind, par, o, st, so, s0, ds, h, lam, v0):
     if kind == S_LUGRE:
         return _lugre_mean(par, o, st[so], ds, h, lam)
     if kind == S_GMS:
-        # ``h < 0`` is False at run time but not a literal: one compiled _gms_mean serves both
-        # this call and the committing one in run (a literal would compile a second copy)
-        return _gms_mean(par, o, st, so, ds, h, h < 0.0, lam, v0), 0.0
+        # the element states at ``ds`` go to the scratch ``stw``; 1.0 says they are there, so
+        # the commit in run copies them instead of evaluating the law once more
+        return _gms_mean(par, o, st, so, ds, h, stw, lam, v0), 1.0
     f0 = _elastic(kind, par, o, s0)
     fm = _elastic(kind, par, o, s0 + 0.5 * ds)
     f1 = _elastic(kind, par, o, s0 + ds)
@@ -356,7 +364,7 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit(error_model="numpy")
-def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
+def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
     ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
@@ -365,7 +373,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
     Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
-        Fa, za = _site_mean(kind, par, o, st, so, s0, a, h, lam, v0)
+        Fa, za = _site_mean(kind, par, o, st, stw, so, s0, a, h, lam, v0)
         return a, Fa, kt, za
     if kind == S_STATIC:
         # velocity form (see run): ``a`` is the free end velocity, ``Gjj`` the velocity
@@ -445,7 +453,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
                 fhi = f1
     else:
         x0 = a - Gjj * Fguess
-        F0, z0e = _site_mean(kind, par, o, st, so, s0, x0, h, lam, v0)
+        F0, z0e = _site_mean(kind, par, o, st, stw, so, s0, x0, h, lam, v0)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
             return x0, F0, kt, z0e
@@ -465,7 +473,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         x1 = x0 - f0 / slope
         n = 0
         while n < 80:
-            F1, z1e = _site_mean(kind, par, o, st, so, s0, x1, h, lam, v0)
+            F1, z1e = _site_mean(kind, par, o, st, stw, so, s0, x1, h, lam, v0)
             f1 = x1 + Gjj * F1 - a
             n += 1
             if x1 != x0:
@@ -501,7 +509,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         if x1 != x0 and f1 != f0:
             x2 = x1 - f1 * (x1 - x0) / (f1 - f0)
             if lo < x2 < hi:
-                F2, z2e = _site_mean(kind, par, o, st, so, s0, x2, h, lam, v0)
+                F2, z2e = _site_mean(kind, par, o, st, stw, so, s0, x2, h, lam, v0)
                 f2 = x2 + Gjj * F2 - a
                 if abs(f2) <= xtol:
                     return x2, F2, (F2 - F1) / (x2 - x1) if x2 != x1 else kt, z2e
@@ -522,7 +530,7 @@ def _solve_site(kind, par, o, st, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
         if kind == S_STATIC:
             fx = x + Gjj * _static_force(par, o, x, lam) - a
         else:
-            Fx, zx = _site_mean(kind, par, o, st, so, s0, x, h, lam, v0)
+            Fx, zx = _site_mean(kind, par, o, st, stw, so, s0, x, h, lam, v0)
             fx = x + Gjj * Fx - a
         if fx == 0.0:
             break
@@ -597,6 +605,128 @@ def _loads(X, mvals, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
         lam[j] = new
 
 
+@njit(error_model="numpy")
+def merge_maps(Phi, G0, G1, Gf, Cq, Cm, n_sub, o_rate):
+    """Rows of the sample-spanning step (see ``machines.simulate._merge_maps``), over
+    ``[X, w_start, w_end - w_start, F]``: ``R[i, j]`` site ``j``'s velocity at the end of
+    sub-step ``i + 1`` with the site forces ``F`` held, ``M`` the state at the end of the
+    sample. ``o_rate``: offset of the motion rates in ``w``. The recursion is the sub-step
+    scheme's own: ``X_i = Phi X_(i-1) + G0 w_(i-1) + G1 (w_i - w_(i-1)) + Gf F``."""
+    n2 = Phi.shape[0]
+    n = n2 // 2
+    nw = G0.shape[1]
+    ns = Cq.shape[0]
+    nmot = Cm.shape[1]
+    L = n2 + 2 * nw + ns
+    M = np.zeros((n2, L))
+    T = np.zeros((n2, L))
+    for r in range(n2):
+        M[r, r] = 1.0
+    R = np.zeros((n_sub, ns, L))
+    for i in range(n_sub):
+        for r in range(n2):  # T = Phi M + [0, G0, G0 i/n + G1/n, Gf]
+            for c in range(L):
+                y = 0.0
+                for q in range(n2):
+                    y += Phi[r, q] * M[q, c]
+                T[r, c] = y
+            for c in range(nw):
+                T[r, n2 + c] += G0[r, c]
+                T[r, n2 + nw + c] += G0[r, c] * (i / n_sub) + G1[r, c] / n_sub
+            for c in range(ns):
+                T[r, n2 + 2 * nw + c] += Gf[r, c]
+        for j in range(ns):
+            for c in range(L):
+                y = 0.0
+                for b in range(n):
+                    y += Cq[j, b] * T[n + b, c]
+                R[i, j, c] = y
+            for m in range(nmot):
+                R[i, j, n2 + o_rate + m] += Cm[j, m]
+        for r in range(n2):
+            for c in range(L):
+                M[r, c] = T[r, c]
+    return R, M
+
+
+@njit(error_model="numpy")
+def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
+                 Cq, Cm, par, site_po, R, Mx, wA, wB, Fh, Xn, z, Fbar):
+    """Advance ``X`` over the whole sample ``k`` in one map if every site keeps sliding one way.
+
+    Every site is a flat static law (force ``+Fc+`` / ``-Fc-`` while sliding, viscous term in
+    the chain). The site velocities at every sub-step end (rows ``R``) must keep their sign
+    under the held forces: exactly the sub-step scheme's own decision to keep sliding, so the
+    result is the sub-steps' to round-off. Returns False (``X``, ``Fbar`` untouched) when an
+    input is not affine over the sample (a clipped FOH actuator), a site is at rest, or a site
+    would stop or turn (the sub-steps then stick it exactly).
+    """
+    n2 = X.size
+    n = n2 // 2
+    nact = u_now.size
+    nmot = mot.shape[1]
+    nw = wA.size
+    ns = Fh.size
+    for i in range(nact):
+        if act_foh[i]:
+            d = act_delay[i]
+            ua = inputs[k - d, act_col[i]] if k >= d else 0.0
+            ub = inputs[kn - d, act_col[i]] if kn >= d else 0.0
+            lim = act_lim[i]
+            if not (-lim <= ua <= lim and -lim <= ub <= lim):
+                return False
+            wA[i] = ua
+            wB[i] = ub
+        else:
+            wA[i] = u_now[i]
+            wB[i] = u_now[i]
+    for m in range(nmot):
+        pa = mot[k, m]
+        pb = mot[kn, m]
+        wA[nact + m] = pa
+        wB[nact + m] = pb
+        wA[nact + nmot + m] = (pb - pa) / dt
+        wB[nact + nmot + m] = (pb - pa) / dt
+    # z = [X, w_start, w_end - w_start, F]: every map is a row over it
+    L = z.size
+    for r in range(n2):
+        z[r] = X[r]
+    for c in range(nw):
+        z[n2 + c] = wA[c]
+        z[n2 + nw + c] = wB[c] - wA[c]
+    for j in range(ns):
+        vj = 0.0
+        for b in range(n):
+            vj += Cq[j, b] * X[n + b]
+        for m in range(nmot):
+            vj += Cm[j, m] * wA[nact + nmot + m]
+        if vj > 0.0:
+            Fh[j] = par[site_po[j]]
+        elif vj < 0.0:
+            Fh[j] = -par[site_po[j] + N_ROW]
+        else:
+            return False  # at rest: the sub-steps decide (stick, or break away inside the sample)
+        z[n2 + 2 * nw + j] = Fh[j]
+    for ii in range(n_sub):  # the last sub-step first: a stop or a turn shows there first
+        i = n_sub - 1 if ii == 0 else ii - 1
+        for j in range(ns):
+            v = 0.0
+            for c in range(L):
+                v += R[i, j, c] * z[c]
+            if not v * Fh[j] > 0.0:
+                return False
+    for r in range(n2):
+        y = 0.0
+        for c in range(L):
+            y += Mx[r, c] * z[c]
+        Xn[r] = y
+    for r in range(n2):
+        X[r] = Xn[r]
+    for j in range(ns):
+        Fbar[j] = Fh[j]
+    return True
+
+
 @njit(inline="always", error_model="numpy")
 def _quantise(x, q):
     if q > 0.0:
@@ -607,7 +737,7 @@ def _quantise(x, q):
 # --------------------------------------------------------------------------- main loop
 @njit(error_model="numpy")
 def run(
-    n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off,
+    n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off, s_visc, mg_on, mg_R, mg_M,
     site_kind, site_po, site_so, par, st, xtol,
     ld_mode, ld_row, ld_mrow, ld_site, ld_par,
     sch_mode, sch_row, sch_mrow,
@@ -619,6 +749,13 @@ def run(
     q_out, v_out, F_out, sig_out, u_out,
 ):
     """Run ``N = q_out.shape[0]`` samples. ``X``, ``st``, ``sig``, ``blk_st`` are updated in place.
+
+    ``s_visc[j]``: a static site's viscous coefficient, folded into the chain (``Phi ...``) by
+    the wrapper; added to the recorded force. ``mg_on``: every site is a flat static law
+    (``machines.simulate._merge_maps``): a sample in which every site keeps sliding one way
+    at every sub-step end is advanced by the one map ``mg_M`` (rows over ``[X, w_start,
+    w_end - w_start, F]``) after checking the site velocities ``mg_R`` at the sub-step ends;
+    otherwise by the ``n_sub`` sub-steps (same result, to round-off).
 
     ``sch_mode[j]`` (0 none, 1 position, 2 velocity) gives a static site a schedule input
     ``s = sch_row[j] . q`` (or ``. q'``) ``+ sch_mrow[j] . p`` (motion positions, or their
@@ -670,7 +807,8 @@ def run(
     for j in range(ns):
         if ld_mode[j] != 0:
             has_load = True
-    zend = np.zeros(ns)  # LuGre end state of the converged solve
+    stw = np.zeros(st.size)  # scratch: GMS element states of a site's last evaluation
+    zend = np.zeros(ns)  # LuGre end state of the converged solve (GMS: 1.0, states in stw)
     kt = np.zeros(ns)  # last secant slope dFbar/dds per site (first guess of the next solve)
     for j in range(ns):
         if ld_mode[j] != 0:
@@ -690,6 +828,11 @@ def run(
             Fbar[j] = _elastic(kind, par, site_po[j], sj)
 
     mv = np.zeros(nmot)
+    wA = np.zeros(nw)
+    wB = np.zeros(nw)
+    Fh = np.zeros(ns)
+    Xn = np.zeros(n2)
+    zm = np.zeros(n2 + 2 * nw + ns)
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
         # the rate of a prescribed motion at t_k (it is piecewise linear, so its rate jumps at
@@ -707,6 +850,13 @@ def run(
             kind = site_kind[j]
             if kind == S_STATIC:
                 F_out[k, j] = Fbar[j]
+                if s_visc[j] != 0.0:
+                    vj = 0.0
+                    for b in range(n):
+                        vj += Cq[j, b] * X[n + b]
+                    for m in range(nmot):
+                        vj += Cm[j, m] * (mot[kb, m] - mot[ka, m]) / dt
+                    F_out[k, j] += s_visc[j] * vj
                 continue
             sj = s_off[j]
             vj = 0.0
@@ -833,6 +983,13 @@ def run(
             sig_out[k, r] = sig[r]
         if k == N - 1:
             break
+        # ---- plant: one sample-spanning step when every (flat static) site keeps sliding
+        if mg_on and _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
+                                  Cq, Cm, par, site_po, mg_R, mg_M, wA, wB, Fh, Xn, zm, Fbar):
+            for r in range(n2):
+                if not math.isfinite(X[r]):
+                    return STATUS_NONFINITE, k + 1, n_bad
+            continue
         # ---- plant: n_sub sub-steps
         for sub in range(n_sub):
             f0 = sub / n_sub
@@ -927,7 +1084,7 @@ def run(
                                     aj -= Gss[j, i] * Fbar[i]
                             Gjj = Gss[j, j]
                         tj = xtol[j] + 1e-13 * abs(aj)
-                        dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, site_so[j], s0[j], aj,
+                        dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, stw, site_so[j], s0[j], aj,
                                                        Gjj, h, Fbar[j], tj, lam[j], kt[j], v0s[j])
                         kt[j] = ktj
                         zend[j] = zj
@@ -949,7 +1106,12 @@ def run(
                         else:
                             st[site_so[j]] = _lugre_mean(par, site_po[j], st[site_so[j]], ds[j], h, lam[j])[1]
                     elif site_kind[j] == S_GMS:
-                        _gms_mean(par, site_po[j], st, site_so[j], ds[j], h, h > 0.0, lam[j], v0s[j])
+                        so_j = site_so[j]
+                        if zend[j] == 1.0:  # the last evaluation was at ds[j]: its states are in stw
+                            for i in range(2 * int(par[site_po[j] + 12])):
+                                st[so_j + i] = stw[so_j + i]
+                        else:
+                            _gms_mean(par, site_po[j], st, so_j, ds[j], h, st, lam[j], v0s[j])
             for r in range(n2):
                 y = Xf[r]
                 for j in range(ns):

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,6 +62,79 @@ def _ff_par(law) -> list[float]:
     r = _static_rows(law)
     z = np.zeros(2)
     return _static_par(np.column_stack([r[:, 0], z, r[:, 1], z, r[:, 2], r[:, 3], r[:, 4], r[:, 5], z]))
+
+
+def _folded_viscous(machine: Machine) -> np.ndarray:
+    """Per site, the viscous coefficient the core folds into the linear chain (else 0).
+
+    Only for a machine whose sites are all flat static laws (``CoulombViscous``, or
+    ``Stribeck`` with ``Fs = Fc``, and ``Directional`` of those with one ``sigma2``; no
+    normal load, no schedule): ``sigma2 v`` is linear in the site velocity, so as a damper of
+    the chain it is integrated exactly (matrix exponential) instead of held over a sub-step,
+    and a sliding site is then exact at any sub-step — which lets :func:`_merge_maps` span
+    whole samples. Any other machine keeps the viscous term in its sites (all zeros here).
+    """
+    from ..models.tdmssc import schedule_rows
+
+    ns = len(machine.sites)
+    fold = np.zeros(ns)
+    for j, s in enumerate(machine.sites):
+        if (s.role != "friction" or s.load is not None or s.schedule is not None
+                or law_family(s.law) != "static"):
+            return np.zeros(ns)
+        r = schedule_rows(s.law)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
+        flat = all(x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 for x in r)
+        if not flat or r[0, 6] != r[1, 6]:
+            return np.zeros(ns)
+        fold[j] = float(r[0, 6])
+    return fold
+
+
+def _all_flat(machine: Machine) -> bool:
+    """Every site a flat static law without viscous term (then nothing is folded, but the
+    machine still qualifies for the sample-spanning step)."""
+    from ..models.tdmssc import schedule_rows
+
+    for s in machine.sites:
+        if (s.role != "friction" or s.load is not None or s.schedule is not None
+                or law_family(s.law) != "static"):
+            return False
+        r = schedule_rows(s.law)
+        if not all(x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 and x[6] == 0.0 for x in r):
+            return False
+    return True
+
+
+def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.ndarray, has_loads: bool,
+                Phi, G0, G1, Gf, Cq, Cm, n_sub: int):
+    """Maps for a sample-spanning step, or ``None`` when the machine does not qualify.
+
+    Qualifies: every site a static friction law with flat, non-negative levels (``Fc = Fs``,
+    no ``eps``, no schedule: ``CoulombViscous``) whose viscous term is folded into the chain,
+    no normal loads. While every site keeps sliding one way over a sample, its force is a
+    constant ``+-Fc`` and the sub-step scheme is exact; the kernel then advances the whole
+    sample with one map instead of ``n_sub`` sub-steps. The maps are the sub-step recursion
+    itself (same results to round-off): ``R[i, j]`` gives site ``j``'s velocity at the end of
+    sub-step ``i + 1`` and ``Mx`` the state at the end of the sample, each as a row over
+    ``[X, w_start, w_end - w_start, F]`` (inputs affine over the sample, forces held). The
+    kernel checks every site's direction at every sub-step end (as the sub-step scheme would
+    decide) and falls back to the sub-steps when one stops or turns.
+    """
+    ns = len(kinds)
+    if ns == 0 or n_sub < 2 or has_loads or not np.any(fold != 0.0) and not _all_flat(machine):
+        return None
+    for j in range(ns):  # the packed form agrees with _folded_viscous's reading of the laws
+        o = po[j]
+        if kinds[j] != _k.S_STATIC or par[o + 4] != 0.0 or par[o + _k.N_ROW + 4] != 0.0:
+            return None
+        for r in (0, _k.N_ROW):
+            if par[o + r] != par[o + r + 1] or not par[o + r] > 0.0:
+                return None
+        if par[o + 12] != 0.0 or par[o + 13] != 0.0:
+            return None
+    nact = len(machine.actuators)
+    nm = len(machine._motion_names)
+    return _k.merge_maps(Phi, G0, G1, Gf, np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), n_sub, nact + nm)
 
 
 def _pack_law(law) -> tuple[int, list[float], list[float]]:
@@ -185,12 +260,41 @@ class MachineResult(TraceAccess):
         return ax
 
 
-def discretise(machine: Machine, h: float):
+_EXPM_CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()
+_EXPM_CACHE_SIZE = 64
+
+
+def _expm_cached(Z: np.ndarray) -> np.ndarray:
+    """``scipy.linalg.expm(Z)``, remembered for the last 64 distinct ``Z`` (bit for bit).
+
+    Repeated runs of one machine at one step (identification loops, studies, benchmarks)
+    then skip the exponential: on a loaded 2-core machine scipy's expm of a small matrix was
+    measured at up to 13 ms (OpenBLAS threads waiting on each other), more than the whole
+    compiled run of the EMPS axis. The result is the same array values either way.
+    """
+    key = Z.tobytes() + repr(Z.shape).encode()
+    E = _EXPM_CACHE.get(key)
+    if E is None:
+        E = expm(Z)
+        _EXPM_CACHE[key] = E
+        if len(_EXPM_CACHE) > _EXPM_CACHE_SIZE:
+            _EXPM_CACHE.popitem(last=False)
+    else:
+        _EXPM_CACHE.move_to_end(key)
+    return E
+
+
+def discretise(machine: Machine, h: float, *, site_damping=None):
     """Exact discretisation of the linear chain over a sub-step ``h``.
 
     Returns ``(Phi, G0, G1, Gf, parts)``: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf Fbar`` for
     inputs ``w`` affine over the sub-step (actuators, motions, motion rates) and site
     forces ``Fbar`` held over it; ``parts`` holds ``M, D, K, Bw, Cq, Cm``.
+
+    ``site_damping`` (one value per site, optional) adds a linear damper on each site's
+    coordinate to the chain: the machine core folds a static law's viscous term
+    ``sigma2 v`` in here, where it is integrated exactly, and leaves the site only its
+    level ``s(v)``.
     """
     n = machine.n
     nm = len(machine._motion_names)
@@ -221,6 +325,10 @@ def discretise(machine: Machine, h: float):
         if kl:
             K += kl * np.outer(Cq[j], Cq[j])
             Bw[:, nact:nact + nm] -= kl * np.outer(Cq[j], Cm[j])
+        cs = 0.0 if site_damping is None else float(site_damping[j])
+        if cs:
+            D += cs * np.outer(Cq[j], Cq[j])
+            Bw[:, nact + nm:] -= cs * np.outer(Cq[j], Cm[j])
     for i, a in enumerate(machine.actuators):
         c, cm = machine.row(a.at)
         Bw[:, i] = a.gain * c
@@ -238,14 +346,15 @@ def discretise(machine: Machine, h: float):
     Z[:2 * n, :2 * n] = A * h
     Z[:2 * n, 2 * n:2 * n + m] = B * h
     Z[2 * n:2 * n + m, 2 * n + m:] = np.eye(m)
-    E = expm(Z)
+    E = _expm_cached(Z)
     Phi = E[:2 * n, :2 * n]
     G0 = E[:2 * n, 2 * n:2 * n + m]
     G1 = E[:2 * n, 2 * n + m:]
     nw = Bw.shape[1]
     parts = {"M": Mm, "D": D, "K": K, "Bw": Bw, "Cq": Cq, "Cm": Cm}
-    return (np.ascontiguousarray(Phi), np.ascontiguousarray(G0[:, :nw]), np.ascontiguousarray(G1[:, :nw]),
-            np.ascontiguousarray(G0[:, nw:]), parts)
+    # copies: E may be the cached array, which must never reach a caller
+    return (np.array(Phi, order="C"), np.array(G0[:, :nw], order="C"), np.array(G1[:, :nw], order="C"),
+            np.array(G0[:, nw:], order="C"), parts)
 
 
 def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failure: bool):
@@ -288,10 +397,15 @@ def _length(inputs: dict, n_samples):
     return n_samples
 
 
+#: ``MachineResult.status`` when ``atol`` could not be met within ``max_substeps``.
+STATUS_TOLERANCE = 2
+
+
 def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
                      n_samples: int | None = None, duration: float | None = None,
                      substeps: int = 10, seed: int | None = 0, fast_path: bool = True,
-                     raise_on_failure: bool = False) -> MachineResult:
+                     raise_on_failure: bool = False, atol: float | None = None,
+                     max_substeps: int = 640) -> MachineResult:
     """Run a machine in its compiled closed loop.
 
     Parameters
@@ -312,6 +426,15 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         kernels of :func:`frictionkit.simulate` (error-controlled, breakaways located inside
         the step; ``substeps`` does not apply). ``False`` forces the general loop.
     raise_on_failure : bool — raise :class:`SimulationError` instead of returning status 1.
+    atol : float, optional — error control: a tolerance on the positions of the degrees of
+        freedom [m or rad]. The run is repeated with ``substeps``, ``2 substeps``, ... and stops
+        at the first doubling that moves no position by more than ``atol`` at any sample (the
+        scheme is first order, so that change estimates the finer run's error); the result is
+        that finer run (``substeps`` says which count was chosen, ``message`` the estimate).
+        If ``max_substeps`` is reached first, ``status`` is 2 (``STATUS_TOLERANCE``) and the
+        message says by how much the tolerance was missed. A machine on the one-DOF fast path
+        is error-controlled already and ignores ``atol``.
+    max_substeps : int — cap of the error control's doubling.
 
     Returns
     -------
@@ -349,13 +472,49 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     if N < 2:
         raise DataError(f"simulate_machine: {N} samples; need at least 2")
 
-    n = machine.n
     if fast_path:
         fast = _fast_path(machine, dt, inputs, N, raise_on_failure)
         if fast is not None:
             return fast
+    if atol is not None:
+        return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
+                                 val.positive("simulate_machine", "atol", atol), max_substeps)
+    return _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+
+
+def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, atol, max_substeps):
+    """Double the sub-steps until the positions move by at most ``atol`` (see simulate_machine)."""
+    if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < substeps:
+        raise ParameterError(f"simulate_machine max_substeps = {max_substeps!r}: must be an integer >= substeps "
+                             f"({substeps})")
+    prev = _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure)
+    n = substeps
+    err = None
+    while True:
+        if prev.status != 0:
+            return prev
+        if 2 * n > max_substeps:
+            est = ("no estimate (one run)" if err is None else
+                   f"the error estimate {n // 2} -> {n} sub-steps is {err:.3g} m or rad")
+            return dataclasses.replace(prev, status=STATUS_TOLERANCE,
+                                       message=f"atol = {atol:.3g} not met within max_substeps = {max_substeps}: {est}")
+        nxt = _run_machine(machine, dt, inputs, N, 2 * n, seed, raise_on_failure)
+        if nxt.status != 0:
+            return nxt
+        with np.errstate(invalid="ignore"):
+            err = float(np.nanmax(np.abs(nxt.q - prev.q))) if nxt.q.size else 0.0
+        n *= 2
+        if err <= atol:
+            return dataclasses.replace(nxt, message=f"{nxt.message}; error estimate {err:.3g} <= atol = {atol:.3g} "
+                                                    f"(positions, {n // 2} -> {n} sub-steps)")
+        prev = nxt
+
+
+def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+    n = machine.n
     h = dt / int(substeps)
-    Phi, G0, G1, Gf, parts = discretise(machine, h)
+    fold = _folded_viscous(machine)
+    Phi, G0, G1, Gf, parts = discretise(machine, h, site_damping=fold)
     Cq, Cm = parts["Cq"], parts["Cm"]
     ns = len(machine.sites)
     Gss = -(Cq @ Gf[:n]) if ns else np.zeros((0, 0))  # sub-step displacement compliance
@@ -372,9 +531,11 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
 
     # sites
     kinds, po, so, par, st, xtol = [], [], [], [], [], []
-    for s in machine.sites:
+    for j, s in enumerate(machine.sites):
         if s.role == "friction":
             kind, p, s0 = _pack_law(s.law)
+            if fold[j]:  # its viscous term lives in the chain (see _folded_viscous)
+                p[4] = p[_k.N_ROW + 4] = 0.0
         else:
             kind = {HertzContact: _k.S_HERTZ, PiecewiseLinearSpring: _k.S_PWL, SineLoad: _k.S_SINE}[type(s.law)]
             p, s0 = s.law.pack(), []
@@ -544,10 +705,13 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     sig_out = np.full((N, len(sig_names)), np.nan)
     u_out = np.full((N, nact), np.nan)
     I64 = np.int64
+    mg = _merge_maps(machine, par, po, kinds, fold, bool(np.any(ld_mode)), Phi, G0, G1, Gf, Cq, Cm,
+                     int(substeps))
+    mg_R, mg_M = mg if mg is not None else (np.zeros((0, 0, 0)), np.zeros((0, 0)))
     status, k_end, n_bad = _k.run(
         int(substeps), dt, Phi, G0, G1, Gf, np.ascontiguousarray(Gss, dtype=float),
         np.ascontiguousarray(Hss, dtype=float),
-        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns),
+        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns), fold, mg is not None, mg_R, mg_M,
         np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
         np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
         ld_mode, ld_row, ld_mrow, ld_site, ld_par,

@@ -265,8 +265,17 @@ class ModelFile:
         if model is None:
             raise DataError(f"the identification result ({res.kind}) holds no model")
         prov.setdefault("method", f"identification: {res.kind} ({res.model_name})")
+        written = doc.get("written_by") if isinstance(doc.get("written_by"), Mapping) else {}
+        if "frictionkit_version" in written:
+            prov.setdefault("frictionkit_version", written["frictionkit_version"])
+        if "date" in written:
+            prov.setdefault("created", written["date"])
         if "sha256" in prov and "data_sha256" not in prov:
             prov["data_sha256"] = prov["sha256"]
+        records = prov.get("records") if isinstance(prov.get("records"), list) else []
+        hashes = sorted({r["sha256"] for r in records if isinstance(r, Mapping) and isinstance(r.get("sha256"), str)})
+        if hashes and "data_sha256" not in prov:  # a fit over several records (or files)
+            prov["data_sha256"] = hashes[0] if len(hashes) == 1 else hashes
         units = prov.get("units") if isinstance(prov.get("units"), Mapping) else {}
         units = {k: v for k, v in units.items() if k in ("F", "v", "x")}
         return cls(model=model, units=units, provenance=prov, format=str(doc["format"]))

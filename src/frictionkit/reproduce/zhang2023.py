@@ -25,6 +25,20 @@ scale); the plant's truth is used to score, never to identify.
   ``frictionkit reproduce zhang2023``; :func:`robustness` — the separate sweep over noise seeds
   and ±20 % on the most influential assumptions.
 
+What the simulation shows (``--quick``, seed 0; README "Reproductions" has the table)
+--------------------------------------------------------------------------------------
+* Worktable errors are nm to tens of nm (the paper's are µm); differences below
+  :data:`TIE_UM` (1 nm) are ties.
+* Table 7: WSIM better than ACIM in differential mode at base 0, not at base 6; ACIM not better in
+  co-speed (a tie at base 6 — the table stands still —, worse at base 0).
+* Table 8: GMS no worse than LuGre in all four cases.
+* Fig. 16: GMS-3 closer than LuGre over the reciprocating legs and also over the unidirectional
+  ones (the paper: LuGre better there).
+* WSIM recovers the lumped differential curves (screw per base speed, nut TDMSSC) within a few
+  %; in co-speed only the sum of both shafts: the two position loops hold an internal force
+  through the preloaded ball pair, so each shaft's ``K_t i_q`` is its support friction ±~10 N.
+* Crawling (ours): the TDMS's true-velocity ripple is not smaller than the single drive's.
+
 Assumptions of the experiments (the paper gives none of these numbers; fixed before any run)
 -----------------------------------------------------------------------------------------
 :class:`Design` holds them, with reasons: plateau speeds and hold times (long holds below
@@ -42,15 +56,17 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..data.recording import Recording
 from ..data.segmentation import Segment, steady_state_points
-from ..errors import ParameterError
+from ..errors import DataError, IdentificationError, ParameterError
+from ..identify.presliding import fit_presliding
 from ..identify import wsim as W
-from ..models.gms import GMS
+from ..models.gms import GMS, GMSWeightWarning
 from ..models.lugre import LuGre
 from ..models.static import Directional
 from ..presets import zhang2023 as Z
@@ -85,6 +101,10 @@ class Design:
         (±2 mm/s, 1 s, not given).
     memory_amplitude, memory_speed : Fig. 14 command [m, m/s] (5 µm; the paper's 1 µm/s).
     crawl_speeds, crawl_duration : extension table speeds [m/s] and feed time [s].
+    refine : bool — WSIM's simulation refinement of the pre-sliding fits (the paper's Simulink
+        step); False keeps the eq. 19 breakpoints (faster; used by the tests).
+    m7_samples : int — block means of the Fig. 16 M = 7 fit (the breakpoint search grows with M
+        and the samples).
     """
 
     cospeed_slow: tuple = (0.05e-3, 0.1e-3, 0.2e-3, 0.4e-3)
@@ -106,12 +126,14 @@ class Design:
     memory_speed: float = 1e-6
     crawl_speeds: tuple = (1e-6, 2e-6, 5e-6, 10e-6)
     crawl_duration: float = 2.0
+    refine: bool = True
+    m7_samples: int = 200
 
 
-#: ``--quick``: fewer plateaus and base speeds, shorter tracking, the memory test at 4 µm/s.
+#: ``--quick``: fewer plateaus and base speeds, shorter tracking, the memory test at 10 µm/s.
 QUICK = Design(cospeed_slow=(0.05e-3, 0.15e-3, 0.4e-3), cospeed_fast=(1e-3, 3e-3, 8e-3, 20e-3), hold_slow=2.0,
                diff_bases=(0.0, 4e-3, 6e-3), diff_slow=(0.03e-3, 0.1e-3), diff_fast=(0.3e-3, 0.8e-3, 2e-3, 5e-3, 10e-3),
-               diff_hold_slow=1.5, tracking_duration=2.0, memory_speed=4e-6, crawl_speeds=(1e-6, 10e-6),
+               diff_hold_slow=1.5, tracking_duration=2.0, memory_speed=10e-6, crawl_speeds=(1e-6, 10e-6),
                crawl_duration=1.0)
 FULL = Design()
 
@@ -204,7 +226,8 @@ def identify_wsim(design: Design = FULL, *, assumptions=None, truth=None, seed: 
     """WSIM's four steps on the virtual experiments (Tables 3-6 analogues)."""
     ex = experiments or wsim_experiments(design, assumptions=assumptions, truth=truth, seed=seed, progress=progress)
     return W.wsim(cospeed=ex["cospeed"], cospeed_micro=ex["cospeed_micro"], differential=ex["differential"],
-                  differential_micro=ex["differential_micro"], screw_base_speed=4e-3, progress=progress)
+                  differential_micro=ex["differential_micro"], screw_base_speed=4e-3, refine=design.refine,
+                  progress=progress)
 
 
 # --------------------------------------------------------------------------- ACIM bench tests
@@ -299,6 +322,11 @@ class FeedForwardModel:
     name: str
 
     def __call__(self, ref: Z.Reference) -> Z.FeedForward:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GMSWeightWarning)
+            return self._feedforward(ref)
+
+    def _feedforward(self, ref: Z.Reference) -> Z.FeedForward:
         dt = ref.dt
         if self.kind == "ACIM":
             x1, x2 = R * ref.th1, R * ref.th2
@@ -316,7 +344,11 @@ class FeedForwardModel:
             b = min(self.laws["screw_diff"], key=lambda x: abs(x - base))
             c, law = self.laws["screw_diff"][b]
             ff1 = c + _drive(law, rel, dt)
-            ff2 = self.laws["nut_diff"].steady_state(v1 + v2, schedule=v2)
+            nb = self.laws.get("nut_by_base", {})
+            if b == 0.0 and 0.0 in nb:      # single drive: the nut stands; its own b = 0 fit
+                ff2 = nb[0.0].steady_state(v1 + v2, schedule=v2)
+            else:
+                ff2 = self.laws["nut_diff"].steady_state(v1 + v2, schedule=v2)
         return Z.FeedForward(ff1=np.nan_to_num(ff1), ff2=np.nan_to_num(ff2), name=self.name)
 
 
@@ -331,7 +363,14 @@ def _pair(laws: dict, pos: str, neg: str) -> Directional:
 
 def wsim_feedforward(result: W.WSIMResult, model: str = "GMS", *, assumptions=None) -> FeedForwardModel:
     """eq. 16 feed-forward from WSIM's laws with ``model`` ``"GMS"`` (identified, M = 3) or
-    ``"LuGre"`` (:func:`lugre_from_gms` on the same static maps)."""
+    ``"LuGre"`` (:func:`lugre_from_gms` on the same static maps). Weight sums off 1 are used as
+    identified (the tables report ``sum_xi``; no GMSWeightWarning here)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GMSWeightWarning)
+        return _wsim_feedforward(result, model, assumptions)
+
+
+def _wsim_feedforward(result, model, assumptions) -> FeedForwardModel:
     if model not in ("GMS", "LuGre"):
         raise ParameterError(f"wsim_feedforward model = {model!r}: must be 'GMS' or 'LuGre'")
     a = assumptions or Z.Assumptions()
@@ -349,7 +388,8 @@ def wsim_feedforward(result: W.WSIMResult, model: str = "GMS", *, assumptions=No
     laws = {"screw_co": _pair(L4, "screw +", "screw -"),
             "nut_co": _pair(L4, "nut -", "nut +"),     # nut '+' column = nut turning negative
             "screw_diff": diff,
-            "nut_diff": result.steps["table5"].laws["nut"]}
+            "nut_diff": result.steps["table5"].laws["nut"],
+            "nut_by_base": result.steps["table5"].laws.get("nut_by_base", {})}
     if model == "LuGre":
         laws.update(screw_co=_as_lugre(laws["screw_co"], J1), nut_co=_as_lugre(laws["nut_co"], J2))
     return FeedForwardModel("WSIM", laws, f"WSIM + {model}")
@@ -424,7 +464,7 @@ def table8(wsim_result, design: Design = FULL, *, assumptions=None, truth=None, 
 @dataclass(frozen=True, eq=False)
 class Fig16Result:
     """Hysteresis in differential mode (nut still): the plant's lumped screw-side friction vs the
-    models driven by the logged relative angle. ``rms`` model -> {"reciprocating", "unidirectional",
+    models driven by the plant's relative angle. ``rms`` model -> {"reciprocating", "unidirectional",
     "all"} [N, linear-equivalent]; ``rms_vs_log`` the same against the logged torque (noise included)."""
 
     x_um: np.ndarray
@@ -460,7 +500,7 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
           seed: int = 0) -> Fig16Result:
     """Non-local memory in differential mode (Fig. 14 command at ``design.memory_speed``):
     plant vs LuGre vs GMS M = 3 (WSIM step 4) and GMS M = 7 (step 4's data refitted with 7
-    elements; ``micro_runs``: step 4's runs ``{"positive": TDMSRun, "negative": TDMSRun}``, without
+    elements, breakpoints and eq. 19 only; ``micro_runs``: step 4's runs ``{"positive": TDMSRun, "negative": TDMSRun}``, without
     them no M = 7 model). Legs reaching the outer amplitude are "unidirectional", the nested inner legs
     "reciprocating"."""
     a = assumptions or Z.Assumptions()
@@ -470,7 +510,9 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
     # the plant's screw-side friction (linear-equivalent N): support + ball pair + axial (guide, inertia)
     plant = sf["screw_support"] + sf["ball_preload"] + sf["ball_load"] + rec.F_axial
     logged = rec.force1
-    rel = rec.theta1 + rec.theta2
+    # the models run on the plant's true relative angle: this compares model structures, and
+    # the encoder's count steps, differentiated, would enter LuGre's sigma1 term as noise
+    rel = rec.theta1_true + rec.theta2_true
     dt = rec.t[1] - rec.t[0]
     L6 = wsim_result.steps["table6"].laws
     gms3 = _pair(L6, "positive", "negative")
@@ -482,9 +524,12 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
         run = (micro_runs or {}).get(lab)
         if f is None or run is None:
             continue
-        try:
-            fits7[lab] = W.differential_presliding({lab: run}, f.model.static, elements=7).laws[lab]
-        except Exception as exc:  # noqa: BLE001 - reported, the M=7 row is then missing
+        try:   # one attempt (no retries: the breakpoint search is costly at M = 7)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GMSWeightWarning)
+                fits7[lab] = fit_presliding(W._thin(run.shaft("screw"), design.m7_samples), elements=7,
+                                            static=f.model.static, branch="virgin", refine=False).model
+        except (IdentificationError, DataError) as exc:   # reported; the M = 7 row is then missing
             msgs.append(f"GMS M=7 {lab}: {exc}")
     if len(fits7) == 2:
         models["GMS M=7"] = _directional(fits7["positive"], fits7["negative"])
@@ -559,10 +604,15 @@ def recovery(result: W.WSIMResult, truth=None, assumptions=None) -> dict:
         tr = lumped_truth(q["v3"][m], b, tf, a)["screw"]
         out[f"differential_screw_b{b * 1e3:g}"] = _err((c + D.steady_state(q["v3"][m])) / R, tr)
     if "nut" in s3.laws:
-        tr = np.concatenate([lumped_truth(q["v3"][q["b"] == b], b, tf, a)["nut"] for b in np.unique(q["b"])])
+        bs = [b for b in np.unique(q["b"]) if b > 0]
+        tr = np.concatenate([lumped_truth(q["v3"][q["b"] == b], b, tf, a)["nut"] for b in bs])
         ids = np.concatenate([s3.laws["nut"].steady_state(q["v3"][q["b"] == b], schedule=q["s"][q["b"] == b]) / R
-                              for b in np.unique(q["b"])])
-        out["differential_nut"] = _err(ids, tr)
+                              for b in bs])
+        out["differential_nut_tdmssc"] = _err(ids, tr)
+    for b, law in s3.laws.get("nut_by_base", {}).items():
+        m = q["b"] == b
+        out[f"differential_nut_b{b * 1e3:g}"] = _err(law.steady_state(q["v3"][m], schedule=q["s"][m]) / R,
+                                                     lumped_truth(q["v3"][m], b, tf, a)["nut"])
     return out
 
 
@@ -576,7 +626,7 @@ def _err(identified, true) -> dict:
 
 # =========================================================================== the whole reproduction
 def truth_tables(truth=None, assumptions=None) -> dict:
-    """The plant's true Table 3 (support Stribeck maps) and the paper's printed Tables 3-6 beside."""
+    """The plant's true Table 3 (support Stribeck maps) and Table 4 (the supports' GMS-7)."""
     tf = truth or Z.true_friction(assumptions)
     t3 = {}
     for col, (law, sgn) in {"screw +": (tf.screw_support, 1), "nut +": (tf.nut_support, -1),
@@ -584,7 +634,14 @@ def truth_tables(truth=None, assumptions=None) -> dict:
         side = (law.positive if sgn > 0 else law.negative).static
         t3[col] = {"T_C_N": side.Fc, "T_S_N": side.Fs, "vs_mm_s": sgn * side.vs / MM, "delta": side.delta,
                    "sigma_N_s_m": side.sigma2}
-    return {"table3": t3}
+    # Table 4's truth: the supports' GMS-7 (linear-equivalent, N/µm); a GMS-3 fit cannot equal it
+    t4 = {}
+    for col, (law, sgn) in {"screw +": (tf.screw_support, 1), "nut +": (tf.nut_support, -1),
+                            "screw -": (tf.screw_support, -1), "nut -": (tf.nut_support, 1)}.items():
+        g = law.positive if sgn > 0 else law.negative
+        t4[col] = {"k_N_um": [float(k) * 1e-6 for k in g.k], "xi": [float(x) for x in g.xi], "C_N_s": float(g.C),
+                   "breakaway_um": [float(x) * g.static.Fs / float(k) * 1e6 for k, x in zip(g.k, g.xi)]}
+    return {"table3": t3, "table4": t4}
 
 
 @dataclass(frozen=True, eq=False)
@@ -610,6 +667,8 @@ class Zhang2023Result:
         ident = {k: {"identified": s.table, "status": s.status, "message": s.message}
                  for k, s in self.wsim.steps.items()}
         ident["table3"]["plant_truth"] = truth["table3"]
+        ident["table4"]["plant_truth"] = truth["table4"]
+        ident["table5"]["plant_truth_rms"] = {k: v for k, v in self.recovery.items() if k.startswith("differential")}
         ident["table5"]["fourier"] = self.wsim.steps["table5"].diagnostics.get("fourier")
         paper = {k: {c: {kk: vv for kk, vv in dict(v).items() if kk != "printed"}
                      for c, v in Z.PAPER_TABLES[k].items()} for k in ("table3", "table4", "table5", "table6")}
@@ -647,7 +706,7 @@ class Zhang2023Result:
         if self.fig16 is not None:
             self.fig16.plot(ax=ax[0])
         rows = [r for r in self.table7 if r["structure"] == "worktable"]
-        labels = [f"{r['speeds'][:4]} {r['base_speed_mm_s']} {r['method']}" for r in rows]
+        labels = [f"{r['speeds'][:4]}-{r['base_speed_mm_s']} {r['method']}" for r in rows]
         ax[1].bar(range(len(rows)), [abs(r["mean_um"]) for r in rows], yerr=[r["std_um"] for r in rows])
         ax[1].set_xticks(range(len(rows)), labels, rotation=60, fontsize=7)
         ax[1].set_ylabel("worktable |mean| (std) [µm]")
@@ -671,7 +730,7 @@ def run(*, quick: bool = False, seed: int = 0, assumptions: Z.Assumptions | None
     t0 = time.perf_counter()
     step("WSIM identification (Tables 3-6)")
     ws = W.wsim(cospeed=ex["cospeed"], cospeed_micro=ex["cospeed_micro"], differential=ex["differential"],
-                differential_micro=ex["differential_micro"], screw_base_speed=4e-3)
+                differential_micro=ex["differential_micro"], screw_base_speed=4e-3, refine=d.refine)
     step("ACIM: component bench tests")
     ac = identify_acim(d, assumptions=a, truth=tf, seed=seed)
     tm["identification"] = time.perf_counter() - t0
@@ -713,8 +772,16 @@ ROBUSTNESS_ASSUMPTIONS = ("table_mass", "k_axial", "c_axial", "ball_load_coeffic
                           "torque_noise")
 
 
+#: Tracking-error differences below this [µm] are ties (a tenth of the 10 nm scale count: the
+#: worktable errors here are a few nm to a few tens of nm, sub-nm differences are numerical noise).
+TIE_UM = 1e-3
+
+
 def findings(summary: dict) -> dict:
-    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.summary`."""
+    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.summary`.
+
+    "Better" needs an improvement beyond :data:`TIE_UM` in both |mean| and std; "no larger"
+    allows a tie within it."""
     def cell(tab, key, speeds, base, structure):
         for r in summary[tab]:
             if (r.get("method", r.get("model")) == key and r["speeds"] == speeds and r["base_speed_mm_s"] == base
@@ -726,14 +793,17 @@ def findings(summary: dict) -> dict:
     for base in (0, 6):
         am, as_ = cell("table7", "ACIM", "different", base, "worktable")
         wm, ws_ = cell("table7", "WSIM", "different", base, "worktable")
-        out[f"t7_diff{base}_wsim_better"] = {"holds": bool(wm < am and ws_ < as_), "ACIM": [am, as_], "WSIM": [wm, ws_]}
+        out[f"t7_diff{base}_wsim_better"] = {"holds": bool(wm < am - TIE_UM and ws_ < as_ - TIE_UM),
+                                             "ACIM": [am, as_], "WSIM": [wm, ws_]}
         am, as_ = cell("table7", "ACIM", "same", base, "worktable")
         wm, ws_ = cell("table7", "WSIM", "same", base, "worktable")
-        out[f"t7_same{base}_acim_better"] = {"holds": bool(am < wm and as_ < ws_), "ACIM": [am, as_], "WSIM": [wm, ws_]}
+        out[f"t7_same{base}_acim_better"] = {"holds": bool(am < wm - TIE_UM and as_ < ws_ - TIE_UM),
+                                             "ACIM": [am, as_], "WSIM": [wm, ws_]}
     for speeds, base in CASES:
         lm, ls = cell("table8", "LuGre", speeds, base, "worktable")
         gm, gs = cell("table8", "GMS", speeds, base, "worktable")
-        out[f"t8_{speeds}{base}_gms_not_worse"] = {"holds": bool(gm <= lm and gs <= ls), "LuGre": [lm, ls],
+        out[f"t8_{speeds}{base}_gms_not_worse"] = {"holds": bool(gm <= lm + TIE_UM and gs <= ls + TIE_UM),
+                                                   "LuGre": [lm, ls],
                                                    "GMS": [gm, gs]}
     h = summary.get("hysteresis_rms_force_N") or {}
     if h:

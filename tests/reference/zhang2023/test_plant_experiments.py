@@ -123,3 +123,17 @@ def test_cdfs_is_single_drive():
     assert rec.success
     assert np.mean(rec.v_t_true[k:]) == pytest.approx(20e-6, rel=0.05)
     assert np.all(rec.torque2 == 0.0)
+
+
+def test_results_summarise_and_plot(crawl):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rec = crawl.recordings[(1e-6, "tdms")]
+    assert "tdms crawl run" in rec.summary()
+    assert "CDFS" in crawl.summary() and "TDMS" in crawl.summary()
+    axes = [rec.plot(), rec.plot_hysteresis("screw"), crawl.plot(), z.tracking_errors(rec).plot()]
+    assert all(hasattr(ax, "figure") for ax in axes)
+    plt.close("all")

@@ -1,19 +1,30 @@
 """Seed 000 (Zhang et al., Actuators 2023): the two-axis differential micro-feed system (TDMS).
 
 A ball screw whose screw (``theta1``) and nut (``theta2``) each have a motor; the worktable
-moves at the *difference* of two fast rotations. This module holds
+moves at the *difference* of two fast rotations. This package holds (modules in brackets)
 
-* the paper's Tables 2-6 in SI, with every correction recorded next to the value
-  (:data:`PAPER_TABLES`, :func:`paper_stribeck`, :func:`paper_gms`);
+* the paper's Tables 2-8 in SI, with every correction recorded next to the value
+  (:data:`PAPER_TABLES`, :func:`paper_stribeck`, :func:`paper_gms`) [``paper``];
 * the simulated plant on the machine core (:func:`tdms_machine`, :func:`cdfs_machine`), its
   true friction (:class:`TrueFriction`, :func:`true_friction`) and every value the paper does
-  not give as a named, validated assumption (:class:`Assumptions`);
+  not give as a named, validated assumption (:class:`Assumptions`) [``truth``, ``plant``];
 * the virtual experiments of §5.2-5.4 (:func:`co_speed_sweep`, :func:`differential_sweep`,
   :func:`presliding_reciprocation`, :func:`memory_test`, :func:`sinusoidal_tracking`) returning
   :class:`TDMSRecording` objects, and the full closed loop of eqs. 15-16 with a feed-forward
-  hook (:class:`FeedForward`, :func:`tracking_errors`);
+  hook (:class:`FeedForward`, :func:`tracking_errors`) [``plant``, ``experiments``];
 * the extension (ours): a conventional single-drive feed system (CDFS) against the TDMS at
-  table speeds of 1-10 µm/s (:func:`crawling_comparison`).
+  table speeds of 1-10 µm/s (:func:`crawling_comparison`) [``crawling``].
+
+Observations a user of the virtual experiments should know (numbers from the plant):
+
+* Co-speed runs are only *quasi*-stationary: the two loops lag differently while the speed
+  changes, the table creeps by < 1 µm and the ball pair and guide keep a pre-sliding stress
+  (~2-3 N each at the plateaus) that reaches both motors.
+* The shaft supports relax after break-away with ``tau = T_S / C`` (Table 4's C in N/s):
+  0.27-1.8 s; plateaus shorter than ~3 tau read friction above the steady map.
+* The paper's direction-dependent GMS-3 (Table 4, ``paper_gms``) ratchets under µm
+  reciprocation (the nut's force at +2 µm: 5.5 -> -36 N over four +-2 µm cycles); the truth
+  uses one stiffness set per site for both directions.
 
 Conventions (SI inside)
 -----------------------

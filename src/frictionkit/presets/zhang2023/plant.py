@@ -269,6 +269,15 @@ class TDMSRecording:
         return self.reference.segments
 
     @property
+    def i_q1(self) -> np.ndarray:
+        """Screw motor q-axis current ``torque1 / K_t`` [A] (Table 2: K_t = 0.605 N·m/A)."""
+        return self.torque1 / PAPER_TABLES["table2"]["K_t"]
+
+    @property
+    def i_q2(self) -> np.ndarray:
+        return self.torque2 / PAPER_TABLES["table2"]["K_t"]
+
+    @property
     def force1(self) -> np.ndarray:
         """Screw motor torque as a linear-equivalent force ``K_t i_q / R`` [N] (Table 3's unit)."""
         return self.torque1 / R

@@ -24,8 +24,15 @@ demo: $(VENV)/.installed-demo
 test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 --dist loadgroup -q
 
-bench: $(VENV)/.installed-demo
+# numbalsoda (the compiled-LSODA peers of benchmarks/peers.py) builds LSODA from Fortran
+# source: on Debian/Ubuntu it needs `apt-get install gfortran` first. Only `make bench` needs it.
+$(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -e ".[bench]"
+	touch $@
+
+bench: $(VENV)/.installed-bench
 	$(BIN)/python benchmarks/simulate.py
+	$(BIN)/python benchmarks/peers.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

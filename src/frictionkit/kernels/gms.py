@@ -62,6 +62,7 @@ from .._jit import njit, prange
 from ._oscillator import coefficients
 from ._stribeck import R_FC, R_FS, R_S2, g_row
 from ._stribeck import row as static_row
+from .lugre import _atol_run
 
 OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
 H_MIN = 1e-7  # smallest sub-step as a fraction of dt (kernels.lugre.H_MIN)
@@ -97,7 +98,7 @@ def _is_directional(static, k, xi, C):
 @njit
 def _drive(
     u, dt, m, static, k, xi, C, x0, v0, F0, stick0, rtol, atol_v, atol_F, max_sub,
-    record, x_out, v_out, F_out, Fel, stick_out, which, target, weight,
+    record, x_out, v_out, F_out, Fel, stick_out, which, target, weight, v_floor,
 ):
     """Run the force-driven GMS over all sample intervals; returns ``(status, k, substeps, sse)``.
 
@@ -153,6 +154,9 @@ def _drive(
     r2 = 0.0
     x = x0
     v = v0
+    # absolute velocity tolerance following the run's largest speed (lugre._atol_run)
+    vpk = abs(v0)
+    tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
     h_try = dt
     total = 0
     acc = 0.0
@@ -262,7 +266,7 @@ def _drive(
                     v_prev = vn
                     xi_n = E12 * v + q1 * f0 + q2 * f1
                     vn = E22 * v + r1 * f0 + r2 * f1
-                e = abs(vn - v_prev) / (atol_v + rtol * abs(vn))
+                e = abs(vn - v_prev) / (tol_v + rtol * abs(vn))
                 # truncation indicator: frozen s at the mean velocity (midpoint) against
                 # the mean of the updates frozen at both ends (trapezoid); both second
                 # order, their gap measures how much s(v) varies over the sub-step
@@ -288,7 +292,7 @@ def _drive(
                 for i in range(M):
                     if not st_[i]:
                         Rh += Cn * (xi[r_n, i] * svn_ - sb[i] / g_n)
-                q = (h * h / 12.0) * abs(R0 - Rh) * im / (atol_v + rtol * abs(vn))
+                q = (h * h / 12.0) * abs(R0 - Rh) * im / (tol_v + rtol * abs(vn))
                 if q > e:
                     e = q
                 for i in range(M):
@@ -371,6 +375,9 @@ def _drive(
             x += xi_n
             v = vn
             t += h
+            if abs(v) > vpk:
+                vpk = abs(v)
+                tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
             if theta <= 1.0:
                 if reversed_:
                     for i in range(M):
@@ -415,20 +422,23 @@ def _drive(
 @njit
 def gms_force(
     u, dt, m, static, k, xi, C, x0, v0, F0, stick0, rtol, atol_v, atol_F, max_sub,
-    x, v, F, Fel, stick_out,
+    x, v, F, Fel, stick_out, v_floor=1.0,
 ):
-    """Force-driven run; fills ``x, v, F`` (N,), ``Fel`` (N, M) and ``stick_out`` (N, M)."""
+    """Force-driven run; fills ``x, v, F`` (N,), ``Fel`` (N, M) and ``stick_out`` (N, M).
+
+    ``v_floor``: as in :func:`frictionkit.kernels.lugre.lugre_force`."""
     dummy = np.empty(1)
     status, kk, total, _ = _drive(
         u, dt, m, static, k, xi, C, x0, v0, F0, stick0, rtol, atol_v, atol_F, max_sub,
-        True, x, v, F, Fel, stick_out, 0, dummy, dummy,
+        True, x, v, F, Fel, stick_out, 0, dummy, dummy, v_floor,
     )
     return status, kk, total
 
 
 @njit(parallel=True)
 def gms_force_batch_sse(
-    u, dt, m, static, k, xi, C, rtol, atol_v, atol_F, max_sub, target, which, weight, out_sse, out_status
+    u, dt, m, static, k, xi, C, rtol, atol_v, atol_F, max_sub, target, which, weight, out_sse, out_status,
+    v_floor=1.0,
 ):
     """P parameter sets on one input; weighted squared error of position (0), velocity (1) or force (2)."""
     P = m.size
@@ -441,7 +451,7 @@ def gms_force_batch_sse(
         d3 = np.empty((1, M), dtype=np.bool_)
         status, _, _, acc = _drive(
             u, dt, m[j], static[j], k[j], xi[j], C[j], 0.0, 0.0, F0, stick0, rtol, atol_v, atol_F, max_sub,
-            False, d1, d1, d1, d2, d3, which, target, weight,
+            False, d1, d1, d1, d2, d3, which, target, weight, v_floor,
         )
         out_sse[j] = acc if status == OK else np.inf
         out_status[j] = status

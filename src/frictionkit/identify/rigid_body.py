@@ -200,8 +200,8 @@ def fit_rigid_body(
         raise ParameterError(f"fit_rigid_body.law = {law!r}: must be one of {list(RIGID_BODY_LAWS)}")
     if delta is not None and law != "stribeck":
         raise ParameterError(f"fit_rigid_body.delta = {delta!r}: only the 'stribeck' law has an exponent")
-    if delta is not None:
-        delta = val.positive("fit_rigid_body", "delta", delta)
+    if delta is not None and (val.is_bool(delta) or not (math.isfinite(float(delta)) and float(delta) > 0)):
+        raise ParameterError(f"fit_rigid_body.delta = {delta!r}: must be finite and > 0")
     linear = _fit_linear(recording, asymmetric=asymmetric, cutoff=cutoff, order=order, skip=skip, q=q)
     if law == "coulomb_viscous":
         return linear

@@ -379,8 +379,8 @@ def fit_static_map(
         raise ParameterError(f"fit_static_map.criterion = {criterion!r}: must be 'aic' or 'bic'")
     if model != "auto":
         _structure(model, delta)
-    if delta is not None:
-        delta = val.positive("fit_static_map", "delta", delta)
+    if delta is not None and (val.is_bool(delta) or not (np.isfinite(delta) and delta > 0)):
+        raise ParameterError(f"fit_static_map.delta = {delta!r}: must be finite and > 0")
     if sig is not None:
         sig = np.asarray(sig, dtype=float).ravel()
         if sig.size != va.size or not np.all(np.isfinite(sig) & (sig > 0)):

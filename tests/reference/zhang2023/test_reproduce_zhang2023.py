@@ -142,13 +142,25 @@ def test_fig16_reciprocating_gms_closer(summary):
                           "bends too early into sliding; GMS-3 is closer here as well")
 def test_fig16_unidirectional_lugre_closer(summary):
     h = summary["hysteresis_rms_force_N"]["unidirectional"]
-    # measured (seed 0): LuGre 18.1 N, GMS-3 5.3 N, GMS-7 24 N (linear-equivalent)
+    # measured (TEST_DESIGN, seed 0): LuGre 18.4 N, GMS-3 5.3 N (linear-equivalent)
     assert h["GMS"] < h["LuGre"]
     assert h["LuGre"] < h["GMS"]                        # paper: LuGre smoother and closer (§5.3)
 
 
 def test_fig16_has_m3_and_m7(result):
-    assert {"LuGre", "GMS M=3", "GMS M=7"} <= set(result.fig16.rms)
+    assert {"LuGre", "GMS M=3", "GMS M=7", "GMS M=3 (one k set)"} <= set(result.fig16.rms)
+
+
+def test_fig16_m7_one_stiffness_set_beats_m3(summary):
+    """§5.3 citing ref. [30]: 6-7 elements describe non-local memory better than M = 3. Both fitted
+    the same way (one stiffness set for both directions, joint simulation error on step 4's two
+    records), M = 7 is closer on the nested reciprocating legs. (The per-direction GMS-7 of an
+    earlier version scored 20.9 N against M = 3's 5.7 N: its directions' elements did not
+    correspond; see fit_gms_one_stiffness.)"""
+    h = summary["hysteresis_rms_force_N"]["reciprocating"]
+    # measured (TEST_DESIGN, seed 0): M=7 0.96 N, M=3 one k set 2.17 N, M=3 per direction 6.4 N
+    assert h["GMS_M7"] < 0.7 * h["GMS_M3_one_k_set"]
+    assert h["GMS_M7"] < h["GMS"]
 
 
 # --------------------------------------------------------------------------- WSIM recovery

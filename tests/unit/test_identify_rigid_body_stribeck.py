@@ -126,7 +126,7 @@ def test_coulomb_viscous_path_is_unchanged():
 @pytest.mark.parametrize("kw, match", [
     ({"law": "tanh"}, r"fit_rigid_body.law = 'tanh': must be one of \['coulomb_viscous', 'stribeck', 'lorentzian'\]"),
     ({"law": "coulomb_viscous", "delta": 2.0}, r"fit_rigid_body.delta = 2.0: only the 'stribeck' law"),
-    ({"law": "stribeck", "delta": -1.0}, r"fit_rigid_body.delta = -1.0: must be > 0"),
+    ({"law": "stribeck", "delta": -1.0}, r"fit_rigid_body.delta = -1.0: must be finite and > 0"),
 ])
 def test_bad_options_name_the_value(kw, match):
     with pytest.raises(ParameterError, match=match):

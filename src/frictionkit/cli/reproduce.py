@@ -197,7 +197,8 @@ def zhang2023(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer plateaus and base speeds, shorter runs (< 60 s)."),
     seed: int = typer.Option(0, "--seed", help="Noise seed (0 to 2**32 - 1)."),
-    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 16 / Table 7 / crawling PNG beside the JSON."),
+    plot: bool = typer.Option(True, "--plot/--no-plot",
+                              help="Write the six-panel PNG (Fig. 16, Tables 7-8, Figs. 17-20, crawling) beside the JSON."),
     robustness: bool = typer.Option(False, "--robustness",
                                     help="Instead: the robustness sweep (3 noise seeds, +-20 % on the preset's "
                                          "assumptions; --quick runs per variant); long."),

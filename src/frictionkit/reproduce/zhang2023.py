@@ -32,8 +32,8 @@ What the simulation shows (``--quick``, seed 0; README "Reproductions" has the t
   sinusoidal run after the base-speed run-up of ``x_t* - x_scale`` (worktable) and
   ``R (theta* - theta)`` from the encoders (screw, nut). Not an artefact: the feed-forwards
   differ by 11-26 N RMS (screw) and 4-49 N (nut, linear-equivalent) between ACIM, WSIM + GMS
-  and WSIM + LuGre in every case and reach the plant (same speeds, base 6: screw mean error -0.003 / +0.029 / +0.074 µm,
-  table drift 0.15 / 0.22 / 0.31 µm), but the worktable rows of that case agree to 4 digits
+  and WSIM + LuGre in every case and reach the plant (same speeds, base 6: screw mean error
+  -0.003 / +0.029 / +0.074 µm, table drift 0.15 / 0.22 / 0.31 µm), but the worktable rows of that case agree to 4 digits
   because the table stands still and the full loop (eq. 15) holds it on the 10 nm scale: its
   error (true: 7.6 nm std in all three) is the scale's count and noise, whatever the shafts'
   friction feed-forward. The errors are small because the assumed 40 Hz PID loops are stiff

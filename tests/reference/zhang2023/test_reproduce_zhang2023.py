@@ -243,3 +243,26 @@ def test_cli_writes_json_and_plot(monkeypatch, tmp_path, result):
     assert "findings" in doc and np.isfinite(doc["table7"][0]["mean_um"])
     res = CliRunner().invoke(app, ["reproduce", "zhang2023", "--seed", "-1", "--json", str(out)])
     assert res.exit_code != 0 and "--seed" in res.output
+
+
+def test_fit_gms_one_stiffness_recovers_a_known_gms():
+    """fit_gms_one_stiffness on noise-free records of a GMS with one stiffness set (the plant's
+    structure): both directions' virgin strokes break every element, the fit recovers k and
+    both weight sets. Truth chosen here (no paper values: a recovery check of the procedure)."""
+    import frictionkit as fk
+    from frictionkit.data.recording import Recording
+
+    st = fk.Directional(positive=fk.Stribeck(Fc=1.0, Fs=1.2, vs=1e-3), negative=fk.Stribeck(Fc=1.1, Fs=1.3, vs=1e-3))
+    k = [4e5, 1e5, 2e4]                                      # N/m; break-away strokes 0.9-26 µm
+    true = fk.Directional(positive=fk.GMS(st.positive, k=k, xi=[0.3, 0.3, 0.4], C=20.0),
+                          negative=fk.GMS(st.negative, k=k, xi=[0.5, 0.3, 0.2], C=20.0))
+    dt, A = 2e-3, 60e-6
+    recs = {}
+    for lab, s in (("positive", 1.0), ("negative", -1.0)):
+        x = s * np.r_[np.linspace(0, A, 301), np.linspace(A, -A, 601)[1:]]
+        recs[lab] = Recording(t=np.arange(x.size) * dt, x=x, F=fk.simulate(true, position=x, dt=dt).F)
+    g = zr.fit_gms_one_stiffness(recs, {"positive": st, "negative": st}, elements=3)
+    np.testing.assert_allclose(np.sort(g.positive.k)[::-1], k, rtol=0.05)
+    np.testing.assert_array_equal(g.positive.k, g.negative.k)
+    np.testing.assert_allclose(g.positive.xi, [0.3, 0.3, 0.4], atol=0.03)
+    np.testing.assert_allclose(g.negative.xi, [0.5, 0.3, 0.2], atol=0.03)

@@ -1034,6 +1034,7 @@ def _metrics(summary: dict) -> dict:
 
 
 __all__ = ["CASES", "Design", "FULL", "QUICK", "FeedForwardModel", "Fig16Result", "ROBUSTNESS_ASSUMPTIONS",
-           "Zhang2023Result", "acim_experiments", "acim_feedforward", "fig16", "findings", "identify_acim",
+           "M7_KEYS", "Zhang2023Result", "acim_experiments", "acim_feedforward", "fig16", "findings",
+           "fit_gms_one_stiffness", "identify_acim",
            "identify_wsim", "lugre_from_gms", "lumped_truth", "recovery", "robustness", "robustness_variants",
            "run", "table7", "table8", "truth_tables", "wsim_experiments", "wsim_feedforward"]

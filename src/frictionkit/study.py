@@ -14,6 +14,13 @@ a LocalCluster of one-thread workers, a scheduler address, or ``scheduler="none"
 finished run is written atomically as a one-row Parquet part beside the results file, so a
 rerun computes only what is missing; the results are one row per run.
 
+The engine underneath is generic: :func:`run_tasks` runs a list of labelled :class:`Task` s
+(a picklable function and its keyword arguments, returning one row as a dict) with one Dask
+task each, one Parquet part per task, resumable, and the same rows in this process with
+``workers=0``. :func:`run_study` and the reproductions' robustness sweeps
+(:func:`frictionkit.reproduce.zhang2023.robustness`,
+:func:`frictionkit.reproduce.zhu_fujimoto.robustness`) use it.
+
 The study is described by a TOML file::
 
     [machine]                      # SI units
@@ -73,7 +80,7 @@ import time
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -301,6 +308,265 @@ class StudyResult:
                 "elapsed_s": round(self.elapsed, 3), "compensators": per}
 
 
+# ============================================================================ the engine
+_LABEL_BAD = set('/\\:*?"<>|\0')
+
+
+def _jsonable(v):
+    """numpy scalars and arrays as plain Python (for the JSON text of nested values)."""
+    if hasattr(v, "tolist"):
+        return v.tolist()
+    raise TypeError(f"{type(v).__name__} is not JSON serialisable")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Task:
+    """One labelled task of :func:`run_tasks`: ``func(**kwargs)`` returns one row (a dict).
+
+    Parameters
+    ----------
+    label : str
+        Unique within a run; names the task's Parquet part (no path separators).
+    func : callable
+        Picklable (a module-level function), run on a Dask worker or in this process.
+    kwargs : dict
+        Its keyword arguments (picklable).
+    tag : str or None
+        What the result depends on besides the label (16 hex digits); None: a hash of the
+        function's name and ``repr`` of the sorted keyword arguments. A part is reused only
+        when label and tag agree, so changed arguments are recomputed.
+    """
+
+    label: str
+    func: Callable[..., dict]
+    kwargs: dict = field(default_factory=dict)
+    tag: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.label, str) or not self.label or set(self.label) & _LABEL_BAD:
+            raise ParameterError(f"Task.label = {self.label!r}: a non-empty name without any of / \\ : * ? \" < > |")
+        if not callable(self.func):
+            raise ParameterError(f"Task.func = {self.func!r}: must be callable")
+        if not isinstance(self.kwargs, dict):
+            raise ParameterError(f"Task.kwargs = {self.kwargs!r}: must be a dict")
+        if self.tag is None:
+            name = f"{getattr(self.func, '__module__', '')}.{getattr(self.func, '__qualname__', repr(self.func))}"
+            doc = name + "|" + repr(sorted(self.kwargs.items()))
+            object.__setattr__(self, "tag", hashlib.sha256(doc.encode()).hexdigest()[:16])
+        elif not isinstance(self.tag, str) or not self.tag or set(self.tag) & _LABEL_BAD:
+            raise ParameterError(f"Task.tag = {self.tag!r}: a non-empty name without path separators")
+
+    @property
+    def part(self) -> str:
+        """File name of the task's Parquet part."""
+        return f"{self.label}__{self.tag}.parquet"
+
+
+def run_task(task: Task, key: str = "task", parts: str | None = None) -> dict[str, Any]:
+    """Run one :class:`Task`: its row under ``{key: label, ok, error, task_seconds}``.
+
+    An exception becomes ``ok=False`` and its message in ``error`` (the row the function would
+    have returned is empty); the function may set ``ok``/``error`` itself. Nested values
+    (dict, list, tuple) are stored as JSON text, so the row is the same in memory and read back
+    from its Parquet part (written atomically to ``parts`` if given)."""
+    t0 = time.perf_counter()
+    row: dict[str, Any] = {key: task.label, "ok": True, "error": None}
+    try:
+        res = task.func(**task.kwargs)
+        if not isinstance(res, dict):
+            raise TypeError(f"{getattr(task.func, '__qualname__', task.func)!r} returned "
+                            f"{type(res).__name__}, not a dict (one row)")
+        row.update({k: v for k, v in res.items() if k != key})
+    except (KeyboardInterrupt, SystemExit, MemoryError):
+        raise
+    except Exception as exc:  # noqa: BLE001 - a failing task is a row
+        row.update(ok=False, error=f"{type(exc).__name__}: {' '.join(str(exc).split())}")
+    row = {k: json.dumps(v, sort_keys=True, default=_jsonable) if isinstance(v, (dict, list, tuple)) else v
+           for k, v in row.items()}
+    row["task_seconds"] = time.perf_counter() - t0
+    if parts is not None:
+        import pandas as pd
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        from ._io import atomic_open
+
+        with atomic_open(Path(parts) / task.part, "wb") as f:
+            pq.write_table(pa.Table.from_pandas(pd.DataFrame([row]), preserve_index=False), f)
+    return row
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskRun:
+    """Rows of :func:`run_tasks` (one per task, in the tasks' order) and what ran."""
+
+    out: Path | None
+    table: Any = field(repr=False)
+    key: str
+    tasks: int
+    computed: int
+    skipped: int
+    elapsed: float
+
+    @property
+    def failed(self) -> list[str]:
+        """Labels of the tasks whose row has ``ok`` False."""
+        t = self.table
+        return [] if not len(t) else [str(x) for x in t.loc[~t["ok"].astype(bool), self.key]]
+
+    @property
+    def status(self) -> int:
+        """0: every task ok; 1: some failed; 2: all failed."""
+        n = len(self.failed)
+        return 0 if n == 0 else (2 if n == self.tasks else 1)
+
+    @property
+    def message(self) -> str:
+        f = self.failed
+        return "ok" if not f else f"{len(f)} of {self.tasks} task(s) failed: {', '.join(f[:5])}" + (
+            " ..." if len(f) > 5 else "")
+
+    def summary(self) -> dict[str, Any]:
+        """Counts, the failed labels and the task seconds (total and largest)."""
+        sec = self.table["task_seconds"] if len(self.table) else []
+        return {"out": None if self.out is None else str(self.out), "tasks": self.tasks, "computed": self.computed,
+                "skipped": self.skipped, "failed": self.failed, "elapsed_s": round(self.elapsed, 3),
+                "task_seconds_total": float(np.sum(sec)) if len(sec) else 0.0,
+                "task_seconds_max": float(np.max(sec)) if len(sec) else 0.0,
+                "status": self.status, "message": self.message}
+
+    def plot(self, ax=None):
+        """Seconds per task (failed ones in red)."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3))
+        t = self.table
+        if len(t):
+            ok = t["ok"].astype(bool).to_numpy()
+            ax.bar(np.arange(len(t)), t["task_seconds"], color=np.where(ok, "C0", "C3"))
+            ax.set_xticks(np.arange(len(t)), [str(x) for x in t[self.key]], rotation=90, fontsize=7)
+        ax.set_ylabel("task time [s]")
+        ax.set_title(f"{self.tasks} task(s): {self.computed} computed, {self.skipped} reused, "
+                     f"{len(self.failed)} failed")
+        return ax
+
+
+def _cluster_failed_row(task: Task, key: str, exc) -> dict[str, Any]:
+    msg = " ".join(str(exc).split())
+    return {key: task.label, "ok": False, "error": f"task failed on the cluster ({type(exc).__name__}: {msg}); "
+            "rerun to retry", "task_seconds": float("nan")}
+
+
+def run_tasks(tasks: list[Task], *, out: str | Path | None = None, key: str = "task", scheduler=None,
+              workers: int | None = None, progress=True, label: str = "tasks") -> TaskRun:
+    """Run labelled tasks on Dask, one Dask task per :class:`Task`, one Parquet part each.
+
+    Parameters
+    ----------
+    tasks : list of Task
+        Unique labels.
+    out : str, Path or None
+        Results Parquet file (one row per task); parts go to ``<out>.parts/`` and a rerun
+        computes only the tasks without a part (label and tag). None: nothing written, nothing
+        reused.
+    key : str
+        Column holding the labels.
+    scheduler, workers
+        As in :func:`frictionkit.fleet.identify_fleet`: None a LocalCluster (``workers``
+        single-threaded processes, default the cores); ``"none"`` or ``workers=0`` this process
+        without Dask (the same rows); a scheduler address or a ``Client``.
+    progress : bool or callable
+        True: a progress bar on stderr; a callable gets each finished row.
+    label : str
+        Name on the progress bar and in the Dask keys.
+
+    Returns
+    -------
+    TaskRun
+        A task lost on the cluster (worker died, unpicklable result) is a row with ``ok`` False
+        and no part (a rerun retries it).
+
+    Examples
+    --------
+    >>> from frictionkit.study import Task, run_tasks
+    >>> run = run_tasks([Task(label="a", func=dict, kwargs={"x": 1.0})], workers=0, progress=False)
+    >>> run.table[["task", "ok", "x"]].to_dict("records")
+    [{'task': 'a', 'ok': True, 'x': 1.0}]
+    """
+    import pandas as pd
+
+    from ._io import atomic_open
+    from .fleet.identify import _Progress, dask_client
+
+    t_start = time.perf_counter()
+    tasks = list(tasks)
+    for t in tasks:
+        if not isinstance(t, Task):
+            raise ParameterError(f"run_tasks.tasks: {t!r} is not a Task")
+    labels = [t.label for t in tasks]
+    if len(set(labels)) != len(labels):
+        dup = sorted({x for x in labels if labels.count(x) > 1})
+        raise ParameterError(f"run_tasks.tasks: duplicate label(s) {dup[:5]}")
+    if not isinstance(key, str) or not key:
+        raise ParameterError(f"run_tasks.key = {key!r}: a non-empty column name")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
+        raise ParameterError(f"run_tasks.workers = {workers!r}: must be an integer >= 0")
+    single = scheduler == "none" or workers == 0
+    if not single and scheduler is not None and workers is not None:
+        raise ParameterError("run_tasks: workers= starts a local cluster; with a scheduler the cluster decides")
+    parts = None
+    if out is not None:
+        out = Path(out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        parts = out.with_name(out.name + ".parts")
+        parts.mkdir(exist_ok=True)
+        done = {f.name for f in parts.glob("*.parquet")}
+        todo = [t for t in tasks if t.part not in done]
+    else:
+        todo = tasks
+    bar = _Progress(progress is True, len(todo), label)
+    notify = progress if callable(progress) else None
+    rows: dict[str, dict] = {}
+
+    def finished(row: dict) -> None:
+        rows[row[key]] = row
+        bar.advance(sum(not r["ok"] for r in rows.values()))
+        if notify is not None:
+            notify(row)
+
+    try:
+        if todo and single:
+            for t in todo:
+                finished(run_task(t, key, None if parts is None else str(parts)))
+        elif todo:
+            from dask.distributed import as_completed
+
+            with dask_client(scheduler, workers, timeout=15) as (client, _mode):
+                futs = {client.submit(run_task, t, key, None if parts is None else str(parts),
+                                      key=f"{label}-{t.label}-{t.tag}", pure=False): t for t in todo}
+                for fut in as_completed(list(futs)):
+                    try:
+                        finished(fut.result())
+                    except Exception as exc:  # noqa: BLE001 - lost on the cluster: a row, retried on a rerun
+                        finished(_cluster_failed_row(futs[fut], key, exc))
+                    fut.release()
+    finally:
+        bar.close()
+    frames = []
+    for t in tasks:
+        if t.label in rows:
+            frames.append(pd.DataFrame([rows[t.label]]))
+        elif parts is not None and (parts / t.part).is_file():
+            frames.append(pd.read_parquet(parts / t.part))
+    df = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame({key: [], "ok": [], "error": []})
+    if out is not None:
+        with atomic_open(out, "wb") as f:
+            df.to_parquet(f, index=False)
+    return TaskRun(out=out, table=df, key=key, tasks=len(tasks), computed=len(todo), skipped=len(tasks) - len(todo),
+                   elapsed=time.perf_counter() - t_start)
+
+
 def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, workers: int | None = None,
               progress: bool = True) -> StudyResult:
     """Run every draw × compensator × seed of a study on Dask; one row per run in ``out`` (Parquet).
@@ -327,60 +593,28 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
     >>> res = run_study("study.toml", out="study.parquet", workers=2)  # doctest: +SKIP
     >>> res.summary()["compensators"]["static"]["max_error_p95_m"]  # doctest: +SKIP
     """
-    import pandas as pd
-
-    from ._io import atomic_open
-    from .fleet.identify import _Progress, dask_client
-
     t_start = time.perf_counter()
     if not isinstance(spec, StudySpec):
         spec = load_study(spec)
     if workers is not None and (isinstance(workers, bool) or int(workers) != workers or workers < 0):
         raise ParameterError(f"run_study.workers = {workers!r}: must be an integer >= 0")
-    single = scheduler == "none" or workers == 0
-    if not single and scheduler is not None and workers is not None:
+    if not (scheduler == "none" or workers == 0) and scheduler is not None and workers is not None:
         raise ParameterError("run_study: workers= starts a local cluster; with a scheduler the cluster decides")
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    parts = out.with_name(out.name + ".parts")
-    parts.mkdir(exist_ok=True)
-    runs = spec.runs()
-    done = {f.name for f in parts.glob("*.parquet")}
-    tag = spec.sha256[:16]
-    todo = [r for r in runs if f"{r['run']}__{tag}.parquet" not in done]
-    bar = _Progress(progress, len(todo), "study")
-    rows: list[dict] = []
-    try:
-        if todo and single:
-            for r in todo:
-                rows.append(run_one(spec, r, str(parts)))
-                bar.advance(sum(not x["ok"] for x in rows))
-        elif todo:
-            from dask.distributed import as_completed
-
-            with dask_client(scheduler, workers, timeout=15) as (client, _mode):
-                futs = [client.submit(run_one, spec, r, str(parts), key=f"study-{r['run']}-{tag}", pure=False)
-                        for r in todo]
-                for fut in as_completed(futs):
-                    if fut.status == "finished":
-                        rows.append(fut.result())
-                    fut.release()
-                    bar.advance(sum(not x["ok"] for x in rows))
-    finally:
-        bar.close()
-    have = {r["run"] for r in rows}
-    frames = [pd.DataFrame(rows)] if rows else []
-    for r in runs:
-        f = parts / f"{r['run']}__{tag}.parquet"
-        if r["run"] not in have and f.is_file():
-            frames.append(pd.read_parquet(f))
-    df = pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    tag = spec.sha256[:16]  # parts named <run>__<tag>.parquet, as before the engine: old parts stay valid
+    tasks = [Task(label=r["run"], func=run_one, kwargs={"spec": spec, "run": r}, tag=tag) for r in spec.runs()]
+    res = run_tasks(tasks, out=out, key="run", scheduler=scheduler, workers=None if workers is None else int(workers),
+                    progress=progress, label="study")
+    df = res.table
     if len(df):
+        df = df.drop(columns=["task_seconds"], errors="ignore")
         df = df.drop_duplicates("run", keep="last").sort_values("run").reset_index(drop=True)
-    with atomic_open(out, "wb") as f:
+    from ._io import atomic_open
+
+    with atomic_open(res.out, "wb") as f:  # the study's table: sorted by run, without the engine's timing
         df.to_parquet(f, index=False)
-    return StudyResult(out=out, table=df, runs=len(runs), computed=len(rows), skipped=len(runs) - len(todo),
+    return StudyResult(out=Path(out), table=df, runs=res.tasks, computed=res.computed, skipped=res.skipped,
                        elapsed=time.perf_counter() - t_start)
 
 
-__all__ = ["COMPENSATORS", "PRESETS", "StudyResult", "StudySpec", "load_study", "run_one", "run_study"]
+__all__ = ["COMPENSATORS", "PRESETS", "StudyResult", "StudySpec", "Task", "TaskRun", "load_study", "run_one", "run_study",
+           "run_task", "run_tasks"]

@@ -68,6 +68,7 @@ shaft inertia ``J``; Canudas de Wit et al. 1995's rule).
 
 from __future__ import annotations
 
+import json
 import math
 import time
 import warnings
@@ -987,18 +988,47 @@ def robustness_variants(seeds=(0, 1, 2), factors=(0.8, 1.2), names=ROBUSTNESS_AS
     return out
 
 
+def _robustness_variant(**run_kwargs) -> dict:
+    """One variant of :func:`robustness` (a task of :func:`frictionkit.study.run_tasks`)."""
+    s = run(**run_kwargs).summary()
+    return {"findings": findings(s), "metrics": _metrics(s)}
+
+
 def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names=ROBUSTNESS_ASSUMPTIONS,
-               design: Design | None = None, progress=None, crawling: bool = False) -> dict:
+               design: Design | None = None, progress=None, crawling: bool = False, out=None, scheduler=None,
+               workers: int | None = 0) -> dict:
     """Findings per variant of :func:`robustness_variants`, with the fraction of variants in which
     each finding holds and the sensitivity ranking of the assumptions (largest change of the
-    worktable errors and Fig. 16 RMS against seed 0). Returns a JSON-ready dict with its runtime."""
+    worktable errors and Fig. 16 RMS against seed 0). Returns a JSON-ready dict with its runtime.
+
+    The variants run on the study engine (:func:`frictionkit.study.run_tasks`, one Dask task
+    per variant): ``workers=0`` (default) in this process, ``workers=N`` a LocalCluster of N
+    single-threaded processes (``None``: the cores), ``scheduler`` a Dask scheduler address.
+    ``out`` (a directory): one Parquet row per variant in ``out/zhang2023_robustness.parquet``
+    (findings and metrics as JSON text), parts beside it; a rerun computes only the variants
+    missing there. ``progress``: True for a progress bar, or a callable given each finished
+    variant's label. A variant that fails is listed under ``failed`` (label -> error) and left
+    out of the fractions."""
+    from pathlib import Path
+
+    from ..errors import SimulationError
+    from ..study import Task, run_tasks
+
     t_start = time.perf_counter()
-    per = {}
-    for label, seed, a in robustness_variants(seeds, factors, names):
-        if progress is not None:
-            progress(label)
-        s = run(quick=quick, seed=seed, assumptions=a, design=design, crawling=crawling).summary()
-        per[label] = {"findings": findings(s), "metrics": _metrics(s)}
+    tasks = [Task(label=label, func=_robustness_variant,
+                  kwargs={"quick": quick, "seed": seed, "assumptions": a, "design": design, "crawling": crawling})
+             for label, seed, a in robustness_variants(seeds, factors, names)]
+    note = (lambda row: progress(row["variant"])) if callable(progress) else bool(progress)
+    res = run_tasks(tasks, out=None if out is None else Path(out) / "zhang2023_robustness.parquet", key="variant",
+                    scheduler=scheduler, workers=workers, progress=note, label="zhang2023 robustness")
+    per, failed = {}, {}
+    for row in res.table.to_dict("records"):
+        if row["ok"]:
+            per[row["variant"]] = {"findings": json.loads(row["findings"]), "metrics": json.loads(row["metrics"])}
+        else:
+            failed[row["variant"]] = row["error"]
+    if not per:
+        raise SimulationError(f"robustness: every variant failed ({res.message}); first: {next(iter(failed.values()))}")
     keys = next(iter(per.values()))["findings"].keys()
     holds = {k: float(np.mean([v["findings"][k]["holds"] for v in per.values() if k in v["findings"]]))
              for k in keys}
@@ -1014,7 +1044,9 @@ def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names
         sens[n] = float(np.nanmax(ch)) if ch else float("nan")
     ranking = sorted(sens, key=lambda n: -sens[n] if np.isfinite(sens[n]) else 0.0)
     return W._plain({"runtime_s": time.perf_counter() - t_start, "variants": per, "holds_fraction": holds,
-                     "sensitivity": sens, "ranking": ranking, "quick": quick})
+                     "sensitivity": sens, "ranking": ranking, "quick": quick, "failed": failed,
+                     "computed": res.computed, "skipped": res.skipped,
+                     "out": None if res.out is None else str(res.out)})
 
 
 def _metrics(summary: dict) -> dict:

@@ -591,12 +591,36 @@ def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf
     return out
 
 
+def _robustness_variant(**run_kwargs) -> dict:
+    """One variant of :func:`robustness` (a task of :func:`frictionkit.study.run_tasks`)."""
+    return {"summary": run(**run_kwargs).summary()}
+
+
 def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL,
-               stage: str = zf.STAGE, progress=None) -> dict:
-    """:func:`run` summary per variant of :func:`robustness_variants` (label -> summary)."""
-    out = {}
-    for label, seed, plant in robustness_variants(seeds, factors, nut_model, stage):
-        if progress is not None:
-            progress(label)
-        out[label] = run(quick=quick, seed=seed, plant=plant).summary()
-    return out
+               stage: str = zf.STAGE, progress=None, out=None, scheduler=None, workers: int | None = 0) -> dict:
+    """:func:`run` summary per variant of :func:`robustness_variants` (label -> summary, as JSON
+    would give it back: tuples are lists).
+
+    The variants run on the study engine (:func:`frictionkit.study.run_tasks`, one Dask task
+    per variant): ``workers=0`` (default) in this process, ``workers=N`` a LocalCluster of N
+    single-threaded processes (``None``: the cores), ``scheduler`` a Dask scheduler address.
+    ``out`` (a directory): one Parquet row per variant in ``out/zhu_fujimoto_robustness.parquet``
+    (the summary as JSON text), parts beside it; a rerun computes only the missing variants.
+    ``progress``: True for a progress bar, or a callable given each finished variant's label.
+    A variant that fails raises :class:`~frictionkit.SimulationError` naming it (after the
+    others have finished and been written)."""
+    import json
+    from pathlib import Path
+
+    from ..study import Task, run_tasks
+
+    tasks = [Task(label=label, func=_robustness_variant, kwargs={"quick": quick, "seed": seed, "plant": plant})
+             for label, seed, plant in robustness_variants(seeds, factors, nut_model, stage)]
+    note = (lambda row: progress(row["variant"])) if callable(progress) else bool(progress)
+    res = run_tasks(tasks, out=None if out is None else Path(out) / "zhu_fujimoto_robustness.parquet",
+                    key="variant", scheduler=scheduler, workers=workers, progress=note,
+                    label="zhu-fujimoto robustness")
+    if res.status:
+        raise SimulationError(f"robustness: {res.message}; first error: "
+                              f"{res.table.loc[~res.table['ok'].astype(bool), 'error'].iloc[0]}")
+    return {row["variant"]: json.loads(row["summary"]) for row in res.table.to_dict("records")}

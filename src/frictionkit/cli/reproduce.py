@@ -7,6 +7,7 @@ atomically (:mod:`frictionkit._io`), so a failed write keeps the previous result
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Optional
 
 import typer
 
@@ -202,6 +203,12 @@ def zhang2023(
     robustness: bool = typer.Option(False, "--robustness",
                                     help="Instead: the robustness sweep (3 noise seeds, +-20 % on the preset's "
                                          "assumptions; --quick runs per variant); long."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="With --robustness: worker processes of the local "
+                                       "Dask cluster (default: the cores); 0 runs in this process without Dask."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="With --robustness: address of a running Dask "
+                                         "scheduler (e.g. tcp://10.0.0.5:8786), or 'none'."),
+    out_dir: Optional[Path] = typer.Option(None, "--out", help="With --robustness: folder for the Parquet results "
+                                        "(one row per variant); a rerun computes only the missing variants."),
 ) -> None:
     """Seed 000 (TDMS): WSIM vs ACIM (Table 7), LuGre vs GMS (Table 8), identified Tables 3-6,
     Fig. 16 hysteresis RMS, CDFS vs TDMS crawling (ours)."""
@@ -209,27 +216,32 @@ def zhang2023(
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
+    from ..errors import ParameterError
     from ..reproduce import zhang2023 as zr
 
     seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out},
                 plots={"the plot beside --json": png} if plot and not robustness else {}, make_parents=True)
+    if not robustness and (workers is not None or scheduler is not None or out_dir is not None):
+        raise ParameterError("--workers, --scheduler and --out go with --robustness")
+    if robustness:
+        from .fleet import MAX_WORKERS, _ADDRESS
+
+        if workers is not None:
+            workers = chk.integer(workers, "--workers", lo=0, hi=MAX_WORKERS)
+        if scheduler is not None and scheduler != "none":
+            if not _ADDRESS.match(scheduler):
+                raise ParameterError(f"--scheduler {scheduler!r}: expected a scheduler address such as "
+                                     "tcp://10.0.0.5:8786, or 'none'")
+            if workers is not None:
+                raise ParameterError("--workers starts a local cluster; with --scheduler the cluster decides the "
+                                     "workers (drop --workers)")
+        if out_dir is not None and out_dir.exists() and not out_dir.is_dir():
+            raise ParameterError(f"--out '{out_dir}': not a folder")
     console = Console(stderr=True)
     if robustness:
-        n = len(zr.robustness_variants())
-        with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
-            task = bar.add_task("robustness", total=n)
-            started = [False]
-
-            def rstep(label: str) -> None:
-                if started[0]:
-                    bar.advance(task)
-                started[0] = True
-                bar.update(task, description=label)
-
-            out = zr.robustness(quick=quick, progress=rstep)
-            bar.advance(task)
+        out = zr.robustness(quick=quick, progress=True, workers=workers, scheduler=scheduler, out=out_dir)
         chk.save_json(out, json_out)
         tab = Table(title=f"robustness: fraction of variants where each finding holds ({out['runtime_s']:.0f} s)")
         tab.add_column("finding")
@@ -238,7 +250,9 @@ def zhang2023(
             tab.add_row(k, f"{v:.2f}")
         Console().print(tab)
         Console().print("sensitivity ranking: " + ", ".join(out["ranking"]))
-        Console().print(f"wrote {json_out}")
+        Console().print(f"{out['computed']} variant(s) run, {out['skipped']} done before (skipped)"
+                        + (f"; failed: {', '.join(out['failed'])}" if out["failed"] else ""))
+        Console().print(f"wrote {json_out}" + (f" and {out['out']}" if out["out"] else ""))
         return
     with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
         task = bar.add_task("zhang2023", total=10 + int(plot))

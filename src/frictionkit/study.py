@@ -601,16 +601,23 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
     if not (scheduler == "none" or workers == 0) and scheduler is not None and workers is not None:
         raise ParameterError("run_study: workers= starts a local cluster; with a scheduler the cluster decides")
     tag = spec.sha256[:16]  # parts named <run>__<tag>.parquet, as before the engine: old parts stay valid
-    tasks = [Task(label=r["run"], func=run_one, kwargs={"spec": spec, "run": r}, tag=tag) for r in spec.runs()]
+    runs = spec.runs()
+    tasks = [Task(label=r["run"], func=run_one, kwargs={"spec": spec, "run": r}, tag=tag) for r in runs]
     res = run_tasks(tasks, out=out, key="run", scheduler=scheduler, workers=None if workers is None else int(workers),
                     progress=progress, label="study")
     df = res.table
+    if len(df) and df["ok"].eq(False).any() and "compensator" in df and df["compensator"].isna().any():
+        by = {r["run"]: r for r in runs}  # a run lost on the cluster: its drawn parameters back on its row
+        for i in df.index[df["compensator"].isna()]:
+            for k, v in by[df.at[i, "run"]].items():
+                if k in df and k != "run":
+                    df.at[i, k] = v
     if len(df):
         df = df.drop(columns=["task_seconds"], errors="ignore")
         df = df.drop_duplicates("run", keep="last").sort_values("run").reset_index(drop=True)
     from ._io import atomic_open
 
-    with atomic_open(res.out, "wb") as f:  # the study's table: sorted by run, without the engine's timing
+    with atomic_open(Path(out), "wb") as f:  # the study's table: sorted by run, without the engine's timing
         df.to_parquet(f, index=False)
     return StudyResult(out=Path(out), table=df, runs=res.tasks, computed=res.computed, skipped=res.skipped,
                        elapsed=time.perf_counter() - t_start)

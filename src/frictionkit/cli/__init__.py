@@ -48,7 +48,7 @@ def _root(
 
 def _register() -> None:
     """Import the command modules; each adds its commands to ``app``."""
-    for name in ("demo", "identify", "reproduce", "fleet", "models", "simulate", "export"):
+    for name in ("demo", "identify", "reproduce", "fleet", "models", "simulate", "export", "compensate"):
         try:
             __import__(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # command group not built yet

@@ -1,0 +1,95 @@
+"""``frictionkit compensate PRESET``: friction compensators on a preset machine, the error table.
+
+Thin: the runs and the errors are :func:`frictionkit.compensate.compensate`, the plot the
+result's ``.plot()``, the model file is read by :class:`frictionkit.models.files.ModelFile`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from . import _common as chk
+from . import app
+
+_EPILOG = """\b
+Examples:
+  frictionkit compensate ballscrew --quick
+  frictionkit compensate emps --model fit.json --compensator none --compensator model --json -
+  frictionkit compensate ballscrew --compensator none --compensator sinc --plot errors.png
+\b
+Presets and their compensators:
+  ballscrew  seed 001 stage, reversal test (25 mm, 1 s cosine): none, coulomb, sinc, sigmoid, model
+  emps       EMPS axis, 0.1 m 0.2 Hz sine: none, coulomb (the true friction), model
+Errors are of the true position, r - x [µm]: max and RMS after the first 10 % of the run,
+and the max within -50 ... +100 ms of each velocity reversal."""
+
+
+@app.command("compensate", epilog=_EPILOG)
+def compensate(
+    preset: str = typer.Argument(..., help="Machine preset: ballscrew or emps."),
+    model: Optional[Path] = typer.Option(None, "--model", help="Identified model file (identify ... --json, "
+                                         "fk.save_model) for the 'model' compensator: its static map as "
+                                         "feed-forward on the reference velocity, table side [N] at [m/s]."),
+    compensator: Optional[list[str]] = typer.Option(None, "--compensator", help="Compensator (repeatable); "
+                                                    "default: every one the preset supports ('model' if --model)."),
+    quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only)."),
+    seed: int = typer.Option(0, "--seed", help="Sensor-noise seed (the same for every compensator)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write the error traces as a plot (format from the "
+                                        "extension: .png, .pdf, .svg ...)."),
+    json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary to a file (- for stdout, "
+                                           "instead of the table)."),
+) -> None:
+    """Run a machine preset with friction compensators and print the tracking-error table."""
+    from ..compensate import COMPENSATORS, PRESETS
+
+    chk.choice(preset, "PRESET", PRESETS)
+    for c in compensator or []:
+        chk.choice(c, "--compensator", COMPENSATORS[preset])
+    chk.integer(seed, "--seed", lo=0)
+    if model is not None and not model.is_file():
+        from ..errors import DataError
+
+        raise DataError(f"--model '{model}': no such file")
+    chk.outputs([model], plots={"--plot": plot},
+                files={"--json": Path(json_out)} if json_out not in (None, "-") else {})
+
+    from rich.console import Console
+
+    from ..compensate import compensate as run
+
+    err = Console(stderr=True)
+    with err.status(f"{preset}: starting (the first run compiles the kernels)") as status:
+        res = run(preset, compensator or None, model=model, quick=quick, seed=seed,
+                  progress=lambda name: status.update(f"{preset}: running compensator '{name}'"))
+    if plot is not None:
+        chk.save_plot(res, plot)
+    doc = res.summary()
+    doc["outputs"] = {"plot": str(plot)} if plot is not None else {}
+    if json_out == "-":
+        chk.emit(doc, json_out, "")
+    else:
+        _table(res)
+        chk.emit(doc, json_out, "" if plot is None else f"wrote {plot}")
+    if not res.success:
+        raise typer.Exit(code=1)
+
+
+def _table(res) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    def um(x):
+        return "-" if x is None else f"{x * 1e6:.3f}"
+
+    s = res.summary()
+    tab = Table(title=f"{res.preset}: error r - x [µm] over {s['duration_s']:.2f} s, {len(res.reversals)} reversal(s)",
+                min_width=64)
+    for col in ("compensator", "max", "RMS", "at reversals", "status"):
+        tab.add_column(col, justify="left" if col in ("compensator", "status") else "right")
+    for name, r in res.rows.items():
+        tab.add_row(name, um(r["max_error"]), um(r["rms_error"]), um(r["reversal_error"]),
+                    "ok" if r["ok"] else r["message"])
+    Console(width=100).print(tab, markup=False)

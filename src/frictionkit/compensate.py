@@ -1,0 +1,259 @@
+"""Friction compensators compared on a preset machine: the tracking-error table of ``frictionkit compensate``.
+
+:func:`compensate` runs one machine preset along its test motion once per compensator and
+measures the tracking error of the *true* position (``r - x``; the sensors' quantisation and
+noise are in the loop but not in the measure):
+
+* ``max_error`` and ``rms_error`` [m] after the first 10 % of the run (the loop settles from
+  rest; the same cut as :mod:`frictionkit.study`);
+* ``reversal_error`` [m]: the largest ``|r - x|`` within ``REVERSAL_WINDOW`` around each
+  velocity reversal of the reference (the seed 001 window, -50 ms ... +100 ms), max over the
+  reversals.
+
+Presets (:data:`PRESETS`)
+-------------------------
+``ballscrew``
+    The seed 001 elastic stage (:func:`frictionkit.reproduce.zhu_fujimoto.paper_plant`,
+    Fig. 3 controller, paper sensors) on its §5 reversal test motion (25 mm, 1 s cosine;
+    2.15 s, reversals at 0.5, 1.0, 1.5, 2.0 s; ``quick``: 0.65 s, the first reversal). The
+    compensation torque enters as the controller's ``u_f``. Compensators ``none``,
+    ``coulomb`` (eq. 7), ``sinc`` (eq. 6), ``sigmoid`` (eq. 5) with the paper's F0, xs, sigma
+    (:func:`~frictionkit.reproduce.zhu_fujimoto.paper_compensator`), and ``model``.
+``emps``
+    The EMPS axis in its published P/P loop (:func:`frictionkit.presets.emps.emps_machine`)
+    with the published friction as the *true* plant (``CoulombViscous(Fc=20.3935,
+    sigma2=203.5034)`` and offset -3.1648 N) on the study's reference (0.1 m, 0.2 Hz sine,
+    1 kHz; 5 s, reversals at 1.25 and 3.75 s; ``quick``: 2.5 s). The compensator is a second
+    force on the axis (:class:`~frictionkit.machines.FrictionFeedforward` on the reference
+    velocity), as in :mod:`frictionkit.study`. ``coulomb`` is the published Coulomb +
+    viscous law, i.e. the plant's true friction (the offset is not compensated).
+
+``model`` (both presets) is the static feed-forward of an identified model,
+``F_model(v_ref)`` (a dynamic law's steady-state map), from a model file
+(:func:`frictionkit.load_model`). Named assumption: the file's law acts on the *table*
+(linear force [N] at velocity [m/s]); on the ball-screw stage its torque is ``R F``. A model
+file labelled with rotary units is refused rather than guessed.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from .errors import DataError, ParameterError
+
+__all__ = ["PRESETS", "COMPENSATORS", "REVERSAL_WINDOW", "CompensationResult", "compensate"]
+
+#: Compensators each preset supports (the first is the default order of the table).
+COMPENSATORS = {"ballscrew": ("none", "coulomb", "sinc", "sigmoid", "model"),
+                "emps": ("none", "coulomb", "model")}
+PRESETS = tuple(COMPENSATORS)
+#: Window around each reference reversal [s] for ``reversal_error`` (seed 001 Table 3 window).
+REVERSAL_WINDOW = (-0.05, 0.10)
+#: Fraction of the run skipped for ``max_error``/``rms_error`` (settling from rest).
+SETTLE_FRACTION = 0.1
+
+
+@dataclass(frozen=True, eq=False)
+class CompensationResult:
+    """Tracking errors of one preset per compensator.
+
+    Attributes
+    ----------
+    preset : str
+    rows : dict — per compensator: ``max_error``, ``rms_error``, ``reversal_error`` [m], ``ok``,
+        ``message``.
+    t : ndarray — time [s]; ``errors`` : dict of true tracking-error traces ``r - x`` [m].
+    reversals : list of float — reference reversal instants [s].
+    status : int — 0 all runs succeeded, 1 some failed, 2 all failed. ``message`` : str.
+    """
+
+    preset: str
+    rows: dict
+    t: np.ndarray = field(repr=False)
+    errors: dict = field(repr=False)
+    reversals: list
+    model: str | None = None
+    quick: bool = False
+    elapsed: float = 0.0
+
+    @property
+    def status(self) -> int:
+        bad = [k for k, r in self.rows.items() if not r["ok"]]
+        return 0 if not bad else (2 if len(bad) == len(self.rows) else 1)
+
+    @property
+    def message(self) -> str:
+        bad = [f"{k}: {r['message']}" for k, r in self.rows.items() if not r["ok"]]
+        return "ok" if not bad else "failed: " + "; ".join(bad)
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready: preset, motion, the per-compensator errors [m], status and message."""
+        return {"preset": self.preset, "quick": self.quick, "model": self.model,
+                "duration_s": float(self.t[-1]) if self.t.size else 0.0,
+                "reversals_s": [round(x, 6) for x in self.reversals], "reversal_window_s": list(REVERSAL_WINDOW),
+                "units": {"error": "m"}, "compensators": {k: dict(r) for k, r in self.rows.items()},
+                "status": self.status, "message": self.message, "elapsed_s": round(self.elapsed, 3)}
+
+    def plot(self, ax=None):
+        """True tracking error [µm] over time per compensator, reversals marked; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 4))
+        for name, e in self.errors.items():
+            ax.plot(self.t, e * 1e6, lw=0.8, label=name)
+        for t0 in self.reversals:
+            ax.axvline(t0, color="0.6", ls=":", lw=0.8)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("tracking error r - x [µm]")
+        ax.set_title(f"{self.preset}: friction compensators")
+        ax.legend(fontsize=8)
+        return ax
+
+
+def _reversals(t: np.ndarray, v: np.ndarray) -> list[float]:
+    """Instants where the reference velocity changes sign (linear interpolation)."""
+    s = np.sign(v)
+    idx = np.flatnonzero((s[:-1] * s[1:]) < 0)
+    return [float(t[i] - v[i] * (t[i + 1] - t[i]) / (v[i + 1] - v[i])) for i in idx]
+
+
+def _errors(t: np.ndarray, e: np.ndarray, reversals: list[float]) -> dict[str, float]:
+    skip = int(SETTLE_FRACTION * t.size)
+    es = e[skip:]
+    rev = [np.max(np.abs(e[(t >= t0 + REVERSAL_WINDOW[0]) & (t <= t0 + REVERSAL_WINDOW[1])]))
+           for t0 in reversals]
+    return {"max_error": float(np.max(np.abs(es))), "rms_error": float(np.sqrt(np.mean(es ** 2))),
+            "reversal_error": float(max(rev)) if rev else None}
+
+
+def _ballscrew(names, law, quick, seed, each):
+    from .control.trajectories import cosine_reference
+    from .presets import zhu_fujimoto as zf
+    from .presets.ballscrew import simulate_stage
+    from .reproduce.zhu_fujimoto import _classify, paper_compensator, paper_controller, paper_plant, paper_sensors
+
+    plant = paper_plant()
+    ref = cosine_reference(amplitude=zf.REF_AMPLITUDE, period=zf.REF_PERIOD, duration=0.65 if quick else 2.15,
+                           T=zf.T_CONTROL)
+    cs = _classify(ref, plant)
+    comp = paper_compensator()
+    for name in names:
+        if name == "model":
+            u_f = plant.R * np.asarray(law.steady_state(ref.v), dtype=float)  # table force -> screw torque
+        else:
+            u_f = comp.signal(ref, name, cs)
+        res = simulate_stage(plant, paper_controller(), ref, compensation=u_f, sensors=paper_sensors(), seed=seed,
+                             substeps=zf.N_SUBSTEPS)
+        each(name, ref.t, ref.v, ref.x - res.x_t, res.status, res.message)
+
+
+def _emps(names, law, quick, seed, each):
+    import frictionkit as fk
+    from .machines import FrictionFeedforward
+    from .presets.emps import PUBLISHED, emps_machine
+
+    dt, A, f = 1e-3, 0.1, 0.2
+    t = np.arange(int(round((2.5 if quick else 5.0) / dt)) + 1) * dt
+    w = 2.0 * math.pi * f
+    r, vr = A * np.sin(w * t), A * w * np.cos(w * t)
+    true = fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"])
+    for name in names:
+        m = emps_machine(M=PUBLISHED["M"], friction=true, offset=PUBLISHED["offset"])
+        if name != "none":
+            m.add(FrictionFeedforward("ff", "vref", law=true if name == "coulomb" else law))
+            m.actuator("ff_drive", m.sites[0].at, gain=1.0, command="ff")
+        res = fk.simulate_machine(m, dt=dt, inputs={"qg": r, "vref": vr}, seed=seed)
+        each(name, t, vr, r - res.q[:, 0], res.status, res.message)
+
+
+def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool = False, seed: int = 0,
+               progress: Callable[[str], None] | None = None) -> CompensationResult:
+    """Run a machine preset with each compensator; the tracking-error table.
+
+    Parameters
+    ----------
+    preset : str — one of :data:`PRESETS` (see the module docstring for each machine and motion).
+    compensators : sequence of str, optional — default every compensator of the preset
+        (:data:`COMPENSATORS`) except ``model`` unless a model is given.
+    model : friction law, str or Path, optional — the identified model (a law or a model file)
+        for the ``model`` compensator (its static map on the reference velocity, table side, N).
+    quick : bool — a short motion (ballscrew: the first reversal; emps: half the run).
+    seed : int — sensor-noise seed (the same for every compensator).
+    progress : callable, optional — called with the compensator's name before each run.
+
+    Returns
+    -------
+    CompensationResult
+
+    Examples
+    --------
+    >>> from frictionkit.compensate import compensate
+    >>> res = compensate("emps", ["none", "coulomb"], quick=True)  # doctest: +SKIP
+    >>> res.rows["coulomb"]["rms_error"] < res.rows["none"]["rms_error"]  # doctest: +SKIP
+    True
+    """
+    t0 = time.perf_counter()
+    if preset not in PRESETS:
+        raise ParameterError(f"preset {preset!r}: must be one of {', '.join(PRESETS)}")
+    allowed = COMPENSATORS[preset]
+    model_name = None
+    if model is not None:
+        if isinstance(model, (str, Path)):
+            from .models.files import ModelFile
+
+            mf = ModelFile.load(model)
+            rotary = mf.units.get("F", "N") != "N" or mf.units.get("v", "m/s") != "m/s"
+            if rotary:
+                raise DataError(f"model '{model}': units {dict(mf.units)}; the compensators act on the table "
+                                "(force [N], velocity [m/s]); convert the model first")
+            model_name, model = str(model), mf.model
+        elif not hasattr(model, "steady_state"):
+            raise ParameterError(f"compensate model = {type(model).__name__}: must be a friction law or a model file")
+        else:
+            model_name = type(model).__name__
+    if compensators is None:
+        compensators = [c for c in allowed if c != "model" or model is not None]
+    compensators = list(dict.fromkeys(compensators))
+    if not compensators:
+        raise ParameterError("compensators: give at least one")
+    for c in compensators:
+        if c not in allowed:
+            raise ParameterError(f"compensator {c!r}: preset {preset!r} supports {', '.join(allowed)}")
+    if "model" in compensators and model is None:
+        raise ParameterError("compensator 'model' needs a model (--model MODEL.json)")
+    if isinstance(seed, bool) or int(seed) != seed or seed < 0:
+        raise ParameterError(f"compensate seed = {seed!r}: must be an integer >= 0")
+
+    rows, errors, store = {}, {}, {}
+
+    def each(name, t, v, e, status, message):
+        store["t"], store["v"] = t, v
+        ok = status == 0 and bool(np.all(np.isfinite(e)))
+        errors[name] = e
+        rows[name] = {"ok": ok, "message": message if status != 0 or ok else "non-finite error",
+                      **(_errors(t, e, _reversals(t, v)) if ok else
+                         {"max_error": None, "rms_error": None, "reversal_error": None})}
+
+    def tracked(names):
+        for n in names:
+            if progress is not None:
+                progress(n)
+            yield n
+
+    run = _ballscrew if preset == "ballscrew" else _emps
+    run(tracked(compensators), model, bool(quick), int(seed), each)
+    t = store.get("t", np.zeros(0))
+    revs = _reversals(t, store["v"]) if "v" in store else []
+    return CompensationResult(preset=preset, rows=rows, t=t, errors=errors, reversals=revs, model=model_name,
+                              quick=bool(quick), elapsed=time.perf_counter() - t0)

@@ -115,6 +115,13 @@ def _rows(model: Any) -> _Rows:
                  sigma0=None if dyn is None else pair(dyn[:, 0]), sigma1=None if dyn is None else pair(dyn[:, 1]))
 
 
+#: Allowed grid half-width of the lookup table [m/s or rad/s]. Assumption (no source): far beyond
+#: any motion axis on both sides; below 1e-12 the grid steps of a large table come near the
+#: subnormal range (at v_max = 1e-320 the written grid was not uniform), above 1e12 a viscous
+#: term overflows (v_max = 1e308 wrote a table of nan and inf with exit status 0).
+V_MAX_RANGE = (1e-12, 1e12)
+
+
 def _v_max(model: Any, v_max: float | None) -> float:
     from .models.files import _speed_scale
 
@@ -126,6 +133,10 @@ def _v_max(model: Any, v_max: float | None) -> float:
         raise ParameterError(f"export: v_max = {v_max!r}: must be a number") from None
     if not np.isfinite(out) or out <= 0:
         raise ParameterError(f"export: v_max = {v_max!r}: must be finite and > 0 [m/s or rad/s]")
+    lo, hi = V_MAX_RANGE
+    if not lo <= out <= hi:
+        raise ParameterError(f"export: v_max = {v_max!r}: must be in {lo:g} ... {hi:g} [m/s or rad/s] "
+                             "(outside it the grid's steps lose precision or the map overflows)")
     return out
 
 
@@ -157,7 +168,12 @@ def lookup_table(model: Any, *, v_max: float | None = None, points: int = 201) -
     vm = _v_max(model, v_max)
     v = np.linspace(-vm, vm, int(points))
     v[int(points) // 2] = 0.0
-    return v, np.asarray(model.steady_state(v), dtype=float)
+    F = np.asarray(model.steady_state(v), dtype=float)
+    if not np.all(np.isfinite(F)):
+        bad = float(v[~np.isfinite(F)][0])
+        raise ParameterError(f"export: v_max = {vm!r}: the steady-state map is not finite at v = {bad!r} "
+                             "(the law's parameters overflow there); choose a smaller v_max")
+    return v, F
 
 
 # --------------------------------------------------------------------------- text helpers
@@ -367,5 +383,5 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
         doc = ModelFile(model=model, units=ax, provenance=prov).to_dict()
         return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
     if fmt == "c":
-        return _ascii(_c_source(model, _check_name(name or "fk_friction", "C"), ax, prov))
-    return _ascii(_st_source(model, _check_name(name or "FK_Friction", "structured-text"), ax, prov))
+        return _ascii(_c_source(model, _check_name("fk_friction" if name is None else name, "C"), ax, prov))
+    return _ascii(_st_source(model, _check_name("FK_Friction" if name is None else name, "structured-text"), ax, prov))

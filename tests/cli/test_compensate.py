@@ -142,3 +142,24 @@ def test_library_rejects_bad_arguments():
         compensate("emps", ["sinc"])
     with pytest.raises(ParameterError, match="seed = -1"):
         compensate("emps", ["none"], seed=-1)
+
+
+def test_readme_shows_the_real_output(tmp_path, monkeypatch):
+    """README "Command line": the compensate example's output block is what the command prints."""
+    import re
+    import shlex
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    sec = readme[readme.index("## Command line\n"):]
+    line = next(x for x in re.search(r"```sh\n(.*?)```", sec, re.S).group(1).splitlines()
+                if x.startswith("frictionkit compensate"))
+    shown = re.search(r"The command above prints\n\n```text\n(.*?)```", sec, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(app, shlex.split(line)[1:])
+    assert res.exit_code == 0, res.output
+
+    def strip(text):
+        return [x.rstrip() for x in text.strip().splitlines()]
+
+    assert strip(res.stdout) == strip(shown)

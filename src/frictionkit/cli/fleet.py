@@ -156,6 +156,16 @@ def identify(
     if run.unmatched:
         typer.echo(f"warning: {len(run.unmatched)} data file(s) match no [layout] pattern and were not "
                    f"identified (e.g. {run.unmatched[0]})", err=True)
+    if {"axis", "period", "file"} <= set(run.table.columns) and len(run.table):
+        # e.g. [layout] axis/period constants over a folder of several logs: every file got the same
+        # axis-period, so distinct logs would pass for repeated measurements of one axis on one day
+        n_files = run.table.groupby(["axis", "period"], sort=True)["file"].nunique()
+        shared = n_files[n_files > 1]
+        if len(shared):
+            (ax, per), n = shared.index[0], int(shared.iloc[0])
+            typer.echo(f"warning: {len(shared)} axis-period(s) come from more than one file (e.g. axis {ax} "
+                       f"period {per}: {n} files); each file is one row of that axis-period — check the "
+                       "[layout] pattern/constants", err=True)
     _summary(doc, json_out, "\n".join(lines))
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from types import SimpleNamespace
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -30,6 +31,8 @@ class _Problem:
         self._cache: tuple[bytes, np.ndarray] | None = None
         self.big = 10.0 * (np.max(np.abs(y)) + 1e-300)
         self.progress = None
+        #: ``[(start, stop), ...]``: the recordings concatenated in ``u``/``y``, each simulated from rest
+        self.segments = [(0, u.size)]
 
     def to_nat(self, p: np.ndarray) -> np.ndarray:
         return np.where(self.is_log, np.exp(np.clip(p, -700, 700)), p * self.scale)
@@ -45,8 +48,11 @@ class _Problem:
             return None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            res = simulate(model, plant=Mass(m), force=self.u - off, dt=self.dt, options=self.options)
-        return res
+            if len(self.segments) == 1:
+                return simulate(model, plant=Mass(m), force=self.u - off, dt=self.dt, options=self.options)
+            parts = [simulate(model, plant=Mass(m), force=self.u[a:b] - off, dt=self.dt, options=self.options)
+                     for a, b in self.segments]
+        return SimpleNamespace(v=np.concatenate([p.v for p in parts]), x=np.concatenate([p.x for p in parts]))
 
     def _resid_nat(self, theta) -> np.ndarray:
         res = self.simulate_nat(theta)
@@ -102,16 +108,18 @@ def _batch_costs(prob, points, w, options) -> np.ndarray:
             continue
         built.append((mdl, m, off))
         idx.append(i)
+    costs[idx] = 0.0
     for off_val in {b[2] for b in built}:
         sel = [j for j, b in enumerate(built) if b[2] == off_val]
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            br = simulate_batch([built[j][0] for j in sel], masses=[built[j][1] for j in sel],
-                                force=prob.u - off_val, dt=prob.dt, target=prob.y, compare=prob.compare,
-                                weight=w, options=options)
-        prob.nsim += len(sel)
-        for j, sse in zip(sel, br.sse):
-            costs[idx[j]] = 0.5 * sse
+        for a, b in getattr(prob, "segments", [(0, prob.u.size)]):  # each recording from rest
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                br = simulate_batch([built[j][0] for j in sel], masses=[built[j][1] for j in sel],
+                                    force=prob.u[a:b] - off_val, dt=prob.dt, target=prob.y[a:b],
+                                    compare=prob.compare, weight=w[a:b], options=options)
+            prob.nsim += len(sel)
+            for j, sse in zip(sel, br.sse):
+                costs[idx[j]] += 0.5 * sse
     return costs
 
 

@@ -99,9 +99,12 @@ def fit_output_error(
 
     Parameters
     ----------
-    data : Recording or mapping
+    data : Recording or mapping, or a list of them
         Uniformly sampled ``t`` [s], force ``F`` (or ``u``) [N] and the compared
-        signal ``v`` [m/s] or ``x`` [m].
+        signal ``v`` [m/s] or ``x`` [m]. A list: the recordings (same sampling period)
+        are fitted jointly, each simulated from rest on the single-axis kernel, the
+        residuals stacked (``external_load`` is then a list with one array or None per
+        recording; ``weight`` is not accepted).
     model0 : LuGre or GMS
         Structure and start values (the parameters not in ``free`` stay fixed).
     free : sequence of str
@@ -204,25 +207,53 @@ def fit_output_error(
     if not isinstance(starts, (int, np.integer)) or starts < 1:
         raise ParameterError(f"{owner}: starts = {starts!r}: must be an integer >= 1")
     refine = max(1, min(int(refine), int(starts)))
-    t, u, x, v, prov, name = _arrays(data)
-    if external_load is not None:
-        load = val.signal("external_load", external_load)
-        if load.size != u.size:
-            raise DataError(f"{owner}: external_load has {load.size} samples, the recording {u.size}")
-        u = u - load
-        prov["external_load"] = "given per sample (subtracted from the input force)"
-    y = x if compare == "x" else v
-    if y is None:
-        raise DataError(f"recording '{name}': compare = {compare!r} needs the signal {compare!r}")
-    y = np.asarray(y, float)
-    if compare == "x":
-        y = y - y[0]
-    dt = float(np.median(np.diff(t)))
-    w = np.ones(u.size) if weight is None else val.signal("weight", weight)
-    if w.size != u.size or (w < 0).any():
-        raise DataError("weight must have one non-negative entry per sample")
-    w = w.copy()
-    w[0] = 0.0
+    records = list(data) if isinstance(data, (list, tuple)) else [data]
+    if not records:
+        raise DataError(f"{owner}: data is an empty list; give a recording or a list of recordings")
+    if len(records) == 1:
+        loads = [external_load]
+    else:
+        loads = [None] * len(records) if external_load is None else list(external_load)
+    if len(loads) != len(records):
+        raise DataError(f"{owner}: {len(records)} recordings but {len(loads)} external_load arrays")
+    if weight is not None and len(records) > 1:
+        raise ParameterError(f"{owner}: weight= is for one recording; with {len(records)} recordings give none")
+    ts, us, ys, ws, segments = [], [], [], [], []
+    for k, (rec_k, load_k) in enumerate(zip(records, loads)):
+        t, u, x, v, prov_k, name_k = _arrays(rec_k)
+        if k == 0:
+            prov, name = prov_k, name_k
+        if load_k is not None:
+            load = val.signal("external_load", load_k)
+            if load.size != u.size:
+                raise DataError(f"{owner}: external_load has {load.size} samples, the recording {u.size}")
+            u = u - load
+            prov["external_load"] = "given per sample (subtracted from the input force)"
+        y = x if compare == "x" else v
+        if y is None:
+            raise DataError(f"recording '{name_k}': compare = {compare!r} needs the signal {compare!r}")
+        y = np.asarray(y, float)
+        if compare == "x":
+            y = y - y[0]
+        w = np.ones(u.size) if weight is None else val.signal("weight", weight)
+        if w.size != u.size or (w < 0).any():
+            raise DataError("weight must have one non-negative entry per sample")
+        w = w.copy()
+        w[0] = 0.0
+        dt_k = float(np.median(np.diff(t)))
+        if k == 0:
+            dt = dt_k
+        elif abs(dt_k - dt) > 1e-9 * dt:
+            raise DataError(f"{owner}: recording {k} is sampled every {dt_k:.6g} s, recording 0 every {dt:.6g} s")
+        n0 = sum(a.size for a in us)
+        segments.append((n0, n0 + u.size))
+        ts.append(t if not ts else t - t[0] + ts[-1][-1] + dt)  # records one after the other
+        us.append(u)
+        ys.append(y)
+        ws.append(w)
+    t, u, y, w = (np.concatenate(a) for a in (ts, us, ys, ws))
+    if len(records) > 1:
+        prov["records"] = len(records)
     sw = np.sqrt(w)
     tmpl = _Template.of(model0, plant_mass, offset)
     names = tmpl.expand(free)
@@ -230,6 +261,7 @@ def fit_output_error(
     options = options or OUTPUT_ERROR_OPTIONS
     workers = workers or os.cpu_count() or 1
     prob = _Problem(tmpl, names, u, dt, y, compare, sw, options, theta0, workers)
+    prob.segments = segments
     prob.diff_step = val.positive(owner, "diff_step", diff_step)
     if progress is not None and not callable(progress):
         raise ParameterError(f"{owner}: progress = {progress!r}: must be callable(nfev, simulations, cost) or None")

@@ -28,7 +28,7 @@ one axis takes seconds (``benchmarks/sdss.py``).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -236,6 +236,7 @@ def fit_two_step(
     triangle: Mapping,
     steady: Mapping | None = None,
     above: Mapping | None = None,
+    also_below: Sequence[Mapping] = (),
     validate: Mapping[str, Mapping] | None = None,
     order: str = "static_first",
     map: str = "9b",
@@ -257,6 +258,10 @@ def fit_two_step(
         constant-velocity runs, both directions (``order="static_first"``).
     above : mapping, optional — a torque run **above breakaway** (``order="dynamic_first"``),
         same keys as ``triangle``.
+    also_below : sequence of mappings — further open-loop runs below breakaway (same keys as
+        ``triangle``; e.g. the sine of seed 002 §3.1: "sine and triangle torques of different
+        amplitudes") fitted **jointly** with the triangle in eq. 12, each simulated from rest;
+        the start values still come from the triangle alone.
     validate : mapping of name -> run, optional — further runs on which the identified model's
         velocity NRMSE is reported (not fitted).
     order : {"static_first", "dynamic_first"} — the paper's azimuth / altitude order.
@@ -311,8 +316,14 @@ def fit_two_step(
         g = initial_guess_lugre({"t": tri[0], "x": np.asarray(triangle["x"], float), "F": tri[1] - tri[3]},
                                 mass=inertia, zeta=zeta_guess, sigma2=0.0)
         start = LuGre(static_law, sigma0=g["sigma0"], sigma1=max(g["sigma1"], 1e-6 * g["sigma0"]))
-        res = fit_output_error(tri_rec, start, free=("sigma0", "sigma1"), plant_mass=inertia,
-                               external_load=tri[3], starts=starts)
+        recs, loads = [tri_rec], [tri[3]]
+        for k, run in enumerate(also_below):
+            r = _run_arrays(run, f"also_below[{k}]")
+            recs.append({"t": r[0], "F": r[1], "v": r[2]})
+            loads.append(r[3])
+        res = fit_output_error(recs if len(recs) > 1 else tri_rec, start, free=("sigma0", "sigma1"),
+                               plant_mass=inertia, external_load=loads if len(recs) > 1 else tri[3],
+                               starts=starts)
         steps.append((label, res))
         return res, g
 

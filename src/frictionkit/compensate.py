@@ -33,6 +33,20 @@ Presets (:data:`PRESETS`)
 (:func:`frictionkit.load_model`). Named assumption: the file's law acts on the *table*
 (linear force [N] at velocity [m/s]); on the ball-screw stage its torque is ``R F``. A model
 file labelled with rotary units is refused rather than guessed.
+
+Measured (``frictionkit compensate ballscrew`` / ``emps``, full runs; README "Command line")
+-----------------------------------------------------------------------------------------
+* ballscrew, max error [µm]: none 6.627, coulomb 2.832, sinc 2.415, sigmoid 2.259 (every
+  maximum at a reversal).
+* emps: the true-law feed-forward lowers the max error 820.5 -> 786.9 µm and the error at the
+  reversals 121.4 -> 104.3 µm. What remains is the P/P loop's lag ``v / kp`` (784.5 µm at the
+  peak velocity 0.126 m/s), far above the friction's share (~35 µm); a feed-forward of 3x the
+  true friction scores *better* (its viscous part acts as a velocity feed-forward). On this
+  axis the table measures the loop as much as the compensator.
+* ballscrew ``model`` with ``CoulombViscous(Fc=F0 / R)``: the same torque as eq. 7 on every
+  sample but the reversal sample (v_ref = +1.9e-17 m/s there: the static map gives +F0, eq. 7
+  the new direction's -F0); that one 0.5 ms sample moves the max reversal error from 2.81 to
+  2.34 µm (``--quick``). The reversal error is that sensitive to the zero-speed instant.
 """
 
 from __future__ import annotations
@@ -199,9 +213,9 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
     Examples
     --------
     >>> from frictionkit.compensate import compensate
-    >>> res = compensate("emps", ["none", "coulomb"], quick=True)  # doctest: +SKIP
-    >>> res.rows["coulomb"]["rms_error"] < res.rows["none"]["rms_error"]  # doctest: +SKIP
-    True
+    >>> res = compensate("emps", ["none", "coulomb"], quick=True)
+    >>> res.status, res.rows["coulomb"]["rms_error"] < res.rows["none"]["rms_error"]
+    (0, True)
     """
     t0 = time.perf_counter()
     if preset not in PRESETS:
@@ -222,6 +236,8 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
             raise ParameterError(f"compensate model = {type(model).__name__}: must be a friction law or a model file")
         else:
             model_name = type(model).__name__
+    if isinstance(compensators, str):
+        compensators = [compensators]
     if compensators is None:
         compensators = [c for c in allowed if c != "model" or model is not None]
     compensators = list(dict.fromkeys(compensators))

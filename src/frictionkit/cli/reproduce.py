@@ -239,6 +239,8 @@ def zhang2023(
                                      "workers (drop --workers)")
         if out_dir is not None and out_dir.exists() and not out_dir.is_dir():
             raise ParameterError(f"--out '{out_dir}': not a folder")
+        if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
+            raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
     console = Console(stderr=True)
     if robustness:
         out = zr.robustness(quick=quick, progress=True, workers=workers, scheduler=scheduler, out=out_dir)

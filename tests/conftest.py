@@ -12,6 +12,30 @@ REPO = Path(__file__).resolve().parents[1]
 SHARED_DATA = REPO.parent / "shared" / "data"
 
 
+@pytest.hookimpl(wrapper=True)
+def pytest_collection_modifyitems(config, items):
+    """Make ``xdist_group`` work under pytest 9 (``make test`` runs ``--dist loadgroup``).
+
+    On each worker pytest-xdist 3.8 tags a grouped item by writing ``<nodeid>@<group>``
+    into ``item._nodeid``; pytest 9 builds ``item.nodeid`` from ``item._id`` and never
+    reads ``_nodeid``, so the controller saw no group and spread a group's tests (and
+    their session/module fixtures: solve_ivp twins, Dask clusters) over both workers.
+    After every other implementation has run (this is a wrapper), copy the tag into
+    ``_id``. A no-op without xdist, without ``--dist loadgroup`` and on pytest < 9.
+    Test-only hook: remove once pytest-xdist supports pytest 9's node ids.
+    """
+    result = yield
+    try:
+        from _pytest.nodeid import NodeId
+    except ImportError:  # pytest < 9 reads _nodeid itself
+        return result
+    for item in items:
+        tagged = item.__dict__.get("_nodeid")
+        if isinstance(tagged, str) and tagged != item.nodeid:
+            item._id = NodeId.parse(tagged)
+    return result
+
+
 @pytest.fixture(scope="session")
 def shared_data() -> Path:
     if not SHARED_DATA.is_dir():

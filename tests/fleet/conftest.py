@@ -2,10 +2,9 @@
 
 Every test of this folder is marked for the xdist group ``fleet`` (``make test`` runs
 ``pytest -n 2 --dist loadgroup``), so that the session fixtures below (the cluster, the
-fleet and its two identification runs) are made once, not once per xdist worker. Measured
-2026-11-23: with pytest 9.2 and pytest-xdist 3.8 the grouping is a no-op (xdist writes the
-group into ``item._nodeid``, which pytest 9 no longer reads), for every ``xdist_group`` of
-the suite; the marker takes effect once xdist supports pytest 9.
+fleet and its two identification runs) are made once, not once per xdist worker. With
+pytest 9.2 and pytest-xdist 3.8 the grouping needs the node-id hook in ``tests/conftest.py``
+(xdist writes the group into ``item._nodeid``, which pytest 9 no longer reads).
 """
 
 from __future__ import annotations

@@ -201,8 +201,12 @@ def _read_tdms(p: Path) -> dict[str, np.ndarray]:
         raise DataError(f"file '{p}': cannot be read as TDMS (it starts with {lead!r}, not b'TDSm')")
     catch = _Catch()
     loggers = [logging.getLogger(n) for n in ("nptdms", "nptdms.reader", "nptdms.tdms_segment")]
-    saved = [(lg, lg.propagate) for lg in loggers]
+    # npTDMS gives its module loggers their own console handler: detach it while reading, else a
+    # damaged file printed two "[nptdms.reader WARNING] ..." lines before the one error line
+    saved = [(lg, lg.propagate, list(lg.handlers)) for lg in loggers]
     for lg in loggers:
+        for h in list(lg.handlers):
+            lg.removeHandler(h)
         lg.addHandler(catch)
         lg.propagate = False
     try:
@@ -212,8 +216,10 @@ def _read_tdms(p: Path) -> dict[str, np.ndarray]:
         text = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise DataError(f"file '{p}': cannot be read as TDMS ({text})") from None
     finally:
-        for lg, prop in saved:
+        for lg, prop, handlers in saved:
             lg.removeHandler(catch)
+            for h in handlers:
+                lg.addHandler(h)
             lg.propagate = prop
     short = [m for m in catch.messages if "less data than expected" in m or "not a multiple" in m]
     if short:

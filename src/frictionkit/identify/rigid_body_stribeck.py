@@ -63,6 +63,9 @@ VS_START_FRACTIONS = (0.03, 0.1, 0.3)
 #: against 0.9 ms for a 2,480 x 9 SVD).
 TR_SOLVER = "lsmr"
 
+#: Bound on ``|log vs|`` inside the residuals (``exp`` of it stays a finite, normal float).
+LOG_VS_CLIP = 700.0
+
 #: Start value of ``Fs`` relative to the IDIM-LS Coulomb level (a 10 % Stribeck peak).
 FS_START_RATIO = 1.1
 
@@ -72,9 +75,10 @@ def _phi(r: np.ndarray, shape: str, delta: float) -> tuple[np.ndarray, np.ndarra
     if shape == "lorentzian":
         phi = 1.0 / (1.0 + r**2)
         return phi, 2.0 * r**2 * phi**2
-    rd = r**delta
+    with np.errstate(over="ignore"):  # r**delta = inf far above vs: phi = 0 and its derivative 0, not nan
+        rd = r**delta
     phi = np.exp(-rd)
-    return phi, phi * delta * rd
+    return phi, np.where(phi > 0.0, phi * delta * np.where(np.isfinite(rd), rd, 0.0), 0.0)
 
 
 class _Problem:
@@ -98,7 +102,9 @@ class _Problem:
         for i, (_, positive) in enumerate(self.sides):
             Fc, Fs, lvs, s2 = p[1 + 4 * i: 5 + 4 * i]
             sel = np.ones_like(v) if positive is None else ((v >= 0) if positive else (v < 0)).astype(float)
-            phi, dphi = _phi(np.abs(v) / math.exp(lvs), self.shape, self.delta)
+            # the solver may try any log vs: exp of it clipped to the float range (a step to
+            # log vs > 709 raised OverflowError from --delta 100)
+            phi, dphi = _phi(np.abs(v) / math.exp(min(max(lvs, -LOG_VS_CLIP), LOG_VS_CLIP)), self.shape, self.delta)
             sg = s * sel
             out = out + sg * (Fc + (Fs - Fc) * phi) + s2 * v * sel
             cols += [sg * (1.0 - phi), sg * phi, sg * (Fs - Fc) * dphi, v * sel]

@@ -25,6 +25,10 @@ TEST_DESIGN = zr.Design(cospeed_slow=(0.05e-3, 0.15e-3, 0.4e-3), cospeed_fast=(1
                         memory_speed=10e-6, crawl_speeds=(1e-6,), crawl_duration=1.0, refine=False, m7_samples=120)
 TIE = zr.TIE_UM
 
+# the module's run costs ~20-30 s: keep its tests on one xdist worker so it runs once
+# (`make test` runs pytest with --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("zhang2023_run")
+
 
 @pytest.fixture(scope="module")
 def result():

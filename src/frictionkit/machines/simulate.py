@@ -456,6 +456,10 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     dt = val.positive("simulate_machine", "dt", dt)
     if isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer)) or substeps < 1:
         raise ParameterError(f"simulate_machine substeps = {substeps!r}: must be an integer >= 1")
+    # its type checked even without atol (True, 2.5 or -1 were silently ignored there); the bound
+    # max_substeps >= substeps matters only to the error control (atol) and is checked there
+    if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < 1:
+        raise ParameterError(f"simulate_machine max_substeps = {max_substeps!r}: must be an integer >= 1")
     inputs = {} if inputs is None else dict(inputs)
     for k in list(inputs):
         if not isinstance(k, str):

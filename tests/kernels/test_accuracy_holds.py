@@ -24,6 +24,10 @@ import pytest
 import frictionkit as fk
 from frictionkit.simulate.reference import reference_force_driven
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("accuracy_holds_twins")
+
 DT = 2.5e-4
 DUR = 0.1
 FREQ = 10.0

@@ -21,6 +21,10 @@ from frictionkit import CoulombViscous, Directional, Stribeck
 from frictionkit.data import load_recording
 from frictionkit.identify.emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("emps_dynamic_runs")
+
 GTAU = 35.15065188248547
 MODELS = ("published", "asymmetric", "stribeck")
 # (velocity %, force %) of the deleted private loop, 10 RK4 sub-steps (the shipped default)

@@ -23,6 +23,10 @@ from frictionkit.errors import DataError
 from frictionkit.identify import IdentificationResult, fit_rigid_body
 from frictionkit.identify.emps_dynamic import emps_closed_loop, emps_closed_loop_errors
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("emps_rigid_body_stribeck_fits")
+
 GTAU = 35.15065188248547
 ARGS = ["--time", "t_s", "--position", "qm_m", "--force", "vir_V", "--force-scale", str(GTAU)]
 PUBLISHED_ASYM_M, PUBLISHED_M_SE = 95.1540, 0.1085  # kg; the description's §3.4 se of M (symmetric fit)

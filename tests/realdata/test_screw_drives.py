@@ -13,6 +13,10 @@ from frictionkit.data import load_groups, steady_state_points
 from frictionkit.identify import fit_static_map
 from frictionkit.units import RPM
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("screw_drives_fits")
+
 
 def _records(shared_data, drive):
     return load_groups(shared_data / "tro2021_screw_drives" / "steady_state_records.csv",

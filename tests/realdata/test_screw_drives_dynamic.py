@@ -29,6 +29,10 @@ import frictionkit.cli.identify  # noqa: F401  (registers the ``identify`` group
 from frictionkit.cli import app
 from frictionkit.identify import IdentificationResult
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("screw_drives_dynamic_fits")
+
 runner = CliRunner()
 ONE_COUNT = 0.00614  # rad: 2π / 1024, one count of the drives' encoder (drives.json)
 

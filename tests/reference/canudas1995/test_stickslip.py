@@ -18,6 +18,10 @@ from frictionkit.machines.reference import reference_machine
 
 from .conftest import EXAMPLES
 
+# the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
+# built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)
+pytestmark = pytest.mark.xdist_group("canudas1995_stickslip_trace")
+
 DT = 1e-3
 
 

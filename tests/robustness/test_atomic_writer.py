@@ -166,8 +166,11 @@ with atomic_open(sys.argv[1], "wb") as f:
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 def test_real_sigint_while_writing_keeps_the_old_file(target):
+    # SIG_DFL in the child: a SIGINT ignored by the xdist worker (inherited) would let it finish
+    # (seen once in a full -n 2 run: returncode 0); the same guard as test_cli_error_path's
     proc = subprocess.Popen([sys.executable, "-c", _SLOW_WRITER, str(target)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         assert proc.stdout.readline().strip() == "writing"
         proc.send_signal(signal.SIGINT)

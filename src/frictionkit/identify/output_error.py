@@ -194,7 +194,7 @@ def fit_output_error(
     >>> sim = fk.simulate(true, plant=fk.Mass(1.0), force=u, dt=dt)
     >>> start = fk.LuGre(true.static, sigma0=3e4, sigma1=100.0)
     >>> res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0)
-    >>> round(res["sigma0"] / 1e5, 3)
+    >>> round(res["sigma0"] / 1e5, 2)           # within 1 % of the truth
     1.0
     """
     owner = "fit_output_error"

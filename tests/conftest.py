@@ -32,7 +32,10 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         tagged = item.__dict__.get("_nodeid")
         if isinstance(tagged, str) and tagged != item.nodeid:
-            item._id = NodeId.parse(tagged)
+            try:
+                item._id = NodeId.parse(tagged)
+            except Exception:  # private API moved: lose the grouping (slower), never the run
+                return result
     return result
 
 

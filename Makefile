@@ -27,6 +27,9 @@ test: $(VENV)/.installed-test
 # numbalsoda (the compiled-LSODA peers of benchmarks/peers.py) builds LSODA from Fortran
 # source: on Debian/Ubuntu it needs `apt-get install gfortran` first. Only `make bench` needs it.
 $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
+	@command -v gfortran >/dev/null 2>&1 || { \
+	  echo "make bench: installing Debian's gfortran (numbalsoda builds LSODA from Fortran)"; \
+	  if [ "$$(id -u)" = 0 ]; then apt-get install -y gfortran; else sudo apt-get install -y gfortran; fi; }
 	$(BIN)/python -m pip install -e ".[bench]"
 	touch $@
 

@@ -6,6 +6,7 @@ atomically (:mod:`frictionkit._io`), so a failed write keeps the previous result
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Optional
 
@@ -17,6 +18,25 @@ from . import app
 reproduce_app = typer.Typer(help="Reproduce the source papers' findings in simulation.", no_args_is_help=True,
                             rich_markup_mode=None)
 app.add_typer(reproduce_app, name="reproduce")
+
+
+@contextmanager
+def _stages(console, name: str, total: int):
+    """A stage progress bar on stderr for a reproduction; yields ``(bar, task, step)``,
+    where ``step(label)`` closes the running stage and names the next one."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
+        task = bar.add_task(name, total=total)
+        started = [False]
+
+        def step(label: str) -> None:
+            if started[0]:
+                bar.advance(task)
+            started[0] = True
+            bar.update(task, description=label)
+
+        yield bar, task, step
 
 
 @reproduce_app.command("zhu-fujimoto")
@@ -36,7 +56,6 @@ def zhu_fujimoto(
     """Seed 001: Table 3 (sinc/Coulomb/sigmoid, post-only sigmoid), Fig. 5, Fig. 10 (l_d), the
     Table 2 selector and redesigned fast non-reverse stop, the Fig. 2 check."""
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
     from ..presets import zhu_fujimoto as zf_preset
@@ -50,15 +69,7 @@ def zhu_fujimoto(
                 make_parents=True)
 
     console = Console(stderr=True)
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
-        task = bar.add_task("zhu-fujimoto", total=3 + int(plot))
-        started = [False]
-
-        def step(label: str) -> None:
-            if started[0]:
-                bar.advance(task)
-            started[0] = True
-            bar.update(task, description=label)
+    with _stages(console, "zhu-fujimoto", total=3 + int(plot)) as (bar, task, step):
 
         result = zf_rep.run(quick=quick, seed=seed, nut_model=nut_model, stage=stage, progress=step)
         bar.advance(task)
@@ -135,7 +146,6 @@ def sdss(
     """Seed 002 (SDSS 2.5 m telescope): the two-step LuGre estimation on the three simulated axes,
     Figs. 3, 4a-c, 6a-b, 7, 8 and sidereal tracking with LuGre feed-forward (ours)."""
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
     from ..reproduce import sdss as sdss_rep
@@ -143,15 +153,7 @@ def sdss(
     seed = chk.integer(seed, "--seed", lo=0, hi=2**16 - 1)
     chk.outputs([], files={"--json": json_out}, plots={"--plot": plot} if plot else {}, make_parents=True)
     console = Console(stderr=True)
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
-        task = bar.add_task("sdss", total=4 + int(plot is not None))
-        started = [False]
-
-        def step(label: str) -> None:
-            if started[0]:
-                bar.advance(task)
-            started[0] = True
-            bar.update(task, description=label)
+    with _stages(console, "sdss", total=4 + int(plot is not None)) as (bar, task, step):
 
         result = sdss_rep.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)
@@ -213,7 +215,6 @@ def zhang2023(
     """Seed 000 (TDMS): WSIM vs ACIM (Table 7), LuGre vs GMS (Table 8), identified Tables 3-6,
     Fig. 16 hysteresis RMS, CDFS vs TDMS crawling (ours)."""
     from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
     from ..errors import ParameterError
@@ -256,15 +257,7 @@ def zhang2023(
                         + (f"; failed: {', '.join(out['failed'])}" if out["failed"] else ""))
         Console().print(f"wrote {json_out}" + (f" and {out['out']}" if out["out"] else ""))
         return
-    with Progress(TextColumn("{task.description}"), BarColumn(), TimeElapsedColumn(), console=console) as bar:
-        task = bar.add_task("zhang2023", total=10 + int(plot))
-        started = [False]
-
-        def step(label: str) -> None:
-            if started[0]:
-                bar.advance(task)
-            started[0] = True
-            bar.update(task, description=label)
+    with _stages(console, "zhang2023", total=10 + int(plot)) as (bar, task, step):
 
         result = zr.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)

@@ -52,6 +52,7 @@ def test_export_csv_table_is_finite_and_uniform_or_refused(runner, lugre_json, t
     np.testing.assert_allclose(step, 2 * v_max / 10, rtol=1e-6)  # uniform: 11 points over [-v_max, v_max]
 
 
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # the overflow is the case under test
 def test_export_overflowing_map_is_refused_naming_v_max():
     with pytest.raises(ParameterError, match="v_max.*not finite"):
         from frictionkit.export import lookup_table

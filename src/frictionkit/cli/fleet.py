@@ -36,6 +36,22 @@ MAX_WORKERS = 512
 _ADDRESS = re.compile(r"^(?:(?:tcp|tls|inproc|ucx|ws|wss)://)?[^\s/:]+(?::\d{1,5})?/?$")
 
 
+def dask_options(workers: Optional[int], scheduler: Optional[str]) -> Optional[int]:
+    """Check --workers / --scheduler of a Dask verb; returns the validated worker count."""
+    from ..errors import ParameterError
+
+    if workers is not None:
+        workers = chk.integer(workers, "--workers", lo=0, hi=MAX_WORKERS)
+    if scheduler is not None and scheduler != "none":
+        if not _ADDRESS.match(scheduler):
+            raise ParameterError(f"--scheduler {scheduler!r}: expected a scheduler address such as "
+                                 "tcp://10.0.0.5:8786, or 'none'")
+        if workers is not None:
+            raise ParameterError("--workers starts a local cluster; with --scheduler the cluster decides the "
+                                 "workers (drop --workers)")
+    return workers
+
+
 def _summary(doc: dict, json_out: Optional[str], text: str) -> None:
     if json_out == "-":
         typer.echo(json.dumps(doc, indent=2, default=str))
@@ -117,16 +133,8 @@ def identify(
     from ..fleet import identify_fleet
     from ..fleet.identify import resolve_config
 
-    if workers is not None:
-        workers = chk.integer(workers, "--workers", lo=0, hi=MAX_WORKERS)
+    workers = dask_options(workers, scheduler)
     batch = chk.integer(batch, "--batch", lo=1, hi=100_000)
-    if scheduler is not None and scheduler != "none":
-        if not _ADDRESS.match(scheduler):
-            raise ParameterError(f"--scheduler {scheduler!r}: expected a scheduler address such as "
-                                 "tcp://10.0.0.5:8786, or 'none'")
-        if workers is not None:
-            raise ParameterError("--workers starts a local cluster; with --scheduler the cluster decides the "
-                                 "workers (drop --workers)")
     if config is not None and not config.is_file():
         raise ParameterError(f"--config '{config}': file not found")
     cfg = resolve_config(dataset, config)  # a bad configuration fails here, before any work
@@ -267,15 +275,7 @@ def study_cmd(
     from ..errors import ParameterError
     from ..study import load_study, run_study
 
-    if workers is not None:
-        workers = chk.integer(workers, "--workers", lo=0, hi=MAX_WORKERS)
-    if scheduler is not None and scheduler != "none":
-        if not _ADDRESS.match(scheduler):
-            raise ParameterError(f"--scheduler {scheduler!r}: expected a scheduler address such as "
-                                 "tcp://10.0.0.5:8786, or 'none'")
-        if workers is not None:
-            raise ParameterError("--workers starts a local cluster; with --scheduler the cluster decides the "
-                                 "workers (drop --workers)")
+    workers = dask_options(workers, scheduler)
     st = load_study(spec)
     chk.outputs([spec], files={"--out": out}, make_parents=True)
     if out.suffix.lower() not in (".parquet", ".pq"):

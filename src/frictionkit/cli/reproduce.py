@@ -227,17 +227,9 @@ def zhang2023(
     if not robustness and (workers is not None or scheduler is not None or out_dir is not None):
         raise ParameterError("--workers, --scheduler and --out go with --robustness")
     if robustness:
-        from .fleet import MAX_WORKERS, _ADDRESS
+        from .fleet import dask_options
 
-        if workers is not None:
-            workers = chk.integer(workers, "--workers", lo=0, hi=MAX_WORKERS)
-        if scheduler is not None and scheduler != "none":
-            if not _ADDRESS.match(scheduler):
-                raise ParameterError(f"--scheduler {scheduler!r}: expected a scheduler address such as "
-                                     "tcp://10.0.0.5:8786, or 'none'")
-            if workers is not None:
-                raise ParameterError("--workers starts a local cluster; with --scheduler the cluster decides the "
-                                     "workers (drop --workers)")
+        workers = dask_options(workers, scheduler)
         if out_dir is not None and out_dir.exists() and not out_dir.is_dir():
             raise ParameterError(f"--out '{out_dir}': not a folder")
         if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed

@@ -280,17 +280,8 @@ class WSIMStep:
         return ax
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class WSIMResult:
-    """The four WSIM steps (seed 000 Fig. 6), Tables 3-6."""
-
-    steps: dict
-    R: float
-    status: int
-    message: str
-
-    def tables(self) -> dict:
-        return {k: s.table for k, s in self.steps.items()}
+class _StepsResult:
+    """summary() and plot() of a result made of named steps (each with summary() and plot())."""
 
     def summary(self) -> dict:
         return {"status": self.status, "message": self.message,
@@ -308,7 +299,20 @@ class WSIMResult:
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class ACIMResult:
+class WSIMResult(_StepsResult):
+    """The four WSIM steps (seed 000 Fig. 6), Tables 3-6."""
+
+    steps: dict
+    R: float
+    status: int
+    message: str
+
+    def tables(self) -> dict:
+        return {k: s.table for k, s in self.steps.items()}
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ACIMResult(_StepsResult):
     """Component laws identified in isolation and their eq. 16 sums."""
 
     steps: dict
@@ -320,20 +324,6 @@ class ACIMResult:
         """Component -> identified law (GMS on the component's static map when pre-sliding
         data were given, else the static map), SI units of the component's coordinate."""
         return {k: s.laws.get("dynamic", s.laws.get("static")) for k, s in self.steps.items()}
-
-    def summary(self) -> dict:
-        return {"status": self.status, "message": self.message,
-                **{k: s.summary() for k, s in self.steps.items()}}
-
-    def plot(self, ax=None):
-        import matplotlib.pyplot as plt
-
-        if ax is None:
-            _, axs = plt.subplots(2, 2, figsize=(10, 7))
-            ax = axs.ravel()
-        for a, s in zip(np.ravel(ax), self.steps.values()):
-            s.plot(ax=a)
-        return ax
 
 
 def _plain(x: Any) -> Any:

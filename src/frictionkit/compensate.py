@@ -110,7 +110,19 @@ class CompensationResult:
     def success(self) -> bool:
         return self.status == 0
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> str:
+        """The error table as text: one line per compensator, errors in µm."""
+        def um(x):
+            return "-" if x is None else f"{x * 1e6:.3f}"
+
+        head = (f"{self.preset}: tracking error r - x [µm] over {float(self.t[-1]) if self.t.size else 0.0:.2f} s, "
+                f"{len(self.reversals)} reversal(s); status {self.status} ({self.message})")
+        rows = [f"  {name:<10} max {um(r['max_error'])}  RMS {um(r['rms_error'])}  "
+                f"at reversals {um(r['reversal_error'])}" + ("" if r["ok"] else f"  FAILED: {r['message']}")
+                for name, r in self.rows.items()]
+        return "\n".join([head, *rows])
+
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready: preset, motion, the per-compensator errors [m], status and message."""
         return {"preset": self.preset, "quick": self.quick, "model": self.model,
                 "duration_s": float(self.t[-1]) if self.t.size else 0.0,

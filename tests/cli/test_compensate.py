@@ -89,8 +89,12 @@ def test_ballscrew_sinc_lowers_the_reversal_error(ballscrew):
     assert len(ballscrew.reversals) == 1 and ballscrew.reversals[0] == pytest.approx(0.5, abs=1e-3)  # period 1 s
     r = ballscrew.rows
     assert r["sinc"]["reversal_error"] < 0.7 * r["none"]["reversal_error"], r
-    s = ballscrew.summary()
+    s = ballscrew.to_dict()
     assert s["units"] == {"error": "m"} and set(s["compensators"]) == {"none", "sinc"}
+    text = ballscrew.summary()
+    assert isinstance(text, str) and "sinc" in text and "reversal" in text
+    # the text shows the same numbers in µm as the dict in m
+    assert f"{r['sinc']['max_error'] * 1e6:.3f}" in text
 
 
 def test_result_plot(ballscrew):

@@ -66,7 +66,7 @@ def compensate(
                   progress=lambda name: status.update(f"{preset}: running compensator '{name}'"))
     if plot is not None:
         chk.save_plot(res, plot)
-    doc = res.summary()
+    doc = res.to_dict()
     doc["outputs"] = {"plot": str(plot)} if plot is not None else {}
     if json_out == "-":
         chk.emit(doc, json_out, "")
@@ -84,7 +84,7 @@ def _table(res) -> None:
     def um(x):
         return "-" if x is None else f"{x * 1e6:.3f}"
 
-    s = res.summary()
+    s = res.to_dict()
     tab = Table(title=f"{res.preset}: error r - x [µm] over {s['duration_s']:.2f} s, {len(res.reversals)} reversal(s)",
                 min_width=64)
     for col in ("compensator", "max", "RMS", "at reversals", "status"):

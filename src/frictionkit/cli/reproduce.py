@@ -73,7 +73,7 @@ def zhu_fujimoto(
 
         result = zf_rep.run(quick=quick, seed=seed, nut_model=nut_model, stage=stage, progress=step)
         bar.advance(task)
-        summary = result.summary()
+        summary = result.to_dict()
         json_out.parent.mkdir(parents=True, exist_ok=True)
         if plot:
             bar.update(task, description="plot")
@@ -253,7 +253,7 @@ def zhang2023(
 
         result = zr.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)
-        summary = result.summary()
+        summary = result.to_dict()
         summary["findings"] = zr.findings(summary)
         if plot:
             bar.update(task, description="plot")

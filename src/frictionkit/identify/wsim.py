@@ -259,7 +259,18 @@ class WSIMStep:
     curves: dict = field(default_factory=dict)
     diagnostics: dict = field(default_factory=dict)
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """One line per column of the identified table."""
+        lines = [f"{self.name}: status {self.status} ({self.message})"]
+        for col, row in self.table.items():
+            if isinstance(row, dict):
+                cells = ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items())
+            else:
+                cells = str(row)
+            lines.append(f"  {col}: {cells}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
         return {"name": self.name, "status": self.status, "message": self.message,
                 "table": _plain(self.table), "diagnostics": _plain(self.diagnostics)}
 
@@ -281,11 +292,15 @@ class WSIMStep:
 
 
 class _StepsResult:
-    """summary() and plot() of a result made of named steps (each with summary() and plot())."""
+    """summary(), to_dict() and plot() of a result made of named steps (each with the same three)."""
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        return "\n".join([f"{type(self).__name__}: status {self.status} ({self.message})",
+                          *(s.summary() for s in self.steps.values())])
+
+    def to_dict(self) -> dict:
         return {"status": self.status, "message": self.message,
-                **{k: s.summary() for k, s in self.steps.items()}}
+                **{k: s.to_dict() for k, s in self.steps.items()}}
 
     def plot(self, ax=None):
         import matplotlib.pyplot as plt

@@ -215,7 +215,7 @@ def section_zhu_fujimoto() -> _Section | None:
 
     sec = _Section("Ball-screw stage at the zero-speed point (seed 001, quick runs, both stages)")
     res = {st: run(quick=True, stage=st) for st in ("table1", "fig2")}
-    sm = {st: r.summary() for st, r in res.items()}
+    sm = {st: r.to_dict() for st, r in res.items()}
     paper = {"sinc": 4.24, "coulomb": 5.44, "sigmoid": 1.65}
 
     def ms(x):

@@ -561,7 +561,13 @@ class Fig16Result:
     status: int = 0
     message: str = "ok"
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """RMS force error per model [N] against the plant, reciprocating / unidirectional."""
+        rows = [f"  {k:<16} reciprocating {v['reciprocating']:.3g} N  unidirectional {v['unidirectional']:.3g} N"
+                for k, v in self.rms.items()]
+        return "\n".join([f"Fig. 16 hysteresis (differential mode): status {self.status} ({self.message})", *rows])
+
+    def to_dict(self) -> dict:
         return {"rms_N": self.rms, "rms_vs_logged_N": self.rms_vs_log, "status": self.status,
                 "message": self.message}
 
@@ -710,6 +716,13 @@ def recovery(result: W.WSIMResult, truth=None, assumptions=None) -> dict:
     return out
 
 
+def _fmt(v) -> str:
+    """Numbers of a finding for :meth:`Zhang2023Result.summary` (lists of floats, 3 significant digits)."""
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_fmt(x) for x in v) + "]"
+    return f"{v:.3g}" if isinstance(v, float) else str(v)
+
+
 def _err(identified, true) -> dict:
     r = np.asarray(identified) - np.asarray(true)
     rms = float(np.sqrt(np.mean(r * r)))
@@ -740,7 +753,7 @@ def truth_tables(truth=None, assumptions=None) -> dict:
 
 @dataclass(frozen=True, eq=False)
 class Zhang2023Result:
-    """Everything :func:`run` computed; :meth:`summary` is the JSON document."""
+    """Everything :func:`run` computed; :meth:`to_dict` is the JSON document, :meth:`summary` the findings."""
 
     wsim: W.WSIMResult
     acim: W.ACIMResult
@@ -756,7 +769,16 @@ class Zhang2023Result:
     status: int = 0
     message: str = "ok"
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """The issue's findings, one line each (holds / does not hold, with the numbers)."""
+        lines = [f"Zhang et al. 2023 (seed 000){' --quick' if self.quick else ''}, seed {self.seed}: "
+                 f"status {self.status} ({self.message})"]
+        for name, f in findings(self.to_dict()).items():
+            nums = "  ".join(f"{k} {_fmt(v)}" for k, v in f.items() if k != "holds")
+            lines.append(f"  {'holds' if f['holds'] else 'DOES NOT HOLD':<14} {name}  {nums}")
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
         truth = truth_tables()
         ident = {k: {"identified": s.table, "status": s.status, "message": s.message}
                  for k, s in self.wsim.steps.items()}
@@ -782,7 +804,7 @@ class Zhang2023Result:
                                                                    ("GMS_M3_one_k_set", M7_KEYS[3]))
                                                   if key in self.fig16.rms}}
                                         for part in ("reciprocating", "unidirectional")} |
-                                       {"detail": self.fig16.summary()} if self.fig16 is not None else None),
+                                       {"detail": self.fig16.to_dict()} if self.fig16 is not None else None),
             "crawling": ([{k: r[k] for k in r} for r in self.crawling.rows] if self.crawling is not None else []),
             "timings_s": self.timings,
         }
@@ -931,7 +953,7 @@ TIE_UM = 1e-3
 
 
 def findings(summary: dict) -> dict:
-    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.summary`.
+    """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.to_dict`.
 
     "Better" needs an improvement beyond :data:`TIE_UM` in both |mean| and std; "no larger"
     allows a tie within it."""
@@ -990,7 +1012,7 @@ def robustness_variants(seeds=(0, 1, 2), factors=(0.8, 1.2), names=ROBUSTNESS_AS
 
 def _robustness_variant(**run_kwargs) -> dict:
     """One variant of :func:`robustness` (a task of :func:`frictionkit.study.run_tasks`)."""
-    s = run(**run_kwargs).summary()
+    s = run(**run_kwargs).to_dict()
     return {"findings": findings(s), "metrics": _metrics(s)}
 
 

@@ -374,7 +374,12 @@ class RedesignResult:
     runs: dict = field(repr=False)
     crossings: dict = field(repr=False)
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        return "Table 2 fast non-reverse stop: " + "; ".join(
+            f"{k} ({self.kind[k]}) max error {self.max_error_um[k]:.3f} µm, stop {self.stop_ms[k]:.1f} ms"
+            for k in ("original", "redesigned"))
+
+    def to_dict(self) -> dict:
         return {k: {"kind": self.kind[k], "max_error_um": self.max_error_um[k], "stop_ms": self.stop_ms[k],
                     "motor_input_reverses_before_zero_ms": self.leads_ms[k]["motor_input"],
                     "drive_force_reverses_before_zero_ms": self.leads_ms[k]["drive_force"]}
@@ -455,7 +460,12 @@ class Fig2Result:
     band_hz: tuple
     gain_offset_db: tuple
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        lo, hi = self.gain_offset_db
+        return (f"Fig. 2: first antiresonance {self.antiresonance_hz:.1f} Hz, resonance {self.resonance_hz:.1f} Hz; "
+                f"|response|/|eq. 1| {lo:+.2f}…{hi:+.2f} dB over {self.band_hz[0]:g}–{self.band_hz[1]:g} Hz")
+
+    def to_dict(self) -> dict:
         return {"first_antiresonance_hz": self.antiresonance_hz, "first_resonance_hz": self.resonance_hz,
                 "band_hz": list(self.band_hz), "gain_offset_vs_eq1_db": list(self.gain_offset_db)}
 
@@ -493,7 +503,7 @@ TABLE3_PAPER_UM = dict(zf.TABLE3_UM)
 
 @dataclass(frozen=True, eq=False)
 class ReproductionResult:
-    """Everything :func:`run` computed; :meth:`summary` is the JSON document."""
+    """Everything :func:`run` computed; :meth:`to_dict` is the JSON document, :meth:`summary` a text digest."""
 
     table3: Table3Result
     fig10: Fig10Result
@@ -506,7 +516,28 @@ class ReproductionResult:
     fig5: Fig5Result | None = None
     redesign: RedesignResult | None = None
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        """Table 3 (simulated vs paper, µm), Fig. 5(b), the selector, Table 2's redesign and Fig. 2."""
+        t3 = self.table3
+        lines = [f"Zhu & Fujimoto (seed 001), stage {self.stage}, nut model {self.nut_model}, seed {self.seed}"
+                 f"{', quick' if self.quick else ''}",
+                 "  Table 3 max error during the reverse motion [µm] (simulated / paper):"]
+        for k, v in t3.max_error_um.items():
+            paper = TABLE3_PAPER_UM.get(k)
+            lines.append(f"    {k:<18} {v:7.3f} / {'-' if paper is None else f'{paper:.3f}'}")
+        lead = t3.leads_ms["sinc"]["motor_input"]
+        lines.append("  Fig. 5(b) motor input reverses before zero speed: "
+                     + ("no" if lead is None else f"yes, {lead:.1f} ms"))
+        sel = self.selector
+        lines.append(f"  selector: mixed {sel.mixed_max_error_um:.3f} µm vs best fixed law "
+                     f"{sel.best_fixed_max_error_um:.3f} µm")
+        if self.redesign is not None:
+            lines.append("  " + self.redesign.summary())
+        if self.fig2 is not None:
+            lines.append("  " + self.fig2.summary())
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
         t3 = self.table3
         out = {
             "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
@@ -538,9 +569,9 @@ class ReproductionResult:
                                "drive_force_reverses_before_zero_ms": self.fig5.leads_ms[k]["drive_force"]}
                            for k in self.fig5.max_error_um}
         if self.redesign is not None:
-            out["table2_fast_non_reverse"] = self.redesign.summary()
+            out["table2_fast_non_reverse"] = self.redesign.to_dict()
         if self.fig2 is not None:
-            out["fig2"] = self.fig2.summary()
+            out["fig2"] = self.fig2.to_dict()
         return out
 
 
@@ -593,7 +624,7 @@ def robustness_variants(seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf
 
 def _robustness_variant(**run_kwargs) -> dict:
     """One variant of :func:`robustness` (a task of :func:`frictionkit.study.run_tasks`)."""
-    return {"summary": run(**run_kwargs).summary()}
+    return {"summary": run(**run_kwargs).to_dict()}
 
 
 def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.7, 1.3), nut_model: str = zf.NUT_MODEL,

@@ -37,7 +37,7 @@ def result():
 
 @pytest.fixture(scope="module")
 def summary(result):
-    return result.summary()
+    return result.to_dict()
 
 
 @pytest.fixture(scope="module")
@@ -213,7 +213,7 @@ def test_robustness_aggregates_variants(monkeypatch, result, summary):
         def __init__(self, s):
             self._s = s
 
-        def summary(self):
+        def to_dict(self):
             return self._s
 
     def fake_run(*, quick, seed, assumptions, design, crawling):
@@ -270,3 +270,16 @@ def test_fit_gms_one_stiffness_recovers_a_known_gms():
     np.testing.assert_array_equal(g.positive.k, g.negative.k)
     np.testing.assert_allclose(g.positive.xi, [0.3, 0.3, 0.4], atol=0.03)
     np.testing.assert_allclose(g.negative.xi, [0.5, 0.3, 0.2], atol=0.03)
+
+
+def test_summary_text_lists_every_finding(result, found):
+    """summary() is the findings as text: one line per finding, its verdict matching findings()."""
+    text = result.summary()
+    assert isinstance(text, str)
+    for name, f in found.items():
+        line = next(ln for ln in text.splitlines() if f" {name} " in ln + " ")
+        assert ("DOES NOT HOLD" not in line) == f["holds"], line
+    # the WSIM steps present themselves the same way: text per step, JSON-ready dict per step
+    wtext = result.wsim.summary()
+    assert all(step.name in wtext for step in result.wsim.steps.values())
+    assert set(result.wsim.to_dict()) == {"status", "message", *result.wsim.steps}

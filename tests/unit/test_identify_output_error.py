@@ -160,11 +160,16 @@ def test_missing_signal(record):
         fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, compare="x")
 
 
-def test_not_converged_is_an_error(record):
+def test_not_converged_is_a_result_and_an_error_on_request(record):
     t, u, sim = record
     start = fk.LuGre(LAW, sigma0=2e4, sigma1=300.0)
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, max_nfev=2)
+    assert not res.success and res.diagnostics["status"] == 0
+    assert "did not converge within max_nfev = 2" in res.message
+    assert any(w.startswith("not converged") for w in res.warnings)
+    assert isinstance(res.model, fk.LuGre)  # the last point is still a model (plots, a warm start)
     with pytest.raises(IdentificationError, match="did not converge within max_nfev = 2"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, max_nfev=2)
+        fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, max_nfev=2, raise_on_failure=True)
 
 
 def test_unexcited_parameter_is_unidentifiable():
@@ -173,8 +178,12 @@ def test_unexcited_parameter_is_unidentifiable():
     u = 3.0 * t
     sim = fk.simulate(TRUE, plant=fk.Mass(1.0), force=u, dt=DT)
     assert sim.v.min() >= 0.0
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, free=("sigma0", "Fc_neg"))
+    assert not res.success and "unidentifiable" in res.message and "Fc_neg" in res.message
+    assert np.isnan(res.stderr).all()
     with pytest.raises(IdentificationError, match="unidentifiable.*Fc_neg"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, free=("sigma0", "Fc_neg"))
+        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, free=("sigma0", "Fc_neg"),
+                         raise_on_failure=True)
 
 
 def test_initial_guess_needs_motion():

@@ -2,6 +2,7 @@
 
 from .motion_data import evaluate_motion, motion_data
 from .motion_error import fit_motion_error, motion_start
+from .fit_options import MOTION_ERROR_FIT, OUTPUT_ERROR_FIT, FitOptions
 from .emps_dynamic import emps_closed_loop, emps_closed_loop_errors, emps_compare, emps_stribeck_fit
 from .output_error import OUTPUT_ERROR_OPTIONS, fit_output_error, initial_guess_lugre
 from .presliding import fit_presliding, piecewise_linear_fit
@@ -14,6 +15,9 @@ from .static_map import fit_static_map, fit_static_records, stribeck_model
 from .two_step import TwoStepResult, fit_two_step
 
 __all__ = [
+    "FitOptions",
+    "MOTION_ERROR_FIT",
+    "OUTPUT_ERROR_FIT",
     "OUTPUT_ERROR_OPTIONS",
     "STATIC_MODELS",
     "emps_closed_loop",

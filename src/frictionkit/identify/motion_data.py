@@ -187,10 +187,8 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
             inc = v[1:] * dt if integration == "held" else 0.5 * (v[1:] + v[:-1]) * dt
             x = np.concatenate([[0.0], np.cumsum(inc)])
         a = np.gradient(v, dt) if v.size > 1 else np.zeros_like(v)
-        runs = motion_segments(rest, min_length=2)
         rec_segs = []
-        for start, stop in runs:
-            s0 = start - 1 if start > 0 else start
+        for s0, start, stop in segment_bounds(rest):
             fit = np.ones(stop - s0, bool)
             if s0 < start:
                 fit[0] = False
@@ -208,6 +206,19 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
     return MotionData(tuple(segs), tuple(r.name for r in recs), units,
                       drives.pop() if len(drives) == 1 else "mixed", integration, summary, prov,
                       _describe_rests(rests, min_rest))
+
+
+def segment_bounds(rest) -> list[tuple[int, int, int]]:
+    """``(s0, start, stop)`` of every run of motion between rests, each simulated from the unloaded state.
+
+    ``start:stop`` are the run's samples; ``s0`` is where its simulation starts: the last
+    rest sample before the run (the drive was disabled there, so the axis holds no
+    load), or ``start`` itself for a run at the beginning of the record. Sample ``s0`` is
+    not fitted when ``s0 < start``. The force-driven fit
+    (:func:`~frictionkit.identify.fit_output_error`) and the motion-driven one cut their
+    records the same way.
+    """
+    return [(start - 1 if start > 0 else start, start, stop) for start, stop in motion_segments(rest, min_length=2)]
 
 
 # --------------------------------------------------------------------------- prediction

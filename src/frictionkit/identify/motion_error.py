@@ -26,6 +26,7 @@ registered later): parameters are read from the law's fields
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Mapping, Sequence
@@ -40,6 +41,7 @@ from ..models.static import Directional
 from . import identifiability as idf
 from ._advice import advisor, level, time_constants, unit
 from ._law_params import LawTemplate, base_name, is_log
+from .fit_options import MOTION_ERROR_FIT, FitOptions, fit_settings
 from .motion_data import MotionData, _errors, _simulate_segments, _typical, evaluate_motion, motion_data
 from .result import IdentificationResult
 
@@ -263,14 +265,8 @@ def fit_motion_error(
     offset: float = 0.0,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     max_presliding: float | None = None,
-    starts="auto",
-    refine: int = 2,
-    seed: int = 0,
-    profile: bool = True,
-    max_nfev: int = 300,
-    ftol: float = 1e-10,
-    xtol: float = 1e-10,
-    raise_on_failure: bool = False,
+    fit: FitOptions | None = None,
+    **settings,
 ) -> IdentificationResult:
     """Fit a dynamic friction law with the recorded motion as input and the force as output.
 
@@ -306,23 +302,28 @@ def fit_motion_error(
         level). A record sampled far slower than the bristle dynamics cannot bound
         the stiffness from below by itself; without this bound a fit may explain a
         logger's one-sample lag by half a radian of "bristle" deflection.
-    starts : "auto" or int
-        ``"auto"``: the start model with its dynamic parameters (``sigma0``,
-        ``sigma1``, ``k``, ``C``) scaled together by 10^-2 … 10^4, screened by cost;
-        an integer ``n``: the start and ``n - 1`` random log perturbations (factor e^±1.5).
-    refine : int
-        How many of the best-screened starts are optimised to convergence.
-    seed : int
-        Seed of the random starts.
-    profile : bool
-        Profile every positive parameter (re-optimising the others) at factors
-        10^±0.25 … 10^±3: the intervals then come from the profile and a flat
-        profile is reported. Costs about ``10 p`` small optimisations.
-    max_nfev, ftol, xtol
-        :func:`scipy.optimize.least_squares` settings per refined start.
-    raise_on_failure : bool
-        Raise :class:`~frictionkit.IdentificationError` when the optimiser does not
-        converge; by default the result says ``success=False`` and why.
+    fit : FitOptions, optional
+        How the search runs (default :data:`.fit_options.MOTION_ERROR_FIT`), the same
+        object as the force-driven fit's; ``optimiser="lm"``, ``step_tol`` and
+        ``workers`` are the force drive's only.
+    **settings
+        Single :class:`~.fit_options.FitOptions` fields replacing those of ``fit``:
+
+        * ``starts``: ``"auto"`` (default) the start model with its dynamic parameters
+          (``sigma0``, ``sigma1``, ``k``, ``C``) scaled together by 10^-2 … 10^4,
+          screened by cost; an integer ``n``: the start and ``n - 1`` random log
+          perturbations (factor e^±1.5);
+        * ``refine`` (2): how many of the best-screened starts are optimised;
+        * ``seed`` (0): seed of the random starts;
+        * ``profile`` (True): profile every positive parameter (re-optimising the
+          others) at factors 10^±0.25 … 10^±3: the intervals then come from the profile
+          and a flat profile is reported. Costs about ``10 p`` small optimisations;
+        * ``max_nfev`` (300), ``ftol``, ``xtol`` (1e-10), ``diff_step`` (1e-4):
+          :func:`scipy.optimize.least_squares` settings per refined start and the
+          forward-difference step;
+        * ``raise_on_failure`` (False): raise :class:`~frictionkit.IdentificationError`
+          when the optimiser does not converge; by default the result says
+          ``success=False`` and why.
 
     Returns
     -------
@@ -358,6 +359,12 @@ def fit_motion_error(
     (1.0, True)
     """
     owner = "fit_motion_error"
+    cfg = fit_settings(owner, MOTION_ERROR_FIT, fit, settings,
+                       unused={"optimiser": "the motion-driven fit uses least_squares trf",
+                               "step_tol": "a Levenberg-Marquardt setting of the force-driven fit",
+                               "workers": "the motion-driven Jacobian runs in one thread"})
+    starts, refine, seed, profile = cfg.starts, cfg.refine, cfg.seed, cfg.profile
+    max_nfev, ftol, xtol, raise_on_failure = cfg.max_nfev, cfg.ftol, cfg.xtol, cfg.raise_on_failure
     md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,
                                                                 rests=rests, min_rest=min_rest)
     tmpl = LawTemplate.of(model0)
@@ -402,7 +409,8 @@ def fit_motion_error(
         prob.history = []
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            sol = least_squares(prob.fun, pts[i], jac=prob.jac, bounds=(lo, hi), method="trf", x_scale=1.0,
+            sol = least_squares(prob.fun, pts[i], jac=functools.partial(prob.jac, h=cfg.diff_step),
+                                bounds=(lo, hi), method="trf", x_scale=1.0,
                                 max_nfev=max_nfev, ftol=ftol, xtol=xtol, gtol=1e-12)
         runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
                      "njev": int(sol.njev or 0), "message": str(sol.message)})
@@ -423,7 +431,7 @@ def fit_motion_error(
     p_best = sol.x if sol is not None else p0
     theta = prob.to_nat(p_best)
     r = prob.fun(p_best)
-    Jt = prob.jac(p_best)
+    Jt = prob.jac(p_best, h=cfg.diff_step)
     # columns with respect to log(theta) (log scale) or theta (linear): d/dtheta = d/dp / scale
     Jt = np.where(prob.log, Jt, Jt / prob.scale)
     model, J_fit, off_fit = prob.parts(theta) if success or not failed_all else (None, inertia, offset)

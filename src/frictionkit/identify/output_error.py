@@ -30,10 +30,23 @@ How the simulations are organised (measured, see ``benchmarks/identify.py``):
 
 Standard errors come from ``s^2 (J^T J)^-1`` with the Jacobian at the optimum.
 
+Several records, and rests inside a record (the drive disabled: force logged exactly
+zero over ``min_rest`` samples, or a mask), are cut into **segments** the same way as
+the motion-driven fit does (:func:`.motion_data.segment_bounds`): each run between
+rests is simulated from rest (``x = v = 0``, unloaded bristles or elements) starting at
+the last rest sample, and the rest samples are not fitted.
+
+Start values belong to the library: ``fit_output_error(data, "lugre", static=...)``
+with ``initial="auto"`` (the default) computes the ones not given
+(:mod:`.start_values`); how the search runs is one :class:`.fit_options.FitOptions`.
+A fit that does not converge (or cannot pin its parameters) is a result with
+``success=False`` and a message; ``raise_on_failure=True`` raises instead.
+
 Layout: this module holds the fit itself; the parameters and the model they rebuild are
-in ``_oe_params``, the data and the LuGre start values in ``initial_guess``, residuals,
-Jacobian, start screening and bounds in ``_oe_problem``, the batched Levenberg–Marquardt
-in ``_lm``. The motion-driven direction (measured motion in, force compared) is
+in ``_oe_params``, the LuGre sub-breakaway guess in ``initial_guess``, the start model
+and the static map in ``start_values``, residuals, Jacobian, start screening and bounds
+in ``_oe_problem``, the batched Levenberg–Marquardt in ``_lm``, the search settings in
+``fit_options``. The motion-driven direction (measured motion in, force compared) is
 :mod:`.motion_error`.
 """
 
@@ -48,14 +61,16 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .. import _validate as val
-from ..data.recording import Recording
 from ..errors import DataError, IdentificationError, ParameterError
 from ..simulate.core import SimOptions
 from ._lm import _blas_limit, _levenberg_marquardt
 from ._oe_params import _Template, _unit
 from ._oe_problem import _batch_costs, _bounds_tr, _Problem, _start_points
-from .initial_guess import _arrays, initial_guess_lugre
+from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
+from .initial_guess import initial_guess_lugre
+from .motion_data import _as_records, _describe_rests, _rest_masks, segment_bounds
 from .result import IdentificationResult, parameter_statistics
+from .start_values import FORCE_DRIVE_FREE, output_error_start, static_law
 
 __all__ = ["fit_output_error", "initial_guess_lugre", "OUTPUT_ERROR_OPTIONS"]
 
@@ -66,123 +81,183 @@ __all__ = ["fit_output_error", "initial_guess_lugre", "OUTPUT_ERROR_OPTIONS"]
 OUTPUT_ERROR_OPTIONS = SimOptions(rtol=1e-5, atol_v=1e-7, atol_F=1e-5)
 
 
+def _force_segments(owner, data, compare, external_load, weight, rests, min_rest):
+    """The records cut into runs between rests, each a dict of arrays the fit simulates from rest."""
+    recs = _as_records(data)
+    if len(recs) == 1:
+        loads = [external_load]
+    else:
+        loads = [None] * len(recs) if external_load is None else list(external_load)
+    if len(loads) != len(recs):
+        raise DataError(f"{owner}: {len(recs)} recordings but {len(loads)} external_load arrays")
+    if weight is not None and len(recs) > 1:
+        raise ParameterError(f"{owner}: weight= is for one recording; with {len(recs)} recordings give none")
+    for r in recs:
+        r.require("F")
+    masks = _rest_masks(rests, recs, min_rest)
+    segs, summary = [], {}
+    dt = None
+    for k, (rec, load, rest) in enumerate(zip(recs, loads, masks)):
+        if not rec.is_regular:
+            raise DataError(f"recording '{rec.name}': irregular sampling; call Recording.resample() first")
+        u = np.asarray(rec.force(), dtype=float)
+        if load is not None:
+            load = val.signal("external_load", load)
+            if load.size != u.size:
+                raise DataError(f"{owner}: external_load has {load.size} samples, the recording {u.size}")
+            u = u - load
+        y_all = rec.x if compare == "x" else rec.v
+        if y_all is None:
+            raise DataError(f"recording '{rec.name}': compare = {compare!r} needs the signal {compare!r}")
+        y_all = np.asarray(y_all, float)
+        w_all = np.ones(u.size) if weight is None else val.signal("weight", weight)
+        if w_all.size != u.size or (w_all < 0).any():
+            raise DataError("weight must have one non-negative entry per sample")
+        dt_k = float(np.median(np.diff(rec.t)))
+        if dt is None:
+            dt = dt_k
+        elif abs(dt_k - dt) > 1e-9 * dt:
+            raise DataError(f"{owner}: recording {k} is sampled every {dt_k:.6g} s, recording 0 every {dt:.6g} s")
+        bounds = segment_bounds(rest)
+        for s0, _start, stop in bounds:
+            sl = slice(s0, stop)
+            y = y_all[sl] - y_all[s0] if compare == "x" else y_all[sl]
+            w = w_all[sl].copy()
+            w[0] = 0.0  # the initial state: from rest by assumption, never fitted
+            x = None if rec.x is None else np.asarray(rec.x, float)[sl] - float(rec.x[s0])
+            v = None if rec.v is None else np.asarray(rec.v, float)[sl]
+            segs.append({"record": rec.name, "record_index": k, "t": rec.t[sl], "u": u[sl], "y": y, "w": w,
+                         "x": x, "v": v})
+        summary[rec.name] = {"samples": rec.n, "rest_samples": int(rest.sum()),
+                             "segments": [[int(a), int(b)] for _, a, b in bounds], "dt": dt_k}
+    if not segs:
+        raise DataError(f"{owner}: no motion to fit: every sample is at rest (force logged exactly 0 everywhere?)")
+    return recs, segs, summary, dt
+
+
 def fit_output_error(
     data,
-    model0,
+    model0="lugre",
     *,
-    free: Sequence[str] = ("sigma0", "sigma1"),
+    static=None,
+    initial="auto",
+    free: Sequence[str] | None = None,
     plant_mass: float,
     offset: float = 0.0,
     external_load=None,
     compare: str = "v",
     bounds: Mapping[str, tuple[float, float]] | None = None,
-    starts: int = 1,
-    refine: int = 1,
-    seed: int = 0,
     weight=None,
+    rests="auto",
+    min_rest: int = 3,
+    elements: int = 3,
     options: SimOptions | None = None,
-    optimiser: str = "trf",
-    max_nfev: int = 200,
-    ftol: float = 1e-8,
-    xtol: float = 1e-8,
-    step_tol: float = 0.02,
-    workers: int | None = None,
-    diff_step: float = 1e-3,
+    fit: FitOptions | None = None,
     progress: Callable[[int, int, float], None] | None = None,
+    **settings,
 ) -> IdentificationResult:
     """Fit dynamic-friction parameters by simulated-vs-measured output error (seed 002 eq. 12).
 
     The model ``m a = u - F(model) - offset`` is simulated from rest with the
     measured force ``u`` and the parameters named in ``free`` minimise
     ``sum_k w_k (y_k - y_hat_k)^2`` with ``y`` the velocity (``compare="v"``) or the
-    position relative to its first sample (``compare="x"``).
+    position relative to the segment's first sample (``compare="x"``).
 
     Parameters
     ----------
-    data : Recording or mapping, or a list of them
+    data : Recording or mapping, or a list / dict of them
         Uniformly sampled ``t`` [s], force ``F`` (or ``u``) [N] and the compared
-        signal ``v`` [m/s] or ``x`` [m]. A list: the recordings (same sampling period)
-        are fitted jointly, each simulated from rest on the single-axis kernel, the
-        residuals stacked (``external_load`` is then a list with one array or None per
-        recording; ``weight`` is not accepted).
-    model0 : LuGre or GMS
-        Structure and start values (the parameters not in ``free`` stay fixed).
-    free : sequence of str
-        Parameters to fit: ``sigma0``, ``sigma1`` (LuGre); ``k1..kM``, ``xi1..xiM``,
-        ``C``, or ``k``/``xi`` for all elements (GMS); ``Fc``, ``Fs``, ``vs``,
-        ``delta``, ``sigma2`` (both directions) or with ``_pos``/``_neg``; ``m``;
-        ``offset``.
+        signal ``v`` [m/s] or ``x`` [m]. Several records (same sampling period) are
+        fitted jointly; every record is cut at its rests (``rests``) and every run
+        between rests is simulated from rest, starting at the last rest sample.
+    model0 : "lugre", "gms", or a LuGre / GMS law
+        A name: the structure, with ``static`` the map and ``initial`` the start
+        values. A law: structure and start values as given (``static`` and an
+        ``initial`` mapping are then refused).
+    static : law, static-map result, or path, optional
+        With a model name: the static map — a ``Stribeck``/``Directional`` law, the
+        result of :func:`~frictionkit.identify.fit_static_map`, or the JSON file
+        ``identify static --json`` wrote.
+    initial : "auto" or mapping
+        ``"auto"`` (default): start values not given are computed from the data
+        (:func:`.start_values.output_error_start`: LuGre ``sigma0`` from the
+        sub-breakaway branches, ``sigma1`` from critical damping; GMS stiffnesses
+        sharing that total). A mapping gives some of them (LuGre ``sigma0``,
+        ``sigma1``; GMS ``k``, ``xi``, ``C``), the rest are computed.
+    free : sequence of str, optional
+        Parameters to fit (default LuGre ``sigma0, sigma1``; GMS ``k``):
+        ``sigma0``, ``sigma1`` (LuGre); ``k1..kM``, ``xi1..xiM``, ``C``, or
+        ``k``/``xi`` for all elements (GMS); ``Fc``, ``Fs``, ``vs``, ``delta``,
+        ``sigma2`` (both directions) or with ``_pos``/``_neg``; ``m``; ``offset``.
     plant_mass : float
         Moving mass [kg] (start value when ``"m"`` is free).
     offset : float
         Constant force [N] (start value when ``"offset"`` is free).
-    external_load : array_like, optional
+    external_load : array_like, or a list of them
         A known load force [N] per sample, e.g. gravity evaluated on the measured
         position (seed 002 eq. 13: ``G2 = m g X sin(theta)``); it acts like friction,
         ``m a = u - F - offset - external_load``. It is taken as given (not fed back from
         the simulated position): the single-axis kernels stay usable, and the error
         this makes is the load's change over the simulated-vs-measured position
-        difference, small wherever the fit is good.
+        difference, small wherever the fit is good. One array (or None) per record.
     compare : {"v", "x"}
         Compared signal.
     bounds : mapping, optional
         ``{name: (low, high)}`` in natural units; default ``[0, inf)`` for
         non-negative parameters, ``(0, inf)`` for positive ones, unbounded ``offset``.
-    starts : int
-        Number of start points: the given values and ``starts - 1`` random
-        perturbations (factor ``e^±1.5`` for log-parameters, ±50 % otherwise),
-        screened by one :func:`~frictionkit.simulate_batch` call.
-    refine : int
-        How many of the best-screened starts are optimised to convergence.
-    seed : int
-        Random seed of the start perturbations.
     weight : array_like, optional
-        Per-sample weights (default 1; sample 0 never counts).
+        Per-sample weights of one record (default 1; a segment's first sample never counts).
+    rests : "auto", None, array of bool, or one per record
+        Where the drive is disabled (state reset, not fitted): ``"auto"`` finds runs of
+        force logged exactly 0 over ``min_rest`` samples
+        (:func:`frictionkit.data.find_rests`); a mask gives them (True = rest); None:
+        no rests.
+    min_rest : int
+        Shortest run of zero force taken as a rest with ``rests="auto"``.
+    elements : int
+        GMS elements when ``model0="gms"`` and ``k``, ``xi`` are not given.
     options : SimOptions, optional
         Integrator tolerances (default :data:`OUTPUT_ERROR_OPTIONS`).
-    optimiser : {"trf", "lm"}
-        ``"trf"`` (default): :func:`scipy.optimize.least_squares` trust-region
-        reflective. ``"lm"``: Levenberg–Marquardt whose trial steps (three damping
-        values) are judged in one :func:`~frictionkit.simulate_batch` call per
-        iteration. Measured: on the 6-parameter LuGre benchmark ``"lm"`` needs
-        ~190 simulations against ~260 for ``"trf"``, but on the GMS stiffness
-        round trip it stalls on the non-smooth cost (4.7e-7 vs 2.6e-9), so
-        ``"trf"`` is the default.
-    max_nfev : int
-        Iteration limit (``"lm"``) or evaluation limit (``"trf"``) per refined start.
-    ftol, xtol
-        Relative cost-reduction and (``"trf"`` only) step tolerances.
-    step_tol : float
-        ``"lm"`` stops when every step component is below ``step_tol`` times the
-        parameter's standard error: further iterations cannot change the result
-        by a statistically visible amount.
-    workers : int, optional
-        Threads for the Jacobian simulations (default: CPU count).
-    diff_step : float
-        Forward-difference step of the transformed parameters (relative for
-        log-parameters). 1e-3 is large against the integrator noise (rtol 1e-6) yet
-        small against the curvature; measured on GMS round trips, 1e-4 stalls in
-        false minima and 1e-2 biases the result.
+    fit : FitOptions, optional
+        How the search runs (default :data:`.fit_options.OUTPUT_ERROR_FIT`: one start,
+        ``"trf"``, ``max_nfev=200``, ``ftol = xtol = 1e-8``, ``diff_step=1e-3``,
+        ``raise_on_failure=False``).
     progress : callable, optional
         Called after every residual evaluation as ``progress(nfev, simulations, cost)``
         (the CLI shows it as a live status line). Exceptions from it propagate.
+    **settings
+        Single :class:`~.fit_options.FitOptions` fields replacing those of ``fit``:
+        ``starts``, ``refine``, ``seed``, ``optimiser``, ``max_nfev``, ``ftol``,
+        ``xtol``, ``step_tol``, ``workers``, ``diff_step``, ``raise_on_failure``.
+        ``optimiser="lm"``: Levenberg–Marquardt whose trial steps (three damping values)
+        are judged in one :func:`~frictionkit.simulate_batch` call per iteration
+        (measured: ~190 simulations against ~260 for ``"trf"`` on the 6-parameter LuGre
+        benchmark, but it stalls on the GMS stiffness round trip: 4.7e-7 vs 2.6e-9).
+        ``diff_step`` 1e-3 is large against the integrator noise yet small against the
+        curvature (measured on GMS round trips: 1e-4 stalls in false minima, 1e-2 biases).
 
     Returns
     -------
     IdentificationResult
-        ``kind="output_error"``; ``model`` the fitted LuGre/GMS; ``diagnostics``
-        holds ``nfev``, ``njev``, ``status``, ``cost_history``, ``start_costs``,
-        ``mass``, ``offset``, ``condition_number``; ``data`` holds ``t``, ``y``, ``y_pred``.
+        ``kind="output_error"``; ``model`` the fitted LuGre/GMS (None when no
+        simulation succeeded); ``success`` False when the optimiser did not converge or
+        the parameters are not identifiable on this data (``message`` says which,
+        ``diagnostics["status"]`` is the optimiser's status, 0 = evaluation limit);
+        ``diagnostics`` holds ``nfev``, ``njev``, ``status``, ``cost_history``,
+        ``start_costs``, ``mass``, ``offset``, ``condition_number``, ``segments`` (per
+        record: samples, rest samples, runs), ``initial`` (computed start values);
+        ``data`` holds ``t``, ``y``, ``y_pred`` (fitted runs, records one after another).
 
     Raises
     ------
     ParameterError
-        Unknown or repeated parameter names, bad settings.
+        Unknown or repeated parameter names, bad settings, a start value outside its bounds.
     DataError
-        Missing signals, irregular sampling.
+        Missing signals, irregular sampling, no motion, no pre-sliding branch for an
+        ``"auto"`` start value.
     IdentificationError
-        Every start fails to simulate, the optimiser stops without convergence
-        (``max_nfev`` reached), or the Jacobian at the optimum is singular
+        Only with ``raise_on_failure=True``: every start fails to simulate, the
+        optimiser stops without convergence, or the Jacobian at the optimum is singular
         (a parameter has no effect on the output, or parameters are confounded).
 
     Examples
@@ -194,85 +269,125 @@ def fit_output_error(
     >>> sim = fk.simulate(true, plant=fk.Mass(1.0), force=u, dt=dt)
     >>> start = fk.LuGre(true.static, sigma0=3e4, sigma1=100.0)
     >>> res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0)
-    >>> round(res["sigma0"] / 1e5, 2)           # within 1 % of the truth
-    1.0
+    >>> round(res["sigma0"] / 1e5, 2), res.success           # within 1 % of the truth
+    (1.0, True)
     """
     owner = "fit_output_error"
-    if optimiser not in ("lm", "trf"):
-        raise ParameterError(f"{owner}: optimiser = {optimiser!r}: must be 'lm' or 'trf'")
+    cfg = fit_settings(owner, OUTPUT_ERROR_FIT, fit, settings,
+                       unused={"profile": "the force-driven fit has no likelihood profiles"})
+    if cfg.starts == "auto":
+        raise ParameterError(f"{owner}: starts = 'auto' is the motion-driven start grid; give an integer >= 1")
     if compare not in ("v", "x"):
         raise ParameterError(f"{owner}: compare = {compare!r}: must be 'v' or 'x'")
     plant_mass = val.positive(owner, "plant_mass", plant_mass)
     offset = val.finite(owner, "offset", offset)
-    if not isinstance(starts, (int, np.integer)) or starts < 1:
-        raise ParameterError(f"{owner}: starts = {starts!r}: must be an integer >= 1")
-    refine = max(1, min(int(refine), int(starts)))
-    records = list(data) if isinstance(data, (list, tuple)) else [data]
-    if not records:
-        raise DataError(f"{owner}: data is an empty list; give a recording or a list of recordings")
-    if len(records) == 1:
-        loads = [external_load]
-    else:
-        loads = [None] * len(records) if external_load is None else list(external_load)
-    if len(loads) != len(records):
-        raise DataError(f"{owner}: {len(records)} recordings but {len(loads)} external_load arrays")
-    if weight is not None and len(records) > 1:
-        raise ParameterError(f"{owner}: weight= is for one recording; with {len(records)} recordings give none")
-    ts, us, ys, ws, segments = [], [], [], [], []
-    for k, (rec_k, load_k) in enumerate(zip(records, loads)):
-        t, u, x, v, prov_k, name_k = _arrays(rec_k)
-        if k == 0:
-            prov, name = prov_k, name_k
-        if load_k is not None:
-            load = val.signal("external_load", load_k)
-            if load.size != u.size:
-                raise DataError(f"{owner}: external_load has {load.size} samples, the recording {u.size}")
-            u = u - load
-            prov["external_load"] = "given per sample (subtracted from the input force)"
-        y = x if compare == "x" else v
-        if y is None:
-            raise DataError(f"recording '{name_k}': compare = {compare!r} needs the signal {compare!r}")
-        y = np.asarray(y, float)
-        if compare == "x":
-            y = y - y[0]
-        w = np.ones(u.size) if weight is None else val.signal("weight", weight)
-        if w.size != u.size or (w < 0).any():
-            raise DataError("weight must have one non-negative entry per sample")
-        w = w.copy()
-        w[0] = 0.0
-        dt_k = float(np.median(np.diff(t)))
-        if k == 0:
-            dt = dt_k
-        elif abs(dt_k - dt) > 1e-9 * dt:
-            raise DataError(f"{owner}: recording {k} is sampled every {dt_k:.6g} s, recording 0 every {dt:.6g} s")
-        n0 = sum(a.size for a in us)
-        segments.append((n0, n0 + u.size))
-        ts.append(t if not ts else t - t[0] + ts[-1][-1] + dt)  # records one after the other
-        us.append(u)
-        ys.append(y)
-        ws.append(w)
-    t, u, y, w = (np.concatenate(a) for a in (ts, us, ys, ws))
-    if len(records) > 1:
-        prov["records"] = len(records)
-    sw = np.sqrt(w)
-    tmpl = _Template.of(model0, plant_mass, offset)
-    names = tmpl.expand(free)
-    theta0 = np.array([tmpl.get(n) for n in names])
-    options = options or OUTPUT_ERROR_OPTIONS
-    workers = workers or os.cpu_count() or 1
-    prob = _Problem(tmpl, names, u, dt, y, compare, sw, options, theta0, workers)
-    prob.segments = segments
-    prob.diff_step = val.positive(owner, "diff_step", diff_step)
     if progress is not None and not callable(progress):
         raise ParameterError(f"{owner}: progress = {progress!r}: must be callable(nfev, simulations, cost) or None")
+    if isinstance(data, (list, tuple)) and not data:
+        raise DataError(f"{owner}: data is an empty list; give a recording or a list of recordings")
+    recs, segs, seg_summary, dt = _force_segments(owner, data, compare, external_load, weight, rests, min_rest)
+
+    # --- the start model: given, or computed from the data (initial="auto")
+    computed: dict = {}
+    start_from = "given"
+    if isinstance(model0, str):
+        start_from = "auto" if initial == "auto" else "auto, some given"
+        kind = model0.lower()
+        if not (initial == "auto" or isinstance(initial, Mapping)):
+            raise ParameterError(f"{owner}: initial = {initial!r}: must be 'auto' or a mapping of start values")
+        law = static_law(static, owner)
+        model0, computed = output_error_start(
+            kind, law, [{"t": s["t"], "F": s["u"], "x": s["x"], "v": s["v"]} for s in segs],
+            plant_mass=plant_mass, given=initial if isinstance(initial, Mapping) else None, elements=elements,
+            owner=owner)
+    else:
+        if static is not None:
+            raise ParameterError(f"{owner}: static= is for a model name (model0='lugre' or 'gms'); "
+                                 f"the {type(model0).__name__} given carries its own static map")
+        if initial != "auto":
+            raise ParameterError(f"{owner}: initial = {initial!r} with a {type(model0).__name__} given: its values "
+                                 "are the start; give model0='lugre'/'gms' to compute some of them")
+    tmpl = _Template.of(model0, plant_mass, offset)
+    names = tmpl.expand(free if free is not None else FORCE_DRIVE_FREE[tmpl.kind])
+
+    shift, ts, last = {}, [], None  # records one after the other on the time axis
+    for s in segs:
+        k = s["record_index"]
+        if k not in shift:
+            shift[k] = 0.0 if last is None else last + dt - float(s["t"][0])
+        ts.append(s["t"] + shift[k])
+        last = float(ts[-1][-1])
+    t = np.concatenate(ts)
+    u, y, w = (np.concatenate([s[k] for s in segs]) for k in ("u", "y", "w"))
+    edges = np.cumsum([0] + [s["u"].size for s in segs])
+    segments = [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:])]
+    sw = np.sqrt(w)
+    theta0 = np.array([tmpl.get(n) for n in names])
+    options = options or OUTPUT_ERROR_OPTIONS
+    workers = cfg.workers or os.cpu_count() or 1
+    prob = _Problem(tmpl, names, u, dt, y, compare, sw, options, theta0, workers)
+    prob.segments = segments
+    prob.diff_step = cfg.diff_step
     prob.progress = progress
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):
         j = int(np.flatnonzero((p0 < lo) | (p0 > hi))[0])
         raise ParameterError(f"{owner}: start value {names[j]} = {theta0[j]:.6g} lies outside its bounds")
-    rng = np.random.default_rng(seed)
-    pts = _start_points(p0, lo, hi, prob.is_log, int(starts), rng)
+    n_obs = int((w > 0).sum())
+    dof = n_obs - len(names)
+    if dof <= 0:
+        raise DataError(f"{owner}: {n_obs} fitted samples for {len(names)} parameters")
+    rng = np.random.default_rng(cfg.seed)
+    pts = _start_points(p0, lo, hi, prob.is_log, int(cfg.starts), rng)
+    refine = min(cfg.refine, len(pts))
+
+    units_map = {"F": recs[0].units["F"], "x": recs[0].units["x"]}
+    prov = dict(recs[0].provenance)
+    if len(recs) > 1:
+        prov["records"] = len(recs)
+    prov.update({"recording": recs[0].name if len(recs) == 1 else [r.name for r in recs],
+                 "units": {"F": units_map["F"], "x": units_map["x"],
+                           compare: f"{units_map['x']}/s" if compare == "v" else units_map["x"]},
+                 "procedure": {"method": "output error (seed 002 eq. 12)", "drive": "force", "compare": compare,
+                               "rests": _describe_rests(rests, min_rest),
+                               "initial": start_from,
+                               "free": list(names),
+                               "optimiser": ("Levenberg-Marquardt, batched trial steps" if cfg.optimiser == "lm"
+                                             else "scipy.optimize.least_squares trf")
+                                            + ", forward-difference Jacobian (threaded nogil simulations)",
+                               "starts": int(cfg.starts), "refine": refine, "seed": int(cfg.seed),
+                               "rtol": options.rtol, "atol_v": options.atol_v, "atol_F": options.atol_F}})
+    units = tuple(_unit(n, units_map["F"], units_map["x"]) for n in names)
+
+    def failed(message: str, theta, sol=None, run=None, start_costs=None) -> IdentificationResult:
+        if cfg.raise_on_failure:
+            raise IdentificationError(f"{owner}: {message}")
+        try:
+            model, m_fit, off_fit = tmpl.build(names, theta)
+            sim = prob.simulate_nat(theta)
+        except ParameterError:
+            model, sim, (m_fit, off_fit) = None, None, (plant_mass, offset)
+        y_pred = None if sim is None else (sim.x if compare == "x" else sim.v)
+        ok = y_pred is not None and bool(np.all(np.isfinite(y_pred)))
+        resid = (y_pred - y)[w > 0] if ok else np.full(n_obs, np.nan)
+        nan = np.full(len(names), np.nan)
+        return IdentificationResult(
+            kind="output_error", model_name=tmpl.kind, model=model if ok else None, names=tuple(names),
+            values=theta, stderr=nan, ci95=np.column_stack([nan, nan]), units=units,
+            correlation=np.full((len(names), len(names)), np.nan),
+            rms=float(np.sqrt(np.mean(resid**2))),
+            relative_error_percent=float(100.0 * np.linalg.norm(resid) / max(np.linalg.norm(y[w > 0]), 1e-300)),
+            n_obs=n_obs, dof=dof, success=False, message=message, warnings=(f"not identified: {message}",),
+            diagnostics={"nfev": run["nfev"] if run else 0, "njev": run["njev"] if run else 0,
+                         "status": int(sol.status) if sol is not None else -1,
+                         "cost_history": run["history"] if run else [],
+                         "start_costs": [] if start_costs is None else start_costs.tolist(),
+                         "mass": float(m_fit), "offset": float(off_fit), "condition_number": math.inf,
+                         "simulations": int(prob.nsim), "segments": seg_summary, "initial": computed},
+            provenance=prov,
+            data={"t": t, "y": y, "y_pred": y_pred} if ok else {"t": t, "y": y},
+        )
 
     # --- screening: one batched simulation for all starts (SSE only)
     start_costs = np.full(len(pts), np.inf)
@@ -280,7 +395,8 @@ def fit_output_error(
         start_costs = _batch_costs(prob, pts, w, options)
         order = [int(i) for i in np.argsort(start_costs) if np.isfinite(start_costs[i])]
         if not order:
-            raise IdentificationError(f"{owner}: the simulation failed at every one of the {len(pts)} start points")
+            return failed(f"the simulation failed at every one of the {len(pts)} start points; check the start "
+                          "values and bounds", theta0, start_costs=start_costs)
     else:
         order = [0]
 
@@ -290,50 +406,44 @@ def fit_output_error(
         prob.cost_history = []
         with warnings.catch_warnings(), _blas_limit():
             warnings.simplefilter("ignore", RuntimeWarning)
-            if optimiser == "lm":
-                sol = _levenberg_marquardt(prob, pts[i], lo, hi, w, options, max_iter=max_nfev, ftol=ftol,
-                                           step_tol=step_tol)
+            if cfg.optimiser == "lm":
+                sol = _levenberg_marquardt(prob, pts[i], lo, hi, w, options, max_iter=cfg.max_nfev, ftol=cfg.ftol,
+                                           step_tol=cfg.step_tol)
             else:
                 sol = least_squares(prob.fun, pts[i], jac=prob.jac, bounds=(lo, hi), method="trf",
-                                    x_scale=1.0, max_nfev=max_nfev, ftol=ftol, xtol=xtol, gtol=1e-12)
+                                    x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
         runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
                      "njev": int(sol.njev or 0), "message": sol.message, "history": list(prob.cost_history)})
         if best is None or sol.cost < best[0].cost:
             best = (sol, runs[-1])
     sol, run = best
-    if not np.isfinite(sol.cost) or sol.cost >= 0.5 * prob.big**2:
-        raise IdentificationError(f"{owner}: the simulation fails at the optimum; check the start values and bounds")
-    if sol.status == 0:
-        raise IdentificationError(
-            f"{owner}: {optimiser} did not converge within max_nfev = {max_nfev} "
-            f"{'iterations' if optimiser == 'lm' else 'evaluations'} "
-            f"(cost {run['history'][0]:.4g} -> {sol.cost:.4g}); raise max_nfev or improve the start values"
-        )
-
     theta = prob.to_nat(sol.x)
+    if not np.isfinite(sol.cost) or sol.cost >= 0.5 * prob.big**2:
+        return failed("the simulation fails at the optimum; check the start values and bounds", theta, sol, run,
+                      start_costs)
+    converged = sol.status != 0
+    message = str(sol.message) if converged else (
+        f"{cfg.optimiser} did not converge within max_nfev = {cfg.max_nfev} "
+        f"{'iterations' if cfg.optimiser == 'lm' else 'evaluations'} "
+        f"(cost {run['history'][0]:.4g} -> {sol.cost:.4g}); raise max_nfev or improve the start values")
+    if not converged and cfg.raise_on_failure:
+        raise IdentificationError(f"{owner}: {message}")
+
     r = prob.fun(sol.x)
     J = prob.jac(sol.x)
     # natural-parameter Jacobian: d r / d theta = d r / d p * d p / d theta
     dpdth = np.where(prob.is_log, 1.0 / theta, 1.0 / prob.scale)
-    n_obs = int((w > 0).sum())
-    dof = n_obs - len(names)
-    if dof <= 0:
-        raise IdentificationError(f"{owner}: {n_obs} samples for {len(names)} parameters")
     colnorm = np.linalg.norm(J, axis=0)
     dead = [names[j] for j in range(len(names)) if colnorm[j] <= 1e-10 * max(colnorm.max(), 1e-300)]
     if dead:
-        raise IdentificationError(
-            f"{owner}: unidentifiable — {', '.join(dead)} has no effect on the simulated {compare} "
-            "for this data (zero Jacobian column); fix it or use data that excite it"
-        )
+        return failed(f"unidentifiable — {', '.join(dead)} has no effect on the simulated {compare} for this data "
+                      "(zero Jacobian column); fix it or use data that excite it", theta, sol, run, start_costs)
     Js = J / colnorm
     sv = np.linalg.svd(Js, compute_uv=False)
     cond = float(sv[0] / sv[-1]) if sv[-1] > 0 else math.inf
     if not np.isfinite(cond) or cond > 1e8:
-        raise IdentificationError(
-            f"{owner}: unidentifiable — the Jacobian is singular (condition number {cond:.3g}); "
-            f"the parameters {names} are confounded on this data"
-        )
+        return failed(f"unidentifiable — the Jacobian is singular (condition number {cond:.3g}); the parameters "
+                      f"{names} are confounded on this data", theta, sol, run, start_costs)
     s2 = float(r @ r) / dof
     # covariance in column-normalised transformed coordinates (well conditioned), then
     # mapped to natural units: cov_theta = D C D with D = d theta / d p
@@ -351,18 +461,9 @@ def fit_output_error(
         if np.isfinite(lo[j]) and abs(sol.x[j] - lo[j]) < 1e-6 * max(1, abs(lo[j])) or \
                 np.isfinite(hi[j]) and abs(sol.x[j] - hi[j]) < 1e-6 * max(1, abs(hi[j])):
             warns.append(f"{nm} = {theta[j]:.6g} sits on its bound")
+    if not converged:
+        warns.append(f"not converged: {message}")
     resid = (y_pred - y)[w > 0]
-    units_map = {"F": "N", "x": "m"}
-    if isinstance(data, Recording):
-        units_map = {"F": data.units["F"], "x": data.units["x"]}
-    prov.update({"recording": name, "units": {"F": units_map["F"], "x": units_map["x"],
-                                               compare: f"{units_map['x']}/s" if compare == "v" else units_map["x"]},
-                 "procedure": {"method": "output error (seed 002 eq. 12)", "compare": compare,
-                               "optimiser": ("Levenberg-Marquardt, batched trial steps" if optimiser == "lm"
-                                             else "scipy.optimize.least_squares trf")
-                                            + ", forward-difference Jacobian (threaded nogil simulations)",
-                               "starts": int(starts), "refine": refine, "seed": int(seed),
-                               "rtol": options.rtol, "atol_v": options.atol_v, "atol_F": options.atol_F}})
     return IdentificationResult(
         kind="output_error",
         model_name=tmpl.kind,
@@ -371,21 +472,21 @@ def fit_output_error(
         values=theta,
         stderr=st["stderr"],
         ci95=st["ci"],
-        units=tuple(_unit(n, units_map["F"], units_map["x"]) for n in names),
+        units=units,
         correlation=st["correlation"],
         rms=float(np.sqrt(np.mean(resid**2))),
         relative_error_percent=float(100.0 * np.linalg.norm(resid) / max(np.linalg.norm(y[w > 0]), 1e-300)),
         n_obs=n_obs,
         dof=dof,
-        success=True,
-        message=str(sol.message),
+        success=bool(converged),
+        message=message,
         warnings=tuple(warns),
         diagnostics={"nfev": run["nfev"], "njev": run["njev"], "status": run["status"],
                      "iterations": run["njev"], "cost_history": run["history"],
                      "start_costs": start_costs.tolist(), "runs": [{k: v for k, v in rr.items() if k != "history"}
                                                                    for rr in runs],
                      "mass": float(m_fit), "offset": float(off_fit), "condition_number": cond,
-                     "simulations": int(prob.nsim)},
+                     "simulations": int(prob.nsim), "segments": seg_summary, "initial": computed},
         provenance=prov,
         data={"t": t, "y": y, "y_pred": y_pred},
     )

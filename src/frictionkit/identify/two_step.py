@@ -5,7 +5,11 @@ the kind (large inertia, low speed, friction-dominated near zero velocity):
 
 1. **static map** (eq. 10): the steady-state points of closed-loop constant-velocity runs in
    both directions (mean velocity and mean torque per run) are fitted per direction with eq. 9b
-   and a fixed exponent δ = 2 (or eq. 9a): ``Fc, Fs, vs, sigma2`` for each direction;
+   and a fixed exponent δ = 2 (or eq. 9a): ``Fc, Fs, vs, sigma2`` for each direction. Eq. 10
+   needs the speed of each run to be constant: a run whose velocity ripple (from its encoder
+   angle, :func:`constant_velocity_ripple`) exceeds :data:`MAX_RIPPLE_PERCENT` — a position loop
+   hunting where the map falls faster than the loop damps — is not a constant-velocity point and
+   is rejected by name (:func:`screen_constant_velocity`; our procedure, the paper has none);
 2. **dynamic parameters** (eq. 12): ``sigma0, sigma1`` by output error on an open-loop,
    torque-driven run below breakaway, the static map held fixed. The start values come from
    the same sub-breakaway triangle run (:func:`~frictionkit.identify.initial_guess_lugre`,
@@ -42,7 +46,18 @@ from .output_error import fit_output_error
 from .result import IdentificationResult
 from .static_map import fit_static_map
 
-__all__ = ["TwoStepResult", "fit_two_step", "velocity_nrmse", "simulate_run"]
+__all__ = ["TwoStepResult", "ConstantVelocityScreen", "fit_two_step", "velocity_nrmse", "simulate_run",
+           "constant_velocity_ripple", "screen_constant_velocity", "MAX_RIPPLE_PERCENT"]
+
+#: Largest velocity ripple [% of the mean speed, RMS] of a run that eq. 10 counts as a
+#: constant-velocity point. Eq. 10 equates a run's mean torque with ``T_fss(mean speed)``, which
+#: holds only for a constant speed. For an eq. 9b map (δ = 2) the averaging bias of a slow
+#: (quasi-static) ripple of relative RMS ``r`` is ``½ T''(v) v² r²``, at most ``0.83 r² (Fs − Fc)``
+#: (``max_u |u² (4u² − 2) e^{−u²}| / 2 = 0.83``, ``u = v / vs``), whatever the parameters: at 10 %
+#: below 1 % of the Stribeck hump. A hunting or stick-slip limit cycle is not quasi-static
+#: (the friction lags and sticks) and shows ripples of tens of per cent. Chosen from this
+#: argument before its effect on the SDSS fits was looked at (robustness over 3-50 %: README).
+MAX_RIPPLE_PERCENT = 10.0
 
 _SHAPES = {"9b": "exponential", "9a": "lorentzian"}
 _STATIC = ("Fc", "Fs", "vs", "sigma2")
@@ -80,6 +95,134 @@ def velocity_nrmse(model, run: Mapping, inertia: float) -> float:
     return float(100.0 * np.sqrt(np.mean((vh - v) ** 2)) / max(np.ptp(v), 1e-300))
 
 
+def constant_velocity_ripple(t, angle, *, window: float, resolution: float = 0.0, noise: float = 0.0) -> dict:
+    """Velocity ripple of one constant-velocity run from its encoder angle (the averaging window).
+
+    The angle is cut into consecutive windows of ``window`` [s]; each window's velocity is its
+    angle change / ``window``. The encoder's own share of their variance, ``2 (noise² +
+    resolution²/12) / window²`` (``noise`` RMS [rad], one count ``resolution`` [rad], both from
+    the data sheet), is subtracted. Choose ``window`` about a tenth of the period of the loop's
+    bandwidth (a limit cycle of the loop lives near it and passes such a window nearly unattenuated).
+
+    Returns ``{"v_mean": angle change / time [rad/s], "ripple_percent": sqrt(max(var − floor², 0))
+    / |v_mean| · 100, "floor_percent": the encoder's share · 100, "windows": count}``.
+    """
+    t = np.asarray(t, float)
+    x = np.asarray(angle, float)
+    if t.ndim != 1 or t.size != x.size or t.size < 3:
+        raise DataError(f"constant_velocity_ripple: t ({t.size} samples) and angle ({x.size}) must be "
+                        "1-D of one length >= 3")
+    if not (np.isfinite(window) and window > 0):
+        raise ParameterError(f"constant_velocity_ripple: window = {window!r}: must be finite and > 0 [s]")
+    for k, v in (("resolution", resolution), ("noise", noise)):
+        if not (np.isfinite(v) and v >= 0):
+            raise ParameterError(f"constant_velocity_ripple: {k} = {v!r}: must be finite and >= 0 [rad]")
+    dt = float(np.median(np.diff(t)))
+    k = max(int(round(window / dt)), 1)
+    xs = x[::k]
+    if xs.size < 3:
+        raise DataError(f"constant_velocity_ripple: {t[-1] - t[0]:.3g} s of data holds fewer than 2 windows "
+                        f"of {window:g} s")
+    w = k * dt
+    vw = np.diff(xs) / w
+    v_mean = float((x[-1] - x[0]) / (t[-1] - t[0]))
+    floor2 = 2.0 * (noise**2 + resolution**2 / 12.0) / w**2
+    scale = max(abs(v_mean), 1e-300)
+    return {"v_mean": v_mean, "ripple_percent": 100.0 * float(np.sqrt(max(np.var(vw) - floor2, 0.0))) / scale,
+            "floor_percent": 100.0 * float(np.sqrt(floor2)) / scale, "windows": int(vw.size)}
+
+
+@dataclass(frozen=True, eq=False)
+class ConstantVelocityScreen:
+    """Outcome of :func:`screen_constant_velocity`: which runs eq. 10 may use.
+
+    Attributes
+    ----------
+    status : int — 0 enough points kept in every direction; 1 fewer than ``min_points`` in one.
+    message : str — names the rejected runs.
+    v, F, ripple_percent : arrays — every run (mean speed, mean torque, ripple).
+    accepted : bool array — runs kept (ripple <= ``max_ripple_percent``).
+    max_ripple_percent : float
+    """
+
+    status: int
+    message: str
+    v: np.ndarray
+    F: np.ndarray
+    ripple_percent: np.ndarray
+    accepted: np.ndarray
+    max_ripple_percent: float
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    def steady(self) -> dict:
+        """``{"v", "F"}`` of the accepted runs (the points eq. 10 fits)."""
+        return {"v": self.v[self.accepted], "F": self.F[self.accepted]}
+
+    def rejected(self) -> list:
+        """``[{"speed_rad_s", "ripple_percent"}]`` of the rejected runs, in run order."""
+        return [{"speed_rad_s": float(v), "ripple_percent": float(r)}
+                for v, r, a in zip(self.v, self.ripple_percent, self.accepted) if not a]
+
+    def summary(self) -> str:
+        lines = [f"constant-velocity screen (ripple <= {self.max_ripple_percent:g} %): status {self.status} "
+                 f"({self.message})"]
+        for v, r, a in zip(self.v, self.ripple_percent, self.accepted):
+            lines.append(f"  {v:+.4e} rad/s  ripple {r:7.2f} %  {'kept' if a else 'REJECTED'}")
+        return "\n".join(lines)
+
+    def plot(self, ax=None):
+        """Ripple against |speed| per run, the threshold as a line."""
+        import matplotlib.pyplot as plt
+
+        new = ax is None
+        if new:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        a = self.accepted
+        ax.loglog(np.abs(self.v[a]), np.maximum(self.ripple_percent[a], 1e-3), "ko", ms=4, label="kept")
+        ax.loglog(np.abs(self.v[~a]), np.maximum(self.ripple_percent[~a], 1e-3), "rx", ms=7, label="rejected")
+        ax.axhline(self.max_ripple_percent, color="r", lw=0.8, ls="--")
+        ax.set_xlabel("|mean speed| [rad/s]")
+        ax.set_ylabel("velocity ripple [% RMS]")
+        ax.legend(fontsize=8)
+        if new:
+            ax.figure.tight_layout()
+        return ax
+
+
+def screen_constant_velocity(steady: Mapping, *, max_ripple_percent: float = MAX_RIPPLE_PERCENT,
+                             min_points: int = 5) -> ConstantVelocityScreen:
+    """Keep the runs of a constant-velocity campaign whose speed was constant (eq. 10's premise).
+
+    ``steady``: ``{"v", "F", "ripple_percent"}`` per run (:func:`constant_velocity_ripple` gives
+    the ripple from each run's encoder angle). A run whose ripple exceeds ``max_ripple_percent``
+    (:data:`MAX_RIPPLE_PERCENT`, argued there) is not a constant-velocity point: rejected and
+    named. ``status`` 1 when a direction keeps fewer than ``min_points`` runs (eq. 10 fits four
+    parameters per direction).
+    """
+    if "ripple_percent" not in steady:
+        raise DataError("screen_constant_velocity: steady has no 'ripple_percent' (constant_velocity_ripple per run)")
+    v = np.asarray(steady["v"], float)
+    F = np.asarray(steady["F"], float)
+    r = np.asarray(steady["ripple_percent"], float)
+    if not (v.shape == F.shape == r.shape and v.ndim == 1):
+        raise DataError(f"screen_constant_velocity: v, F, ripple_percent have {v.size}, {F.size}, {r.size} entries")
+    if not (np.isfinite(max_ripple_percent) and max_ripple_percent > 0):
+        raise ParameterError(f"screen_constant_velocity: max_ripple_percent = {max_ripple_percent!r}: must be > 0")
+    if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
+        raise ParameterError(f"screen_constant_velocity: min_points = {min_points!r}: must be an integer >= 1")
+    acc = np.isfinite(r) & (r <= max_ripple_percent)
+    rej = [f"{x:+.3e} rad/s ({p:.1f} %)" for x, p in zip(v, r) if not (np.isfinite(p) and p <= max_ripple_percent)]
+    short = [d for d, sel in (("positive", v > 0), ("negative", v < 0)) if sel.any() and (acc & sel).sum() < min_points]
+    msg = (f"kept {int(acc.sum())} of {v.size} runs"
+           + (f"; rejected (ripple > {max_ripple_percent:g} %): " + ", ".join(rej) if rej else "")
+           + (f"; too few points left in the {' and '.join(short)} direction (< {min_points})" if short else ""))
+    return ConstantVelocityScreen(status=1 if short else 0, message=msg, v=v, F=F, ripple_percent=r, accepted=acc,
+                                  max_ripple_percent=float(max_ripple_percent))
+
+
 def is_flagged(name: str, warnings) -> bool:
     """Whether a fit's warnings flag parameter ``name`` (``Fc_pos`` also matches a static-map
     warning ``"positive: Fc ..."``)."""
@@ -108,6 +251,8 @@ class TwoStepResult:
     order : str — ``"static_first"`` or ``"dynamic_first"``.
     initial_guess : dict — σ0, σ1 start values from the triangle run.
     nrmse_percent : dict — velocity NRMSE of the identified model per named run.
+    screen : ConstantVelocityScreen or None — the constant-velocity runs kept and rejected
+        (when ``steady`` carried ``ripple_percent``).
     """
 
     status: int
@@ -120,6 +265,7 @@ class TwoStepResult:
     initial_guess: Mapping = field(default_factory=dict)
     nrmse_percent: Mapping = field(default_factory=dict)
     inertia: float = 1.0
+    screen: ConstantVelocityScreen | None = None
 
     @property
     def success(self) -> bool:
@@ -149,6 +295,8 @@ class TwoStepResult:
                                                                 if k in ("sigma0", "sigma1")))
         for k, v in self.nrmse_percent.items():
             lines.append(f"  velocity NRMSE {k}: {v:.3g} %")
+        if self.screen is not None:
+            lines.append(f"  {self.screen.message}")
         for label, res in self.steps:
             for w in res.warnings:
                 lines.append(f"  [{label}] {w}")
@@ -244,6 +392,7 @@ def fit_two_step(
     zeta_guess: float = 1.0,
     starts: int = 1,
     max_nfev: int = 400,
+    max_ripple_percent: float | None = MAX_RIPPLE_PERCENT,
     progress: Callable[[str], None] | None = None,
 ) -> TwoStepResult:
     """Identify a LuGre law of a slow heavy rotary axis in two steps (seed 002 §3).
@@ -255,7 +404,9 @@ def fit_two_step(
         ``t`` [s], ``F`` axis torque [N·m], ``v`` measured velocity [rad/s], ``x`` measured angle
         [rad] (for the start values), optional ``load`` known load torque per sample [N·m].
     steady : mapping, optional — ``{"v": mean velocities, "F": mean torques}`` of the
-        constant-velocity runs, both directions (``order="static_first"``).
+        constant-velocity runs, both directions (``order="static_first"``); with
+        ``"ripple_percent"`` per run (:func:`constant_velocity_ripple`) the runs whose speed was
+        not constant are rejected first (:func:`screen_constant_velocity`, ``result.screen``).
     above : mapping, optional — a torque run **above breakaway** (``order="dynamic_first"``),
         same keys as ``triangle``.
     also_below : sequence of mappings — further open-loop runs below breakaway (same keys as
@@ -270,6 +421,8 @@ def fit_two_step(
     zeta_guess : float — damping-ratio guess of the pre-sliding oscillator for the σ1 start.
     starts : int — start points of the output-error fits (1: the triangle's guess only).
     max_nfev : int — evaluation limit of the output-error static fit (``dynamic_first``).
+    max_ripple_percent : float or None — the screen's threshold (:data:`MAX_RIPPLE_PERCENT`);
+        ``None`` keeps every run.
     progress : callable(label), optional — called before each step.
 
     Returns
@@ -308,7 +461,13 @@ def fit_two_step(
     tri = _run_arrays(triangle, "triangle")
     tri_rec = {"t": tri[0], "F": tri[1], "v": tri[2]}
     steps: list = []
-    static_res = dyn_res = None
+    static_res = dyn_res = screen = None
+    if order == "static_first" and max_ripple_percent is not None and "ripple_percent" in steady:
+        screen = screen_constant_velocity(steady, max_ripple_percent=max_ripple_percent)
+        if not screen.success:
+            return TwoStepResult(status=1, message=f"constant-velocity screen: {screen.message}", model=None,
+                                 static=None, dynamic=None, order=order, inertia=float(inertia), screen=screen)
+        steady = screen.steady()
 
     def dyn_fit(static_law, label):
         if "x" not in triangle:
@@ -323,7 +482,7 @@ def fit_two_step(
             loads.append(r[3])
         res = fit_output_error(recs if len(recs) > 1 else tri_rec, start, free=("sigma0", "sigma1"),
                                plant_mass=inertia, external_load=loads if len(recs) > 1 else tri[3],
-                               starts=starts)
+                               starts=starts, raise_on_failure=True)
         steps.append((label, res))
         return res, g
 
@@ -356,7 +515,8 @@ def fit_two_step(
             start = LuGre(first.model.static, sigma0=first["sigma0"], sigma1=first["sigma1"])
             static_res = fit_output_error({"t": ab[0], "F": ab[1], "v": ab[2]}, start, free=free,
                                           plant_mass=inertia, external_load=ab[3], starts=starts,
-                                          bounds=_static_bounds(start.static, ab), max_nfev=max_nfev)
+                                          bounds=_static_bounds(start.static, ab), max_nfev=max_nfev,
+                                          raise_on_failure=True)
             steps.append(("static map by output error (above breakaway)", static_res))
             step("sigma0, sigma1 again (ours)")
             dyn_res, _ = dyn_fit(static_res.model.static, "sigma0, sigma1 over the identified map (ours)")
@@ -364,7 +524,7 @@ def fit_two_step(
     except IdentificationError as exc:
         return TwoStepResult(status=1, message=f"step {len(steps) + 1} failed: {exc}", model=None,
                              static=static_res, dynamic=dyn_res, steps=tuple(steps), order=order,
-                             inertia=float(inertia))
+                             inertia=float(inertia), screen=screen)
     nrmse = {"triangle": velocity_nrmse(model, triangle, inertia)}
     if above is not None:
         nrmse["above"] = velocity_nrmse(model, above, inertia)
@@ -375,4 +535,4 @@ def fit_two_step(
     return TwoStepResult(status=0, message=msg, model=model, static=static_res, dynamic=dyn_res,
                          steps=tuple(steps), order=order,
                          initial_guess={k: float(v) for k, v in guess.items()}, nrmse_percent=nrmse,
-                         inertia=float(inertia))
+                         inertia=float(inertia), screen=screen)

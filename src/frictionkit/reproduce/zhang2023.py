@@ -86,10 +86,9 @@ from ..models.lugre import LuGre
 from ..models.static import Directional
 from ..presets import zhang2023 as Z
 from ..simulate.core import simulate
+from ..units import MM, UM
 
 R = Z.R
-MM = 1e-3
-UM = 1e-6
 
 #: Table 7/8 cases: (speeds, base speed [mm/s]).
 CASES = (("same", 6), ("same", 0), ("different", 6), ("different", 0))

@@ -10,10 +10,9 @@ import numpy as np
 from ...errors import ParameterError
 from ...models.gms import GMS
 from ...models.static import Directional, Stribeck
+from ...units import MM, UM
 
 # =========================================================================== paper values
-MM = 1e-3
-UM = 1e-6
 
 #: Lead ratio ``R = P_h / 2 pi`` [m/rad] (Table 2: P_h = 5 mm).
 R = 5e-3 / (2.0 * math.pi)

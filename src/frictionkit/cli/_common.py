@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import atomic_open, atomic_write_text, check_output_file
-from ..errors import DataError, FrictionKitError, ParameterError
+from ..errors import DataError, ParameterError
 
 #: Bounds of ``--*-scale`` factors (|scale|). Unit conversions in practice span
 #: nm -> m (1e-9) to V -> N gains of a few hundred; outside 1e-12 ... 1e12 the scaled data
@@ -170,74 +170,14 @@ def save_json(doc: Any, path: Path, *, indent: int = 2) -> None:
 
 
 # --------------------------------------------------------------------------- static-map JSON
-def _same(a: float, b: float) -> bool:
-    return a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= 1e-12 * max(abs(a), abs(b)))
-
-
-def _fields(law: Any) -> dict[str, float]:
-    return {k: float(getattr(law, k)) for k in ("Fc", "Fs", "vs", "delta", "sigma2")}
-
-
 def load_static_json(path: Path, option: str = "--static-json") -> Any:
-    """The static map (``Directional`` of two ``Stribeck``) in a JSON written by ``identify static --json``.
+    """The static map in a JSON written by ``identify static --json`` (one ``DataError`` naming the option).
 
-    Every way the file can be wrong ends in one :class:`~frictionkit.DataError` naming the
-    file and what is wrong: not UTF-8 text, not JSON, not an object, not a frictionkit
-    static-map result, a missing key, a value of the wrong type, a parameter that breaks
-    its rule, or a file edited in one place only (the top-level ``model``, the
-    ``parameters`` table and the per-direction ``parts`` must agree).
+    The checks are the library's (:func:`frictionkit.identify.start_values.load_static_law`).
     """
-    from ..identify import IdentificationResult, stribeck_model
-    from ..identify.result import JSON_FORMAT, model_from_dict, read_json_object
+    from ..identify.start_values import load_static_law
 
-    where = f"{option} '{path}'"
-    try:
-        doc = read_json_object(path, where)  # the library's checks: UTF-8, JSON, an object
-    except DataError as exc:
-        raise DataError(f"{exc}; expected the JSON of 'frictionkit identify static --json'") from None
-    if doc.get("format") != JSON_FORMAT:
-        raise DataError(f"{where}: not a frictionkit identification result "
-                        f"(\"format\" is {doc.get('format')!r}, expected {JSON_FORMAT!r})")
-    if doc.get("kind") != "static_map":
-        raise DataError(f"{where}: not a static-map result (\"kind\" is {doc.get('kind')!r}, expected 'static_map')")
-    try:
-        res = IdentificationResult.from_dict(doc)  # validated in the library (types, keys, model fields)
-        law = stribeck_model(res)
-        top = model_from_dict(doc["model"]) if doc.get("model") is not None else None
-    except KeyError as exc:
-        raise DataError(f"{where}: missing key {exc.args[0]!r}") from None
-    except FrictionKitError as exc:
-        raise DataError(f"{where}: {' '.join(str(exc).split())}") from None
-    except RecursionError:
-        raise DataError(f"{where}: JSON nested too deeply") from None
-    except (TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
-        raise DataError(f"{where}: malformed content ({type(exc).__name__}: {' '.join(str(exc).split())})") from None
-    sides = {"positive": ("pos", law.positive), "negative": ("neg", law.negative)}
-    if top is not None:
-        for side, (_, part) in sides.items():
-            sub = getattr(top, side, None)
-            if sub is None:
-                raise DataError(f"{where}: the top-level \"model\" ({type(top).__name__}) has no {side} direction")
-            for name, val in _fields(part).items():
-                other = getattr(sub, name, None)  # a CoulombViscous has no Fs, vs, delta
-                if other is None:
-                    continue
-                if not _same(float(other), val):
-                    raise DataError(f"{where}: the top-level \"model\" ({side}.{name} = {float(other):g}) disagrees "
-                                    f"with parts.{side}.model ({name} = {val:g}); the file was edited in one "
-                                    "place only — make them agree")
-    # the parameter tables: "Fc_pos" at the top level, "Fc" in each direction's part
-    rows = [("parameters", name, value, side, name[:-4]) for name, value in zip(res.names, res.values)
-            for side, (short, _) in sides.items() if name.endswith(f"_{short}")]
-    rows += [(f"parts.{side}.parameters", name, value, side, name) for side in sides
-             for name, value in zip(res.parts[side].names, res.parts[side].values)]
-    for table, name, value, side, field in rows:
-        want = _fields(sides[side][1]).get(field)
-        if want is not None and not _same(float(value), want):
-            raise DataError(f"{where}: \"{table}\".{name} = {float(value):g} disagrees with "
-                            f"parts.{side}.model ({field} = {want:g}); the file was edited in one place only "
-                            "— make them agree")
-    return law
+    return load_static_law(path, where=f"{option} '{path}'")
 
 
 # --------------------------------------------------------------------------- --json PATH|-

@@ -69,6 +69,37 @@ published mass and friction as the nominal values (M 95.1089 kg, Fc 20.3935 N, �
 1 kHz; ``Kp``, ``Ki``, ``Kd``, ``tau_d``, ``limit`` and ``noise`` do not apply (its own
 controller), ``resolution`` is the encoder count. The compensators add the nominal friction
 feed-forward on the reference velocity as a second force on the axis.
+
+``[machine] preset = "ballscrew"`` is the seed 001 elastic ball-screw stage in its paper
+controller (:func:`frictionkit.reproduce.zhu_fujimoto.paper_plant`, ``paper_controller``,
+``paper_sensors``: PTC + 20 Hz PID + 80 Hz DOB at 0.5 ms, encoder and 100 nm scale with
+noise), the machine of ``frictionkit compensate ballscrew``. Its own ``[machine]`` keys (the
+plant's field names; defaults from :mod:`frictionkit.presets.zhu_fujimoto`)::
+
+    [machine]
+    preset = "ballscrew"
+    mass = 273.0                   # kg, table mass M_t (Table 1)
+    guide_friction = 100.0         # N, Dahl level of the guide (assumption)
+    nut_friction = 1172.87         # N, nut level as a linear equivalent T / R (assumption)
+    presliding_length = 1e-5       # m, Dahl transition length of both sites (Fig. 13 xs)
+    nut_model = "sliding"          # "sliding", "flank" or "hertz"
+    stage = "fig2"                 # "fig2" or "table1"
+
+``[spread]`` draws from ``mass``, ``guide_friction``, ``nut_friction`` and
+``presliding_length`` (default ±30 % on both friction levels). The reference is the §5
+cosine ``x = amplitude (1 - cos 2 pi frequency t)`` (25 mm, 1 Hz; 2.15 s: four reversals;
+0.65 s: the first), sampled at the controller's period: ``dt`` must stay 0.5 ms.
+Compensators (``[study] compensators``, as ``frictionkit compensate ballscrew``): ``none``,
+``coulomb`` (eq. 7), ``sinc`` (eq. 6), ``sigmoid`` (eq. 5) with the paper's F0, xs, sigma —
+fixed, i.e. designed for the *nominal* friction, while the plant's friction is drawn; the
+crossings they switch on are classified on the nominal plant. Each row adds
+``reversal_error`` [m] (the largest error in −50…+100 ms around each reversal, as
+:mod:`frictionkit.compensate`); ``max_force`` is the motor torque's linear equivalent
+``K_tau i / R`` [N].
+
+Results are reused on a rerun only when the study, the run and the frictionkit version agree
+(the parts' tag includes the version; a part from another version is recomputed and the
+result says so).
 """
 
 from __future__ import annotations
@@ -88,7 +119,10 @@ from .errors import DataError, ParameterError
 
 COMPENSATORS = ("none", "coulomb", "static")
 #: Machines a study can be built on: the generic axis, or a preset.
-PRESETS = ("custom", "emps")
+PRESETS = ("custom", "emps", "ballscrew")
+#: Compensators of each machine (the ball-screw stage's are those of ``frictionkit compensate ballscrew``).
+PRESET_COMPENSATORS = {"custom": COMPENSATORS, "emps": COMPENSATORS,
+                       "ballscrew": ("none", "coulomb", "sinc", "sigmoid")}
 _MACHINE = {"preset": "custom", "mass": 20.0, "law": "lugre", "Fc": 20.0, "Fs": 30.0, "vs": 2e-3, "sigma2": 200.0, "sigma0": 1e6,
             "sigma1": 2e3, "Kp": 2e5, "Ki": 2e6, "Kd": 2e3, "tau_d": 1e-3, "limit": 2000.0, "resolution": 1e-7,
             "noise": 5e-8}
@@ -100,6 +134,28 @@ _STUDY = {"draws": 20, "seeds": 1, "compensators": list(COMPENSATORS), "seed": 0
 _EMPS_MACHINE = {"mass": 95.1089, "law": "stribeck", "Fc": 20.3935, "Fs": 20.3935, "sigma2": 203.5034,
                  "resolution": 0.0}
 _EMPS_REFERENCE = {"amplitude": 0.1, "frequency": 0.2, "duration": 5.0, "dt": 1e-3}
+_SPREAD = {"Fc": 0.3, "Fs": 0.3, "sigma2": 0.2, "sigma0": 0.3}
+#: The ball-screw stage's spreadable parameters (its plant's field names; ``mass`` = M_t).
+_BALLSCREW_SPREADABLE = ("mass", "guide_friction", "nut_friction", "presliding_length")
+_BALLSCREW_TEXT = ("preset", "nut_model", "stage")
+
+
+def _ballscrew_defaults() -> tuple[dict, dict]:
+    """[machine] and [reference] defaults of the ball-screw preset (seed 001 preset values)."""
+    from .presets import zhu_fujimoto as zf
+
+    machine = {"preset": "ballscrew", "mass": zf.M_t, "guide_friction": zf.GUIDE_FRICTION,
+               "nut_friction": zf.NUT_FRICTION_TORQUE / zf.R, "presliding_length": zf.PRESLIDING_LENGTH,
+               "nut_model": zf.NUT_MODEL, "stage": zf.STAGE}
+    reference = {"amplitude": zf.REF_AMPLITUDE, "frequency": 1.0 / zf.REF_PERIOD, "duration": 2.15,
+                 "dt": zf.T_CONTROL}
+    return machine, reference
+
+
+def _version() -> str:
+    from . import __version__
+
+    return str(__version__)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -108,7 +164,7 @@ class StudySpec:
 
     machine: dict = field(default_factory=dict)  # defaults (of the preset) filled in on construction
     reference: dict = field(default_factory=dict)
-    spread: dict = field(default_factory=lambda: {"Fc": 0.3, "Fs": 0.3, "sigma2": 0.2, "sigma0": 0.3})
+    spread: dict | None = None  # None: the preset's default spreads
     study: dict = field(default_factory=dict)
     source: str | None = None
 
@@ -117,9 +173,16 @@ class StudySpec:
         preset = self.machine.get("preset", "custom")
         if preset not in PRESETS:
             raise DataError(f"{where}: [machine] preset = {preset!r}: must be one of {list(PRESETS)}")
+        comps_allowed = PRESET_COMPENSATORS[preset]
         base = {"machine": _MACHINE, "reference": _REFERENCE, "study": _STUDY}
         if preset == "emps":
             base = {**base, "machine": {**_MACHINE, **_EMPS_MACHINE}, "reference": _EMPS_REFERENCE}
+        elif preset == "ballscrew":
+            bm, br = _ballscrew_defaults()
+            base = {"machine": bm, "reference": br, "study": {**_STUDY, "compensators": list(comps_allowed)}}
+        if self.spread is None:
+            object.__setattr__(self, "spread", {"guide_friction": 0.3, "nut_friction": 0.3}
+                               if preset == "ballscrew" else dict(_SPREAD))
         for sec, defaults in base.items():
             d = getattr(self, sec)
             bad = set(d) - set(defaults)
@@ -127,19 +190,31 @@ class StudySpec:
                 raise DataError(f"{where}: [{sec}] unknown key(s) {sorted(bad)}; allowed: {sorted(defaults)}")
             object.__setattr__(self, sec, {**defaults, **d})
         m = self.machine
-        if m["law"] not in ("lugre", "stribeck"):
+        text = _BALLSCREW_TEXT if preset == "ballscrew" else ("law", "preset")
+        if preset == "ballscrew":
+            from .presets import zhu_fujimoto as zf
+
+            for k, allowed in (("nut_model", zf.NUT_MODELS), ("stage", zf.STAGES)):
+                if m[k] not in allowed:
+                    raise DataError(f"{where}: [machine] {k} = {m[k]!r}: must be one of {list(allowed)}")
+            if not math.isclose(float(self.reference["dt"]), zf.T_CONTROL, rel_tol=1e-9):
+                raise DataError(f"{where}: [reference] dt = {self.reference['dt']!r}: the ball-screw stage's "
+                                f"controller runs at its control period {zf.T_CONTROL} s (seed 001 §2.2); "
+                                "leave dt out or set it to that")
+        elif m["law"] not in ("lugre", "stribeck"):
             raise DataError(f"{where}: [machine] law = {m['law']!r}: must be 'lugre' or 'stribeck'")
         for k, v in {**m, **self.reference}.items():
-            if k in ("law", "preset"):
+            if k in text:
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
                 raise DataError(f"{where}: {k} = {v!r}: must be a finite number >= 0")
-        for k in ("mass", "Fc", "Fs", "vs", "sigma0", "dt", "duration", "frequency"):
+        for k in ("mass", "Fc", "Fs", "vs", "sigma0", "presliding_length", "dt", "duration", "frequency"):
             if k in m and m[k] <= 0 or k in self.reference and self.reference[k] <= 0:
                 raise DataError(f"{where}: {k} must be > 0")
+        spreadable = self.spreadable
         for k, v in self.spread.items():
-            if k not in _SPREADABLE:
-                raise DataError(f"{where}: [spread] {k!r}: spreadable parameters are {list(_SPREADABLE)}")
+            if k not in spreadable:
+                raise DataError(f"{where}: [spread] {k!r}: spreadable parameters are {list(spreadable)}")
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < 1:
                 raise DataError(f"{where}: [spread] {k} = {v!r}: a relative half-width in [0, 1)")
         s = self.study
@@ -147,10 +222,16 @@ class StudySpec:
             if isinstance(s[k], bool) or not isinstance(s[k], int) or not 1 <= s[k] <= 100_000:
                 raise DataError(f"{where}: [study] {k} = {s[k]!r}: an integer from 1 to 100000")
         comps = s["compensators"]
-        if not isinstance(comps, list) or not comps or any(c not in COMPENSATORS for c in comps):
-            raise DataError(f"{where}: [study] compensators = {comps!r}: a list of {list(COMPENSATORS)}")
+        if not isinstance(comps, list) or not comps or any(c not in comps_allowed for c in comps):
+            raise DataError(f"{where}: [study] compensators = {comps!r}: a list of {list(comps_allowed)}"
+                            + (f" (machine preset {preset!r})" if preset != "custom" else ""))
         if self.reference["duration"] / self.reference["dt"] > 2_000_000:
             raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
+
+    @property
+    def spreadable(self) -> tuple[str, ...]:
+        """Parameters ``[spread]`` may draw for this machine."""
+        return _BALLSCREW_SPREADABLE if self.machine.get("preset") == "ballscrew" else _SPREADABLE
 
     @property
     def sha256(self) -> str:
@@ -164,8 +245,9 @@ class StudySpec:
         rng = np.random.default_rng([int(s["seed"]), 7])
         out = []
         for d in range(s["draws"]):
-            u = {k: float(rng.uniform(-1.0, 1.0)) for k in _SPREADABLE}  # one draw of every parameter, in order
-            params = {k: self.machine[k] * (1.0 + self.spread.get(k, 0.0) * u[k]) for k in _SPREADABLE}
+            spreadable = self.spreadable
+            u = {k: float(rng.uniform(-1.0, 1.0)) for k in spreadable}  # one draw of every parameter, in order
+            params = {k: self.machine[k] * (1.0 + self.spread.get(k, 0.0) * u[k]) for k in spreadable}
             for comp in s["compensators"]:
                 for seed in range(s["seeds"]):
                     out.append({"run": f"d{d:05d}-{comp}-s{seed:03d}", "draw": d, "compensator": comp,
@@ -230,42 +312,78 @@ def _machine(spec: StudySpec, run: dict):
     return m
 
 
-def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, Any]:
-    """Simulate one run; one row (``ok``/``error`` instead of an exception), written to ``parts`` if given."""
+def _ballscrew_run(spec: StudySpec, run: dict) -> dict[str, float]:
+    """One run on the seed 001 ball-screw stage: the paper's controller and compensators, the
+    drawn plant (error measures as :mod:`frictionkit.compensate`)."""
+    from .compensate import SETTLE_FRACTION, _errors, _reversals
+    from .control.trajectories import cosine_reference
+    from .presets import zhu_fujimoto as zf
+    from .presets.ballscrew import simulate_stage
+    from .reproduce.zhu_fujimoto import _classify, paper_compensator, paper_controller, paper_plant, paper_sensors
+    from .errors import SimulationError
+
+    m0, ref_spec = spec.machine, spec.reference
+    nominal = paper_plant(m0["nut_model"], m0["stage"])
+    plant = paper_plant(m0["nut_model"], m0["stage"], M_t=run["mass"], guide_friction=run["guide_friction"],
+                        nut_friction=run["nut_friction"], presliding_length=run["presliding_length"])
+    ref = cosine_reference(amplitude=ref_spec["amplitude"], period=1.0 / ref_spec["frequency"],
+                           duration=ref_spec["duration"], T=zf.T_CONTROL)
+    comp = run["compensator"]
+    # the compensator knows the nominal stage only (its crossings classified on the nominal plant)
+    u_f = None if comp == "none" else paper_compensator().signal(ref, comp, _classify(ref, nominal))
+    res = simulate_stage(plant, paper_controller(), ref, compensation=u_f, sensors=paper_sensors(),
+                         seed=int(run["noise_seed"]), substeps=zf.N_SUBSTEPS)
+    if res.status != 0:
+        raise SimulationError(res.message)
+    e = ref.x - res.x_t
+    skip = int(SETTLE_FRACTION * ref.t.size)
+    out = _errors(ref.t, e, _reversals(ref.t, ref.v))
+    out["max_error_measured"] = float(np.max(np.abs(res.error[skip:])))
+    out["max_force"] = float(np.max(np.abs(res.i)) * plant.K_tau / plant.R)  # motor torque, linear equivalent
+    return out
+
+
+def _axis_run(spec: StudySpec, run: dict) -> dict[str, float]:
+    """One run on the generic axis or the EMPS preset (machine core, sine reference)."""
     import frictionkit as fk
 
+    ref = spec.reference
+    dt = float(ref["dt"])
+    t = np.arange(int(round(ref["duration"] / dt)) + 1) * dt
+    w = 2.0 * math.pi * ref["frequency"]
+    r = ref["amplitude"] * np.sin(w * t)
+    vr = ref["amplitude"] * w * np.cos(w * t)
+    emps = spec.machine["preset"] == "emps"
+    inputs = {"qg": r, "vref": vr} if emps else {"r": r, "vref": vr}
+    res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs=inputs, seed=int(run["noise_seed"]))
+    if res.status != 0:
+        raise fk.SimulationError(res.message)
+    skip = int(0.1 * t.size)  # the first 10 %: the loop settles from rest
+    e_true = r - res.q[:, 0]
+    if emps:  # measured error on the encoder; force = gtau · nu applied (+ feed-forward)
+        from .presets.emps import EMPS_CONSTANTS
+
+        e_meas = r - res.signal("qm")
+        force = res.signal("motor.applied") * EMPS_CONSTANTS["gtau"]
+        if run["compensator"] != "none":
+            force = force + res.signal("ff_drive.applied")
+    else:
+        e_meas, force = res.signal("e"), res.signal("u")
+    return {"max_error": float(np.max(np.abs(e_true[skip:]))), "rms_error": float(np.sqrt(np.mean(e_true[skip:] ** 2))),
+            "max_error_measured": float(np.max(np.abs(e_meas[skip:]))), "max_force": float(np.max(np.abs(force)))}
+
+
+def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, Any]:
+    """Simulate one run; one row (``ok``/``error`` instead of an exception), written to ``parts`` if given."""
     t0 = time.perf_counter()
+    ballscrew = spec.machine["preset"] == "ballscrew"
     row = dict(run)
     row.update({"ok": False, "error": None, "max_error": float("nan"), "rms_error": float("nan"),
-                "max_error_measured": float("nan"), "max_force": float("nan"), "study_sha256": spec.sha256,
-                "frictionkit_version": fk.__version__})
+                "max_error_measured": float("nan"), "max_force": float("nan"),
+                **({"reversal_error": float("nan")} if ballscrew else {}), "study_sha256": spec.sha256,
+                "frictionkit_version": _version()})
     try:
-        ref = spec.reference
-        dt = float(ref["dt"])
-        t = np.arange(int(round(ref["duration"] / dt)) + 1) * dt
-        w = 2.0 * math.pi * ref["frequency"]
-        r = ref["amplitude"] * np.sin(w * t)
-        vr = ref["amplitude"] * w * np.cos(w * t)
-        emps = spec.machine["preset"] == "emps"
-        inputs = {"qg": r, "vref": vr} if emps else {"r": r, "vref": vr}
-        res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs=inputs, seed=int(run["noise_seed"]))
-        if res.status != 0:
-            raise fk.SimulationError(res.message)
-        skip = int(0.1 * t.size)  # the first 10 %: the loop settles from rest
-        e_true = r - res.q[:, 0]
-        if emps:  # measured error on the encoder; force = gtau · nu applied (+ feed-forward)
-            from .presets.emps import EMPS_CONSTANTS
-
-            e_meas = r - res.signal("qm")
-            force = res.signal("motor.applied") * EMPS_CONSTANTS["gtau"]
-            if run["compensator"] != "none":
-                force = force + res.signal("ff_drive.applied")
-        else:
-            e_meas, force = res.signal("e"), res.signal("u")
-        row.update(ok=True, max_error=float(np.max(np.abs(e_true[skip:]))),
-                   rms_error=float(np.sqrt(np.mean(e_true[skip:] ** 2))),
-                   max_error_measured=float(np.max(np.abs(e_meas[skip:]))),
-                   max_force=float(np.max(np.abs(force))))
+        row.update(_ballscrew_run(spec, run) if ballscrew else _axis_run(spec, run), ok=True)
     except (KeyboardInterrupt, SystemExit, MemoryError):
         raise
     except Exception as exc:  # noqa: BLE001 - a failing run is a row
@@ -293,6 +411,7 @@ class StudyResult:
     computed: int
     skipped: int
     elapsed: float
+    other_version: int = 0  # runs recomputed because their part came from another frictionkit version
 
     def summary(self) -> dict[str, Any]:
         """Per compensator: runs, failures, median and 95th percentile of the max and RMS tracking error [m]."""
@@ -304,7 +423,10 @@ class StudyResult:
                          "max_error_median_m": float(ok["max_error"].median()) if len(ok) else None,
                          "max_error_p95_m": float(ok["max_error"].quantile(0.95)) if len(ok) else None,
                          "rms_error_median_m": float(ok["rms_error"].median()) if len(ok) else None}
+            if "reversal_error" in g:  # the ball-screw stage: the error around the reversals
+                per[comp]["reversal_error_median_m"] = float(ok["reversal_error"].median()) if len(ok) else None
         return {"out": str(self.out), "runs": self.runs, "computed": self.computed, "skipped": self.skipped,
+                "other_version": self.other_version,
                 "elapsed_s": round(self.elapsed, 3), "compensators": per}
 
 
@@ -334,7 +456,8 @@ class Task:
     tag : str or None
         What the result depends on besides the label (16 hex digits); None: a hash of the
         function's name and ``repr`` of the sorted keyword arguments. A part is reused only
-        when label and tag agree, so changed arguments are recomputed.
+        when label, tag and the frictionkit version agree (the part's name carries all three),
+        so changed arguments and results of another version are recomputed.
     """
 
     label: str
@@ -358,8 +481,29 @@ class Task:
 
     @property
     def part(self) -> str:
-        """File name of the task's Parquet part."""
-        return f"{self.label}__{self.tag}.parquet"
+        """File name of the task's Parquet part: label, tag and the frictionkit version."""
+        return f"{self.label}__{self.tag}__fk{_version_tag()}.parquet"
+
+
+def _version_tag() -> str:
+    """The frictionkit version as a file-name piece (characters other than ``[A-Za-z0-9._-]`` -> ``_``)."""
+    import re
+
+    return re.sub(r"[^A-Za-z0-9._-]", "_", _version())
+
+
+def _other_versions(todo: list, done: set[str]) -> dict[str, str]:
+    """Tasks to run that have a part of the same label and tag from another frictionkit version
+    (or from before the parts carried one): label -> that part's version (``"unknown"``)."""
+    out = {}
+    for t in todo:
+        stem = f"{t.label}__{t.tag}"
+        for name in done:
+            if name == f"{stem}.parquet":
+                out[t.label] = "unversioned part"
+            elif name.startswith(f"{stem}__fk") and name.endswith(".parquet"):
+                out[t.label] = name[len(stem) + 4:-len(".parquet")]
+    return out
 
 
 def run_task(task: Task, key: str = "task", parts: str | None = None) -> dict[str, Any]:
@@ -407,6 +551,7 @@ class TaskRun:
     computed: int
     skipped: int
     elapsed: float
+    other_version: int = 0  # tasks recomputed because their part came from another frictionkit version
 
     @property
     def failed(self) -> list[str]:
@@ -430,7 +575,8 @@ class TaskRun:
         """Counts, the failed labels and the task seconds (total and largest)."""
         sec = self.table["task_seconds"] if len(self.table) else []
         return {"out": None if self.out is None else str(self.out), "tasks": self.tasks, "computed": self.computed,
-                "skipped": self.skipped, "failed": self.failed, "elapsed_s": round(self.elapsed, 3),
+                "skipped": self.skipped, "other_version": self.other_version, "failed": self.failed,
+                "elapsed_s": round(self.elapsed, 3),
                 "task_seconds_total": float(np.sum(sec)) if len(sec) else 0.0,
                 "task_seconds_max": float(np.max(sec)) if len(sec) else 0.0,
                 "status": self.status, "message": self.message}
@@ -523,8 +669,15 @@ def run_tasks(tasks: list[Task], *, out: str | Path | None = None, key: str = "t
         parts.mkdir(exist_ok=True)
         done = {f.name for f in parts.glob("*.parquet")}
         todo = [t for t in tasks if t.part not in done]
+        other = _other_versions(todo, done)
+        if other:
+            import warnings
+
+            vers = sorted(set(other.values()))
+            warnings.warn(f"{len(other)} result(s) in '{parts}' were written by another frictionkit version "
+                          f"({', '.join(vers[:3])}; this is {_version()}): not reused, recomputed", stacklevel=2)
     else:
-        todo = tasks
+        todo, other = tasks, {}
     bar = _Progress(progress is True, len(todo), label)
     notify = progress if callable(progress) else None
     rows: dict[str, dict] = {}
@@ -564,7 +717,7 @@ def run_tasks(tasks: list[Task], *, out: str | Path | None = None, key: str = "t
         with atomic_open(out, "wb") as f:
             df.to_parquet(f, index=False)
     return TaskRun(out=out, table=df, key=key, tasks=len(tasks), computed=len(todo), skipped=len(tasks) - len(todo),
-                   elapsed=time.perf_counter() - t_start)
+                   elapsed=time.perf_counter() - t_start, other_version=len(other))
 
 
 def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, workers: int | None = None,
@@ -600,7 +753,7 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
         raise ParameterError(f"run_study.workers = {workers!r}: must be an integer >= 0")
     if not (scheduler == "none" or workers == 0) and scheduler is not None and workers is not None:
         raise ParameterError("run_study: workers= starts a local cluster; with a scheduler the cluster decides")
-    tag = spec.sha256[:16]  # parts named <run>__<tag>.parquet, as before the engine: old parts stay valid
+    tag = spec.sha256[:16]  # parts named <run>__<tag>__fk<version>.parquet
     runs = spec.runs()
     tasks = [Task(label=r["run"], func=run_one, kwargs={"spec": spec, "run": r}, tag=tag) for r in runs]
     res = run_tasks(tasks, out=out, key="run", scheduler=scheduler, workers=None if workers is None else int(workers),
@@ -620,7 +773,7 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
     with atomic_open(Path(out), "wb") as f:  # the study's table: sorted by run, without the engine's timing
         df.to_parquet(f, index=False)
     return StudyResult(out=Path(out), table=df, runs=res.tasks, computed=res.computed, skipped=res.skipped,
-                       elapsed=time.perf_counter() - t_start)
+                       elapsed=time.perf_counter() - t_start, other_version=res.other_version)
 
 
 __all__ = ["COMPENSATORS", "PRESETS", "StudyResult", "StudySpec", "Task", "TaskRun", "load_study", "run_one", "run_study",

@@ -98,3 +98,22 @@ def test_zhang2023_cli_robustness_options(monkeypatch, tmp_path):
         res = run(app, ["reproduce", "zhang2023", *bad, "--json", str(tmp_path / "x.json")])
         assert res.exit_code != 0 and word in res.output, (bad, res.output)
     assert len(calls) == n  # refused before any run
+
+
+def test_a_part_from_another_frictionkit_version_is_recomputed_and_said(tmp_path):
+    import frictionkit
+
+    tasks = [Task(label="a", func=dict, kwargs={"x": 1.0}), Task(label="b", func=dict, kwargs={"x": 2.0})]
+    run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)
+    parts = tmp_path / "t.parquet.parts"
+    (part_a,) = parts.glob("a__*.parquet")
+    assert part_a.name.endswith(f"__fk{frictionkit.__version__}.parquet")  # the version is in the part's name
+    part_a.rename(parts / part_a.name.replace(f"__fk{frictionkit.__version__}", "__fk0.0.1"))
+    (part_b,) = parts.glob("b__*.parquet")
+    part_b.rename(parts / part_b.name.replace(f"__fk{frictionkit.__version__}", ""))  # before parts had one
+    with pytest.warns(UserWarning, match=r"2 result\(s\) .* another frictionkit version \(0\.0\.1, unversioned"):
+        again = run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)
+    assert (again.computed, again.skipped, again.other_version) == (2, 0, 2)
+    assert again.summary()["other_version"] == 2
+    third = run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)  # now current: reused
+    assert (third.computed, third.skipped, third.other_version) == (0, 2, 0)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -10,7 +11,7 @@ from typer.testing import CliRunner
 
 import frictionkit.cli.fleet  # noqa: F401  (registers the ``study`` command)
 from frictionkit.cli import app
-from frictionkit.study import StudySpec, run_study
+from frictionkit.study import StudySpec, load_study, run_study
 
 SPEC = """
 [machine]
@@ -93,3 +94,54 @@ def test_study_on_the_emps_preset(tmp_path):
 
     with pytest.raises(DataError, match="preset"):
         StudySpec(machine={"preset": "hexapod"})
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "study"
+
+
+def test_study_on_the_ballscrew_stage_dask_equals_single_process(cluster, tmp_path):
+    """The example spec, cut to 2 draws x 4 compensators of the first reversal (0.65 s)."""
+    from frictionkit.compensate import compensate
+    from frictionkit.presets import zhu_fujimoto as zf
+
+    ex = load_study(EXAMPLES / "ballscrew.toml")
+    assert ex.machine["preset"] == "ballscrew" and ex.study["compensators"] == ["none", "coulomb", "sinc", "sigmoid"]
+    spec = StudySpec(machine=ex.machine, reference={**ex.reference, "duration": 0.65}, spread=ex.spread,
+                     study={**ex.study, "draws": 2, "seeds": 1})
+    a = run_study(spec, out=tmp_path / "a.parquet", workers=0, progress=False)
+    b = run_study(spec, out=tmp_path / "b.parquet", scheduler=cluster.scheduler_address, progress=False)
+    cols = ["run", "draw", "compensator", "guide_friction", "nut_friction", "presliding_length", "ok", "max_error",
+            "rms_error", "reversal_error", "max_error_measured", "max_force"]
+    pd.testing.assert_frame_equal(a.table[cols], b.table[cols], check_exact=True)
+    df = a.table
+    assert len(df) == 8 and df["ok"].all(), df["error"].tolist()
+    # draws within the spread around the preset's assumptions, the same for every compensator
+    assert np.all(np.abs(df["guide_friction"] / zf.GUIDE_FRICTION - 1) <= 0.3)
+    assert np.all(np.abs(df["nut_friction"] * zf.R / zf.NUT_FRICTION_TORQUE - 1) <= 0.3)
+    assert df.groupby("draw")["nut_friction"].nunique().eq(1).all()
+    assert df.loc[df["compensator"] == "none", "max_error"].nunique() == 2  # the draws reach the plant
+    # seed 001 Table 3: each compensator lowers the reversal error of the uncompensated stage, on every draw
+    t = df.pivot(index="draw", columns="compensator", values="max_error")
+    for comp in ("coulomb", "sinc", "sigmoid"):
+        assert (t[comp] < t["none"]).all(), comp
+    # zero spread: the study's machine is the one of `frictionkit compensate ballscrew`
+    nominal = StudySpec(machine={"preset": "ballscrew"}, reference={"duration": 0.65}, spread={},
+                        study={"draws": 1, "compensators": ["sinc"]})
+    row = run_study(nominal, out=tmp_path / "n.parquet", workers=0, progress=False).table.iloc[0]
+    ref = compensate("ballscrew", ["sinc"], quick=True).rows["sinc"]
+    assert (row["max_error"], row["rms_error"], row["reversal_error"]) == (
+        ref["max_error"], ref["rms_error"], ref["reversal_error"])
+
+
+def test_ballscrew_spec_checks():
+    import pytest
+
+    from frictionkit.errors import DataError
+
+    for kw, match in (({"spread": {"Fc": 0.2}}, "spreadable"), ({"study": {"compensators": ["static"]}}, "compensators"),
+                      ({"reference": {"dt": 1e-3}}, "dt"), ({"machine": {"preset": "ballscrew", "law": "lugre"}}, "law"),
+                      ({"machine": {"preset": "ballscrew", "nut_model": "rolling"}}, "nut_model"),
+                      ({"machine": {"preset": "ballscrew", "guide_friction": -1.0}}, "guide_friction")):
+        kw = {**kw, "machine": kw.get("machine", {"preset": "ballscrew"})}
+        with pytest.raises(DataError, match=match):
+            StudySpec(**kw)

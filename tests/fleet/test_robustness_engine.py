@@ -117,3 +117,43 @@ def test_a_part_from_another_frictionkit_version_is_recomputed_and_said(tmp_path
     assert again.summary()["other_version"] == 2
     third = run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)  # now current: reused
     assert (third.computed, third.skipped, third.other_version) == (0, 2, 0)
+
+
+def test_zhu_fujimoto_cli_robustness_options(monkeypatch, tmp_path):
+    from typer.testing import CliRunner
+
+    from frictionkit.cli import _register, app
+
+    _register()
+    calls = []
+
+    def fake(**kw):
+        calls.append(kw)
+        t3 = {"seed=0": (2.8, 2.4, 2.2), "k_nutx0.7": (2.8, 2.2, 2.4)}  # made-up numbers: the CLI only reports them
+        return {k: {"table3": {law: {"max_error_um": v, "paper_um": None} for law, v in
+                               zip(("coulomb", "sinc", "sigmoid"), vals)}} for k, vals in t3.items()}
+
+    monkeypatch.setattr(zfr, "robustness", fake)
+    run = CliRunner().invoke
+    res = run(app, ["reproduce", "zhu-fujimoto", "--robustness", "--quick", "--stage", "table1", "--workers", "2",
+                    "--out", str(tmp_path / "r"), "--json", str(tmp_path / "r.json")])
+    assert res.exit_code == 0, res.output
+    kw = calls[-1]
+    assert (kw["workers"], kw["scheduler"], kw["out"], kw["quick"], kw["stage"]) == (2, None, tmp_path / "r", True,
+                                                                                     "table1")
+    doc = json.loads((tmp_path / "r.json").read_text())
+    assert doc["table3_order_holds"] == ["seed=0"] and doc["table3_max_error_um"]["k_nutx0.7"]["sinc"] == 2.2
+    assert "holds in 1 of 2 variants" in res.output
+    assert not (tmp_path / "r.png").exists()  # no plot with --robustness
+    res = run(app, ["reproduce", "zhu-fujimoto", "--robustness", "--scheduler", "tcp://10.0.0.5:8786", "--json",
+                    str(tmp_path / "s.json")])
+    assert res.exit_code == 0, res.output
+    assert calls[-1]["scheduler"] == "tcp://10.0.0.5:8786" and calls[-1]["workers"] is None
+    n = len(calls)
+    for bad, word in ((["--robustness", "--workers", "-1"], "--workers"),
+                      (["--robustness", "--workers", "2", "--scheduler", "tcp://h:1"], "--scheduler"),
+                      (["--robustness", "--out", str(tmp_path / "x.json")], "same path"),
+                      (["--out", str(tmp_path / "o")], "--robustness")):
+        res = run(app, ["reproduce", "zhu-fujimoto", *bad, "--json", str(tmp_path / "x.json")])
+        assert res.exit_code == 2 and word in res.output, (bad, res.output)
+    assert len(calls) == n  # refused before any run

@@ -52,6 +52,15 @@ def zhu_fujimoto(
     stage: str = typer.Option("fig2", "--stage",
                               help="Stage: 'fig2' (default; inertia calibrated to the measured response, eq. 1 / "
                                    "Fig. 2: J = 0.01 kg m^2) or 'table1' (Table 1 inertias as printed, 4.3e-3 kg m^2)."),
+    robustness: bool = typer.Option(False, "--robustness",
+                                    help="Instead: the robustness sweep (noise seeds 0-2, each assumed stiffness "
+                                         "x0.7 and x1.3: 13 variants; --quick runs per variant)."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="With --robustness: worker processes of the local "
+                                          "Dask cluster (default: the cores); 0 runs in this process without Dask."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="With --robustness: address of a running Dask "
+                                            "scheduler (e.g. tcp://10.0.0.5:8786), or 'none'."),
+    out_dir: Optional[Path] = typer.Option(None, "--out", help="With --robustness: folder for the Parquet results "
+                                           "(one row per variant); a rerun computes only the missing variants."),
 ) -> None:
     """Seed 001: Table 3 (sinc/Coulomb/sigmoid, post-only sigmoid), Fig. 5, Fig. 10 (l_d), the
     Table 2 selector and redesigned fast non-reverse stop, the Fig. 2 check."""
@@ -65,8 +74,28 @@ def zhu_fujimoto(
     chk.choice(stage, "--stage", zf_preset.STAGES)
     seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
     png = json_out.with_suffix(".png")
-    chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot else {},
-                make_parents=True)
+    chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot and not robustness
+                else {}, make_parents=True)
+    workers = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
+    if robustness:
+        variants = zf_rep.robustness(quick=quick, nut_model=nut_model, stage=stage, progress=True, workers=workers,
+                                     scheduler=scheduler, out=out_dir)
+        laws = ("coulomb", "sinc", "sigmoid")
+        t3 = {k: {law: v["table3"][law]["max_error_um"] for law in laws} for k, v in variants.items()}
+        order = [k for k, v in t3.items() if v["sigmoid"] < v["sinc"] < v["coulomb"]]
+        out_file = None if out_dir is None else out_dir / "zhu_fujimoto_robustness.parquet"
+        chk.save_json({"quick": quick, "stage": stage, "nut_model": nut_model, "table3_max_error_um": t3,
+                       "table3_order_holds": order, "variants": variants,
+                       "out": None if out_file is None else str(out_file)}, json_out)
+        tab = Table(title=f"robustness (stage {stage}, nut model {nut_model}): Table 3 max error [µm]")
+        for c in ("variant", *laws):
+            tab.add_column(c, justify="right")
+        for k, v in t3.items():
+            tab.add_row(k, *(f"{v[law]:.2f}" for law in laws))
+        Console().print(tab)
+        Console().print(f"Table 3 order sigmoid < sinc < Coulomb holds in {len(order)} of {len(t3)} variants")
+        Console().print(f"wrote {json_out}" + (f" and {out_file}" if out_file else ""))
+        return
 
     console = Console(stderr=True)
     with _stages(console, "zhu-fujimoto", total=3 + int(plot)) as (bar, task, step):
@@ -134,6 +163,24 @@ def zhu_fujimoto(
                   f"{g['band_hz'][0]:g}-{g['band_hz'][1]:g} Hz: {g['gain_offset_vs_eq1_db'][0]:+.1f} to "
                   f"{g['gain_offset_vs_eq1_db'][1]:+.1f} dB")
     out.print(f"wrote {json_out}")
+
+
+def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
+    """Check --workers/--scheduler/--out of a reproduction's --robustness; the worker count."""
+    from ..errors import ParameterError
+
+    if not robustness:
+        if workers is not None or scheduler is not None or out_dir is not None:
+            raise ParameterError("--workers, --scheduler and --out go with --robustness")
+        return workers
+    from .fleet import dask_options
+
+    workers = dask_options(workers, scheduler)
+    if out_dir is not None and out_dir.exists() and not out_dir.is_dir():
+        raise ParameterError(f"--out '{out_dir}': not a folder")
+    if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
+        raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
+    return workers
 
 
 @reproduce_app.command("sdss")
@@ -217,23 +264,13 @@ def zhang2023(
     from rich.console import Console
     from rich.table import Table
 
-    from ..errors import ParameterError
     from ..reproduce import zhang2023 as zr
 
     seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out},
                 plots={"the plot beside --json": png} if plot and not robustness else {}, make_parents=True)
-    if not robustness and (workers is not None or scheduler is not None or out_dir is not None):
-        raise ParameterError("--workers, --scheduler and --out go with --robustness")
-    if robustness:
-        from .fleet import dask_options
-
-        workers = dask_options(workers, scheduler)
-        if out_dir is not None and out_dir.exists() and not out_dir.is_dir():
-            raise ParameterError(f"--out '{out_dir}': not a folder")
-        if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
-            raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
+    workers = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
     console = Console(stderr=True)
     if robustness:
         out = zr.robustness(quick=quick, progress=True, workers=workers, scheduler=scheduler, out=out_dir)

@@ -61,9 +61,7 @@ from ..errors import ParameterError
 from ..machines import PID, Machine, PiecewiseLinearSpring, SineLoad, Sum
 from ..models.lugre import LuGre
 from ..models.static import Directional, Stribeck
-
-#: One arc second [rad].
-ARCSEC = math.pi / 648000.0
+from ..units import ARCSEC  # one arc second [rad], re-exported here for the telescope users
 #: Sidereal rate: 15.041 arcsec/s = 2π / 86164.1 s [rad/s] (seed 002 §1: the telescope tracks at or below it).
 SIDEREAL_RATE = 2.0 * math.pi / 86164.0905
 #: Capstan drive ratio of azimuth and altitude, disc/capstan. Seed 002 eq. 2 defines n_c as

@@ -67,9 +67,9 @@ def test_output_error_lugre(lugre_csv, tmp_path):
     assert png.stat().st_size > 1000
 
 
-def test_output_error_gms_needs_start_values(lugre_csv):
+def test_output_error_gms_needs_both_start_lists(lugre_csv):
     res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
-                              "--force", "u_mN", *STATIC, "--mass", "1", "--model", "gms"])
+                              "--force", "u_mN", *STATIC, "--mass", "1", "--model", "gms", "--k", "1e5,1e4"])
     assert res.exit_code == 2
     err = _stderr(res).strip()
     assert err.startswith("error:") and "--k and --xi" in err and "\n" not in err

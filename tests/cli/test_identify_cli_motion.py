@@ -188,7 +188,7 @@ def test_rigid_body_group_where_and_validation(tmp_path):
     (["--drive", "sideways"], "--drive 'sideways': must be one of force, motion"),
     (["--drive", "motion", "--mass", "1"], "--mass applies to --drive force only"),
     (["--drive", "force"], "--drive force needs --mass"),
-    (["--drive", "force", "--mass", "1", "--mask", "disabled"], "--mask applies to --drive motion only"),
+    (["--drive", "force", "--mass", "1", "--inertia", "1"], "--inertia applies to --drive motion only"),
     (["--drive", "motion", "--velocity-integration", "simpson"], "--velocity-integration 'simpson'"),
     (["--drive", "motion", "--rests", "sometimes"], "--rests 'sometimes'"),
     (["--drive", "motion", "--where", "drive_id"], "--where 'drive_id': expected COLUMN=VALUE"),
@@ -201,16 +201,6 @@ def test_bad_options_are_one_line(logs, extra, needle):
                               "--force", "T_Nm", *STATIC, *extra])
     assert res.exit_code == 2
     assert needle in _one_error(res)
-
-
-def test_force_drive_refuses_several_records_in_one_line(logs):
-    train, _ = logs
-    res = runner.invoke(app, ["identify", "output-error", str(train), "--time", "t_s", "--velocity", "v_rad_s",
-                              "--force", "T_Nm", *STATIC, "--mass", "1", "--sigma0", "1", "--group", "drive_id",
-                              "--where", "record=1"])
-    assert res.exit_code == 2
-    err = _one_error(res)
-    assert "--drive force fits one record, but --group gives 2" in err and "--where" in err
 
 
 def test_motion_without_any_motion_is_one_line(tmp_path):

@@ -265,16 +265,16 @@ def output_error(
     force_scale: float = typer.Option(1.0, "--force-scale", help="Factor to N (or N·m)."),
     position_scale: float = typer.Option(1.0, "--position-scale", help="Factor to m (or rad)."),
     velocity_scale: float = typer.Option(1.0, "--velocity-scale", help="Factor to m/s (or rad/s)."),
-    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; with --drive motion "
-                                              "all are fitted jointly, each from the unloaded state."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; all are fitted "
+                                              "jointly, each from the unloaded state (both drives)."),
     where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
     rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
     force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
     velocity_unit: Optional[str] = typer.Option(None, "--velocity-unit", help="Velocity unit label (default m/s)."),
-    rests: str = typer.Option("auto", "--rests", help="Motion drive: auto (force logged exactly 0 over "
-                              "--min-rest samples = drive disabled: state reset, not fitted) or none."),
-    mask: Optional[str] = typer.Option(None, "--mask", help="Motion drive: column that is non-zero where the drive "
-                                       "is disabled (instead of --rests auto)."),
+    rests: str = typer.Option("auto", "--rests", help="auto (force logged exactly 0 over --min-rest "
+                              "samples = drive disabled: state reset, not fitted; both drives) or none."),
+    mask: Optional[str] = typer.Option(None, "--mask", help="Column that is non-zero where the drive is disabled "
+                                       "(instead of --rests auto; both drives)."),
     min_rest: int = typer.Option(3, "--min-rest", help="Shortest run of zero force taken as a rest [samples]."),
     velocity_integration: str = typer.Option("held", "--velocity-integration", help="Motion drive from a velocity "
                                              "log: held (the log is the mean over the preceding sample, as drives "
@@ -293,15 +293,17 @@ def output_error(
                                             "start with --free J)."),
     offset: float = typer.Option(0.0, "--offset", help="Constant force [N] (start value with --free offset)."),
     sigma0: Optional[float] = typer.Option(None, "--sigma0", help="LuGre start sigma0 [N/m] (force drive default: "
-                                           "initial_guess_lugre on the position; motion drive: a bristle time "
-                                           "constant of one sample)."),
+                                           "the library's initial='auto', slope of the sub-breakaway branches; "
+                                           "motion drive: a bristle time constant of one sample)."),
     sigma1: Optional[float] = typer.Option(None, "--sigma1", help="LuGre start sigma1 [N·s/m] (default: critical "
                                            "damping; motion drive: 1 % of the friction level per unit speed)."),
-    k: Optional[str] = typer.Option(None, "--k", help="GMS start stiffnesses, comma separated [N/m]."),
+    k: Optional[str] = typer.Option(None, "--k", help="GMS start stiffnesses, comma separated [N/m] "
+                             "(default: from the data; give --xi too)."),
     xi: Optional[str] = typer.Option(None, "--xi", help="GMS start weights, comma separated."),
-    C: Optional[float] = typer.Option(None, "--C", help="GMS attraction constant [N/s] (force drive default 20; "
+    C: Optional[float] = typer.Option(None, "--C", help="GMS attraction constant [N/s] (force drive default 20, "
+                                      "fixed unless freed; "
                                       "motion drive: a slip time constant of one sample)."),
-    elements: int = typer.Option(3, "--elements", help="Motion drive, GMS without --k/--xi: number of elements "
+    elements: int = typer.Option(3, "--elements", help="GMS without --k/--xi: number of elements "
                                  f"(1 to {chk.MAX_PRESLIDING_ELEMENTS})."),
     free: str = typer.Option("", "--free", help="Comma-separated parameters to fit (default sigma0,sigma1 or k; "
                              "motion drive: sigma0,sigma1 / k,C / sigma0, plus J or offset if named; _pos/_neg "
@@ -359,7 +361,7 @@ def output_error(
     if drive == "force":
         if mass is None:
             raise ParameterError("--drive force needs --mass (the moving mass the force accelerates)")
-        for opt, val, default in (("--mask", mask, None), ("--inertia", inertia, None), ("--no-profile", no_profile, False),
+        for opt, val, default in (("--inertia", inertia, None), ("--no-profile", no_profile, False),
                                   ("--max-presliding", max_presliding, None)):
             if val != default:
                 raise ParameterError(f"{opt} applies to --drive motion only")
@@ -377,15 +379,15 @@ def output_error(
     def loader(path):
         return _load(path, group=group, where=where, **kw)
 
+    def mask_loader(path):
+        return _load(path, group=group, where=where, time=time, force=mask)
+
     if drive == "motion":
         res = _output_error_motion(loader(recording), law, model=model, names=names, position=position,
                                    rests=rests, mask=mask, min_rest=min_rest, integration=velocity_integration,
                                    inertia=inertia, offset=offset, sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C,
                                    elements=elements, starts=starts, profile=not no_profile,
-                                   max_presliding=max_presliding,
-                                   mask_loader=lambda path: _load(path, group=group, where=where, time=time,
-                                                                  force=mask),
-                                   path=recording)
+                                   max_presliding=max_presliding, mask_loader=mask_loader, path=recording)
         d = res.diagnostics
         Fu = res.provenance["units"]["F"]
         typer.echo(res.summary())
@@ -400,55 +402,60 @@ def output_error(
         typer.echo(f"{d['nfev']} evaluations, {'converged' if res.success else 'NOT converged'}: {res.message}")
         if res.flagged:
             typer.echo("not identifiable: " + (", ".join(d["identifiability"]["not_identifiable"]) or "see warnings"))
-
-        def mask_loader(path):
-            return _load(path, group=group, where=where, time=time, force=mask)
-
         res = _validation(res, validate, what, loader,
                           how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path),
                                             "min_rest": min_rest})
         _write(res, json_out, plot, include_data=True)
         return
 
-    from ..identify.output_error import fit_output_error, initial_guess_lugre
-    from ..models import GMS, LuGre
+    res = _output_error_force(loader(recording), law, model=model, names=names, mass=mass, offset=offset,
+                              compare=compare or ("v" if velocity is not None else "x"),
+                              rest=_rest_option(rests, mask, mask_loader, recording), min_rest=min_rest,
+                              sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C, elements=elements, starts=starts)
+    d = res.diagnostics
+    ini = d.get("initial") or {}
+    if "sigma0" in ini and "branches" in ini:
+        typer.echo(f"initial guess: sigma0 {ini['sigma0']:.6g} {units['F']}/{units['x']}, sigma1 {ini['sigma1']:.6g} "
+                   f"{units['F']}·s/{units['x']} ({ini['branches']} branches)")
+    elif "k_total" in ini:
+        typer.echo(f"initial guess: total stiffness {ini['k_total']:.6g} {units['F']}/{units['x']} "
+                   f"({ini['branches']} branches)")
+    typer.echo(res.summary())
+    seg = d["segments"]
+    typer.echo(f"{res.n_obs} samples in {sum(len(s['segments']) for s in seg.values())} segment(s) of {len(seg)} "
+               f"record(s), each simulated from rest; {sum(s['rest_samples'] for s in seg.values())} rest samples")
+    typer.echo(f"{d['nfev']} evaluations, status {d['status']}, {'converged' if res.success else 'NOT converged'}: "
+               f"{res.message}")
+    res = _validation(res, validate, {"v": "velocity", "x": "position"}[res.provenance["procedure"]["compare"]],
+                      loader, how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path),
+                                                "min_rest": min_rest})
+    _write(res, json_out, plot, include_data=False)
 
-    rec = _single(loader(recording), "--drive force")
-    compare = compare or ("v" if velocity is not None else "x")
-    if model == "lugre":
-        if sigma0 is None:
-            if rec.x is None:
-                raise DataError("--sigma0 is needed without --position (the initial guess uses the position)")
-            g = initial_guess_lugre(rec, mass=mass, sigma2=float(law.static_rows()[:, 4].mean()))
-            sigma0 = g["sigma0"]
-            if sigma1 is None:
-                sigma1 = g["sigma1"]
-            typer.echo(f"initial guess: sigma0 {sigma0:.6g} {units['F']}/{units['x']}, sigma1 {sigma1:.6g} "
-                       f"{units['F']}·s/{units['x']} ({g['branches']} branches)")
-        mdl = LuGre(law, sigma0=sigma0, sigma1=sigma1 if sigma1 is not None else 0.0)
-        names = names or ("sigma0", "sigma1")
-    elif model == "gms":
-        kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
-        if kk is None or xx is None:
-            raise ParameterError("--model gms needs start values --k and --xi (e.g. from 'identify presliding')")
-        mdl = GMS(law, k=kk, xi=xx, C=C if C is not None else 20.0)
-        names = names or ("k",)
-    else:
-        raise ParameterError(f"--model {model!r}: must be lugre or gms")
+
+def _output_error_force(data, law, *, model, names, mass, offset, compare, rest, min_rest, sigma0, sigma1, k, xi,
+                        C, elements, starts):
+    """The ``--drive force`` branch: the given start values, the rest computed by the library."""
     from rich.console import Console
 
-    console = Console(stderr=True)
-    with console.status("output-error fit: starting") as status:
-        res = fit_output_error(
-            rec, mdl, free=names, plant_mass=mass, offset=offset, compare=compare, starts=starts or 1,
+    from ..errors import ParameterError
+    from ..identify.output_error import fit_output_error
+
+    given: dict = {}
+    if model == "lugre":
+        given.update({n: v for n, v in (("sigma0", sigma0), ("sigma1", sigma1)) if v is not None})
+    else:
+        kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
+        if (kk is None) != (xx is None):
+            raise ParameterError("--model gms: give both --k and --xi, or neither (then the library computes the "
+                                 "start from the data: total stiffness of the sub-breakaway branches, --elements)")
+        given.update({n: v for n, v in (("k", kk), ("xi", xx), ("C", C)) if v is not None})
+    with Console(stderr=True).status("output-error fit: starting") as status:
+        return fit_output_error(
+            data, model, static=law, initial=given or "auto", free=names or None, plant_mass=mass, offset=offset,
+            compare=compare, rests=rest, min_rest=min_rest, elements=elements, starts=starts or 1,
             progress=lambda nfev, nsim, cost: status.update(
                 f"output-error fit: evaluation {nfev}, {nsim} simulations, cost {cost:.6g}"),
         )
-    typer.echo(res.summary())
-    typer.echo(f"{res.diagnostics['nfev']} evaluations, status {res.diagnostics['status']}: {res.message}")
-    res = _validation(res, validate, {"v": "velocity", "x": "position"}[compare],
-                      lambda path: _single(loader(path), "--validate"))
-    _write(res, json_out, plot, include_data=False)
 
 
 def _rest_option(rests: str, mask: Optional[str], mask_loader, path: Path):

@@ -72,7 +72,7 @@ from .motion_data import _as_records, _describe_rests, _rest_masks, segment_boun
 from .result import IdentificationResult, parameter_statistics
 from .start_values import FORCE_DRIVE_FREE, output_error_start, static_law
 
-__all__ = ["fit_output_error", "initial_guess_lugre", "OUTPUT_ERROR_OPTIONS"]
+__all__ = ["evaluate_output_error", "fit_output_error", "initial_guess_lugre", "OUTPUT_ERROR_OPTIONS"]
 
 #: Integrator tolerances used by default during identification. Measured on the
 #: 25,000-sample stick-slip run of ``benchmarks/identify.py``: max velocity error
@@ -350,7 +350,7 @@ def fit_output_error(
                  "units": {"F": units_map["F"], "x": units_map["x"],
                            compare: f"{units_map['x']}/s" if compare == "v" else units_map["x"]},
                  "procedure": {"method": "output error (seed 002 eq. 12)", "drive": "force", "compare": compare,
-                               "rests": _describe_rests(rests, min_rest),
+                               "rests": _describe_rests(rests, min_rest), "min_rest": int(min_rest),
                                "initial": start_from,
                                "free": list(names),
                                "optimiser": ("Levenberg-Marquardt, batched trial steps" if cfg.optimiser == "lm"
@@ -490,3 +490,41 @@ def fit_output_error(
         provenance=prov,
         data={"t": t, "y": y, "y_pred": y_pred},
     )
+
+
+def evaluate_output_error(model, data, *, plant_mass: float, offset: float = 0.0, compare: str = "v",
+                          rests="auto", min_rest: int = 3, external_load=None,
+                          options: SimOptions | None = None) -> dict:
+    """Error of a force-driven model on records: each run between rests simulated from rest.
+
+    The same cut as :func:`fit_output_error` (``rests``, ``min_rest``); used to validate
+    a fit on another record.
+
+    Returns
+    -------
+    dict
+        ``rms``, ``relative_error_percent``, ``n`` (fitted samples), ``t``, ``y``, ``y_pred``.
+    """
+    from ..plants.mass import Mass
+    from ..simulate.core import simulate
+
+    owner = "evaluate_output_error"
+    if compare not in ("v", "x"):
+        raise ParameterError(f"{owner}: compare = {compare!r}: must be 'v' or 'x'")
+    plant_mass = val.positive(owner, "plant_mass", plant_mass)
+    _, segs, _, dt = _force_segments(owner, data, compare, external_load, None, rests, min_rest)
+    options = options or OUTPUT_ERROR_OPTIONS
+    ys, ps, ts = [], [], []
+    for s in segs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            sim = simulate(model, plant=Mass(plant_mass), force=s["u"] - offset, dt=dt, options=options)
+        k = s["w"] > 0
+        ys.append(s["y"][k])
+        ps.append((sim.x if compare == "x" else sim.v)[k])
+        ts.append(s["t"][k])
+    y, yp = np.concatenate(ys), np.concatenate(ps)
+    r = yp - y
+    return {"rms": float(np.sqrt(np.mean(r**2))),
+            "relative_error_percent": float(100 * np.linalg.norm(r) / max(float(np.linalg.norm(y)), 1e-300)),
+            "n": int(y.size), "t": np.concatenate(ts), "y": y, "y_pred": yp}

@@ -12,6 +12,7 @@ result kind        prediction on the validation record                          
 ``output_error``   motion-driven: the law driven by the recorded motion          force
                    (with ``J a + offset``, resets at rests), beside the static
                    map; force-driven: the mass driven by the recorded force     v or x
+                   (each run between rests from rest)
 ``presliding``     the GMS driven by the recorded position                      force
 ``reversal``       the sinc law around the record's reversals                  friction
 =================  ===========================================================  ===========
@@ -20,7 +21,6 @@ result kind        prediction on the validation record                          
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from collections.abc import Mapping
 
 import numpy as np
@@ -61,8 +61,8 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
     name : str, optional
         Label of the validation data (default: the record names).
     **how
-        Motion-driven output error only: ``drive``, ``integration``, ``rests``,
-        ``min_rest`` overriding those of the fit (e.g. a rest mask of this record).
+        Output error: ``rests``, ``min_rest`` (and, motion-driven, ``drive``,
+        ``integration``) overriding those of the fit (e.g. a rest mask of this record).
 
     Returns
     -------
@@ -131,26 +131,18 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
                     "static_relative_error_percent": ev["static_relative_error_percent"],
                     "training_static_rms": float(result.diagnostics.get("static_rms", np.nan))})
     elif kind == "output_error":
-        from ..plants.mass import Mass
-        from ..simulate.core import SimOptions, simulate
+        from ..simulate.core import SimOptions
+        from .output_error import evaluate_output_error
 
-        compare = proc.get("compare", "v")
         opts = SimOptions(**{k: proc[k] for k in ("rtol", "atol_v", "atol_F") if proc.get(k) is not None})
-        m = float(result.diagnostics["mass"])
-        off = float(result.diagnostics.get("offset", 0.0))
-        ys, ps = [], []
-        for r in recs:
-            r.require("F", compare)
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                sim = simulate(result.model, plant=Mass(m), force=np.asarray(r.force()) - off, dt=r.dt, options=opts)
-            y = np.asarray(getattr(r, compare), float)
-            yp = sim.x if compare == "x" else sim.v
-            if compare == "x":
-                y = y - y[0]
-            ys.append(y[1:])
-            ps.append(yp[1:])
-        out.update(_stats(np.concatenate(ys), np.concatenate(ps)))
+        kw = {"rests": None if str(proc.get("rests", "none")) == "none" else "auto",
+              "min_rest": int(proc.get("min_rest", 3))}  # files written before rests existed: none
+        kw.update(how)  # a rest mask of this record, or min_rest
+        ev = evaluate_output_error(result.model, recs[0] if len(recs) == 1 else {r.name: r for r in recs},
+                                   plant_mass=float(result.diagnostics["mass"]),
+                                   offset=float(result.diagnostics.get("offset", 0.0)),
+                                   compare=proc.get("compare", "v"), options=opts, **kw)
+        out.update({"rms": ev["rms"], "relative_error_percent": ev["relative_error_percent"], "n": ev["n"]})
     elif kind == "reversal":
         from ..models.rolling import sinc_compensation
         from .reversal import reversal_samples

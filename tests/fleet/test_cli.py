@@ -40,6 +40,7 @@ def test_simulate_identify_monitor(tmp_path):
     df = pd.read_parquet(out)
     assert {"axis", "period", "ok", "error", "Fc_pos", "Fc_neg", "drift_flag"} <= set(df.columns)
     assert "1 with an error" in res.stdout
+    assert "warning: 1 of 4 log file(s) failed" in _stderr(res)  # partial failure: exit 0, counted
 
     res = runner.invoke(app, ["fleet", "identify", str(fleet), "--out", str(out), "--workers", "0", "--no-progress",
                               "--json", "-"])
@@ -50,6 +51,23 @@ def test_simulate_identify_monitor(tmp_path):
     assert res.exit_code == 0, res.output
     assert json.loads(res.stdout)["axes"] == 2
     assert "drift_flag" in pd.read_parquet(out2).columns
+
+
+def test_identify_exits_1_when_every_log_failed(tmp_path):
+    fleet = tmp_path / "fleet"
+    res = runner.invoke(app, ["fleet", "simulate", "--axes", "1", "--days", "2", "--out", str(fleet), "--broken", "2"])
+    assert res.exit_code == 0, res.output
+    broken = (fleet / "broken.txt").read_text().split()
+    assert len(broken) == 2
+    out = tmp_path / "r.parquet"
+    res = runner.invoke(app, ["fleet", "identify", str(fleet), "--out", str(out), "--workers", "0", "--no-progress",
+                              "--json", str(tmp_path / "s.json")])
+    err = _stderr(res).strip()
+    assert res.exit_code == 1, res.output
+    assert len(err.splitlines()) == 1 and err.startswith("error: all 2 log file(s) failed"), err
+    df = pd.read_parquet(out)  # the rows with their errors are still written, and the summary
+    assert len(df) == 2 and not df["ok"].any() and df["error"].iloc[0] in err
+    assert json.loads((tmp_path / "s.json").read_text())["errors"] == 2
 
 
 @pytest.mark.parametrize("args, needle", [

@@ -128,8 +128,11 @@ def identify(
                               "costs a few ms per task)."),
     json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary (- for stdout)."),
 ) -> None:
-    """Identify every log (segmentation, static map with intervals and model choice); one row per axis-period."""
-    from ..errors import ParameterError
+    """Identify every log (segmentation, static map with intervals and model choice); one row per axis-period.
+
+    Exit 0 when at least one log was identified (a warning on stderr counts the failed ones),
+    1 when every log failed (one line: how many and the first error; the table is still written)."""
+    from ..errors import IdentificationError, ParameterError
     from ..fleet import identify_fleet
     from ..fleet.identify import resolve_config
 
@@ -158,6 +161,15 @@ def identify(
         lines.append(f"drift: {len(flagged)} axis/axes flagged" + (f" ({', '.join(flagged[:10])}"
                                                                     f"{' ...' if len(flagged) > 10 else ''})" if flagged else ""))
     lines.append(f"wrote {out} ({len(run.table)} rows; {run.elapsed:.1f} s)")
+    if len(errs) and len(errs) == len(run.table):
+        if json_out not in (None, "-"):
+            chk.save_json(doc, Path(json_out))
+        first = errs.iloc[0]
+        raise IdentificationError(f"all {len(errs)} log file(s) failed (their rows, with the errors, are in {out}); "
+                                  f"first: {first['axis']} {first['period']}: {first['error']}")
+    if len(errs):
+        typer.echo(f"warning: {len(errs)} of {len(run.table)} log file(s) failed; their rows carry the error "
+                   "(column 'error')", err=True)
     if run.failed_tasks:
         typer.echo(f"warning: {run.failed_tasks} task(s) failed on the cluster; their rows carry the error "
                    "and a rerun retries them", err=True)

@@ -61,20 +61,6 @@ def _load(path: Path, *, group: Optional[list[str]], where: Optional[list[str]],
     return load_recording(path, where=w, **kw)
 
 
-def _single(data, verb: str):
-    """The one record a verb fits; a one-line error when ``--group`` left several."""
-    from ..data import Recording
-    from ..errors import DataError
-
-    if isinstance(data, Recording):
-        return data
-    if len(data) == 1:
-        return next(iter(data.values()))
-    names = list(data)
-    raise DataError(f"{verb} fits one record, but --group gives {len(names)} ({', '.join(names[:4])}"
-                    f"{' ...' if len(names) > 4 else ''}); pick one with --where COLUMN=VALUE")
-
-
 def _validation(res, path: Optional[Path], label: str, loader, how=None) -> object:
     """``res`` with the error on the validation record in its diagnostics; prints the comparison."""
     if path is None:
@@ -581,8 +567,13 @@ def presliding(
     branch: str = typer.Option("auto", "--branch", help="auto, virgin or reversal."),
     C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
     no_refine: bool = typer.Option(False, "--no-refine", help="Skip the simulation-error refinement."),
-    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records (one may remain "
-                                              "after --where)."),
+    group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; all are fitted "
+                                              "jointly, each from the unloaded state."),
+    rests: str = typer.Option("auto", "--rests", help="auto (force logged exactly 0 over --min-rest samples = "
+                              "drive disabled: state reset, not fitted) or none."),
+    mask: Optional[str] = typer.Option(None, "--mask", help="Column that is non-zero where the drive is disabled "
+                                       "(instead of --rests auto)."),
+    min_rest: int = typer.Option(3, "--min-rest", help="Shortest run of zero force taken as a rest [samples]."),
     where: Optional[list[str]] = typer.Option(None, "--where", help="Keep rows with COLUMN=VALUE (repeatable)."),
     rotary: bool = typer.Option(False, "--rotary", help="Rotary axis: label units N·m, rad, rad/s."),
     force_unit: Optional[str] = typer.Option(None, "--force-unit", help="Force unit label after scaling (default N)."),
@@ -600,6 +591,8 @@ def presliding(
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
     chk.choice(branch, "--branch", ("auto", "virgin", "reversal"))
     C = chk.optional(chk.positive, C, "--C")
+    chk.choice(rests, "--rests", ("auto", "none"))
+    min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
     chk.outputs([recording, static_json, validate], files={"--json": json_out}, plots={"--plot": plot})
@@ -609,17 +602,27 @@ def presliding(
     from ..identify.presliding import fit_presliding
 
     def loader(path):
-        return _single(_load(path, group=group, where=where, time=time, position=position, force=force,
-                             scales=scales, units=units), "identify presliding")
+        return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
+                     units=units)
+
+    def mask_loader(path):
+        return _load(path, group=group, where=where, time=time, force=mask)
 
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
-    rec = loader(recording)
+    data = loader(recording)
     with Console(stderr=True).status(f"pre-sliding fit: {elements} element(s)"
                                      + ("" if no_refine else ", then simulation-error refinement")):
-        res = fit_presliding(rec, elements=elements, static=law, branch=branch, C=C, refine=not no_refine)
+        res = fit_presliding(data, elements=elements, static=law, branch=branch, C=C, refine=not no_refine,
+                             rests=_rest_option(rests, mask, mask_loader, recording), min_rest=min_rest)
     typer.echo(res.summary())
     d = res.diagnostics
     typer.echo(f"total stiffness {d['total_stiffness']:.6g} {units['F']}/{units['x']}, breakpoints "
                + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" {units['x']}, C {d['C']:.4g} {units['F']}/s")
-    res = _validation(res, validate, "force", loader)
+    seg = d["segments"]
+    if len(seg) > 1 or any(len(s["segments"]) > 1 for s in seg.values()):
+        typer.echo(f"{res.n_obs} samples in {sum(len(s['segments']) for s in seg.values())} segment(s) of "
+                   f"{len(seg)} record(s), each from the unloaded state; breakpoints from record "
+                   f"'{res.provenance['recording']}'")
+    res = _validation(res, validate, "force", loader,
+                      how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path), "min_rest": min_rest})
     _write(res, json_out, plot, include_data=False)

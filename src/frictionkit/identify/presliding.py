@@ -28,11 +28,11 @@ import numpy as np
 from scipy.optimize import least_squares, minimize
 
 from .. import _validate as val
-from ..data.recording import Recording
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.gms import GMS
 from ..models.static import CoulombViscous
 from ..simulate.core import simulate
+from .motion_data import MotionData, motion_data
 from .result import IdentificationResult, parameter_statistics
 
 __all__ = ["fit_presliding", "piecewise_linear_fit"]
@@ -140,6 +140,18 @@ def _s_abs(static, v: float) -> float:
     return float(abs(static.stribeck(np.array([v]))[0]))
 
 
+def _times(md: MotionData) -> np.ndarray:
+    """Time of every fitted sample, the records one after the other."""
+    out, shift, last, rec = [], 0.0, None, None
+    for sg in md.segments:
+        if rec is not None and sg.record != rec:
+            shift = last + sg.dt - float(sg.t[0])
+        rec = sg.record
+        out.append(sg.t[sg.fit] + shift)
+        last = float(out[-1][-1]) if out[-1].size else last
+    return np.concatenate(out)
+
+
 #: Most elements :func:`fit_presliding` takes (the CLI's ``--elements`` bound is the same).
 #: The breakpoint search grows about as M^3: 3 elements take 0.2 s, 16 about 2 s, 32 about
 #: 30 s and 100 more than 20 minutes on a 7,500-sample record, and one branch rarely
@@ -156,14 +168,20 @@ def fit_presliding(
     C: float | None = None,
     refine: bool = True,
     max_nfev: int = 60,
+    rests="auto",
+    min_rest: int = 3,
 ) -> IdentificationResult:
     """Identify a GMS model's ``k_i``, ``xi_i`` (and ``C``) from pre-sliding data (seed 000 eq. 19).
 
     Parameters
     ----------
-    data : Recording or mapping
+    data : Recording or mapping, or a list / dict of them
         Motion-driven test: uniformly sampled ``t`` [s], position ``x`` [m] and the
-        friction force ``F`` [N] (e.g. a slow triangle of a few tens of µm).
+        friction force ``F`` [N] (e.g. a slow triangle of a few tens of µm). Several
+        records, and the runs between rests inside a record, are cut into segments as
+        in the motion-driven output error (:func:`.motion_data.motion_data`): the
+        breakpoints come from the first segment with a suitable branch, the ``C`` grid
+        and the refinement use every segment, each simulated from the unloaded state.
     elements : int
         Number ``M`` of Maxwell-slip elements (breakpoints), 1 … :data:`MAX_ELEMENTS` (32).
     static : Stribeck | CoulombViscous | Directional, optional
@@ -184,6 +202,10 @@ def fit_presliding(
         error over the whole record (standard errors come from this step).
     max_nfev : int
         Evaluation budget of the refinement.
+    rests, min_rest
+        Where the records are cut (state reset, rest samples not fitted): ``"auto"``
+        (force logged exactly 0 over ``min_rest`` samples), a mask, or None; see
+        :func:`.motion_data.motion_data`.
 
     Returns
     -------
@@ -226,21 +248,26 @@ def fit_presliding(
         raise ParameterError(f"{owner}: branch = {branch!r}: must be 'auto', 'virgin' or 'reversal'")
     if C is not None:
         C = val.positive(owner, "C", C)
-    if isinstance(data, Recording):
-        rec = data
-    else:
-        d = dict(data)
-        if "u" in d and "F" not in d:
-            d["F"] = d.pop("u")
-        rec = Recording(**{k: d[k] for k in ("t", "x", "F") if k in d}, name="arrays")
-    rec.require("x", "F")
-    if not rec.is_regular:
-        raise DataError(f"recording '{rec.name}': irregular sampling; call Recording.resample() first")
-    t, x, F = rec.t, np.asarray(rec.x, float), np.asarray(rec.force(), float)
-    dt = rec.dt
-    brs = [b for b in _branches(x) if b[1] - b[0] >= 4]
-    if not brs:
-        raise DataError(f"recording '{rec.name}': the position does not move; no pre-sliding branch")
+    md = motion_data(data, drive="position", rests=rests, min_rest=min_rest)
+    segs = md.segments
+    dt = segs[0].dt
+    if any(abs(sg.dt - dt) > 1e-9 * dt for sg in segs):
+        raise DataError(f"{owner}: the records have different sample periods; resample them to one")
+    want = 4
+    pick = None
+    for j, sg in enumerate(segs):  # the first segment with a usable branch
+        brs_j = [b_ for b_ in _branches(sg.x) if b_[1] - b_[0] >= want]
+        if brs_j and (branch != "reversal" or any(b_[0] > 0 for b_ in brs_j)):
+            pick = j
+            break
+    if pick is None:
+        name = md.records[0]
+        raise DataError(f"recording '{name}': the position does not move; no pre-sliding branch"
+                        if branch != "reversal" else f"recording '{name}': no branch after a velocity reversal")
+    seg = segs[pick]
+    rec_name = seg.record
+    x, F = seg.x, seg.F
+    brs = [b_ for b_ in _branches(x) if b_[1] - b_[0] >= want]
     Fpk = float(np.max(np.abs(F)))
     if branch == "auto":
         branch = "virgin" if abs(F[0]) < 0.05 * Fpk and _branches(x)[0][0] == 0 else "reversal"
@@ -249,7 +276,7 @@ def fit_presliding(
     else:
         later = [br for br in brs if br[0] > 0]
         if not later:
-            raise DataError(f"recording '{rec.name}': no branch after a velocity reversal")
+            raise DataError(f"recording '{rec_name}': no branch after a velocity reversal")
         a, b = later[0]
     sgn = 1.0 if x[b] > x[a] else -1.0
     uu = sgn * (x[a:b + 1] - x[a])
@@ -281,18 +308,22 @@ def fit_presliding(
     # the attraction constant: grid over the time constant |s|/C
     s_ref = max(_s_abs(static, v_new), 1e-12)
     if C is None:
-        taus = np.geomspace(10 * dt, max(t[-1] - t[0], 100 * dt), 13)
+        taus = np.geomspace(10 * dt, max(max(float(sg.t[-1] - sg.t[0]) for sg in segs), 100 * dt), 13)
         C_grid = s_ref / taus
     else:
         C_grid = np.array([C])
 
+    F_all = np.concatenate([sg.F[sg.fit] for sg in segs])  # every fitted sample of every segment
+    t_all = _times(md)
+
     def sim_F(k, xi, Cv):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            return simulate(GMS(static, k=k, xi=xi, C=Cv), position=x, dt=dt).F
+            mdl = GMS(static, k=k, xi=xi, C=Cv)
+            return np.concatenate([simulate(mdl, position=sg.x, dt=sg.dt).F[sg.fit] for sg in segs])
 
     def rms_of(k, xi, Cv):
-        r = sim_F(k, xi, Cv) - F
+        r = sim_F(k, xi, Cv) - F_all
         return float(np.sqrt(np.mean(r**2))) if np.isfinite(r).all() else math.inf
 
     grid_rms = np.array([rms_of(k0, xi0, c) for c in C_grid])
@@ -306,13 +337,13 @@ def fit_presliding(
     names = tuple([f"k{i}" for i in range(1, M + 1)] + [f"xi{i}" for i in range(1, M + 1)])
     p0 = np.log(np.r_[k0, np.maximum(xi0, 1e-12)])
     theta = np.exp(p0)
-    n = F.size
+    n = F_all.size
     dof = n - 2 * M
     message = "piecewise-linear fit (eq. 19), no refinement"
     cov = np.full((2 * M, 2 * M), np.nan)
     if refine:
         def resid(p):
-            r = sim_F(np.exp(p[:M]), np.exp(p[M:]), C_sel) - F
+            r = sim_F(np.exp(p[:M]), np.exp(p[M:]), C_sel) - F_all
             r[~np.isfinite(r)] = 10 * Fpk
             return r
 
@@ -334,18 +365,22 @@ def fit_presliding(
     k, xi = theta[:M], theta[M:]
     model = GMS(static, k=k, xi=xi, C=C_sel)
     F_pred = sim_F(k, xi, C_sel)
-    r = F_pred - F
-    Fu = rec.units["F"]
-    xu = rec.units["x"]
+    r = F_pred - F_all
+    Fu = md.units["F"]
+    xu = md.units["x"]
     warns = [] if not note else [note]
     if float(np.sum(xi)) > 1.2:
         warns.append(f"the weights sum to {np.sum(xi):.3g} > 1: the branch exceeds the static level s(v); "
                      "check the static map")
-    prov = dict(rec.provenance)
-    prov.update({"recording": rec.name, "units": {"F": Fu, "x": xu},
+    prov = dict(md.provenance["records"][0])
+    prov.pop("name", None)
+    if len(md.records) > 1:
+        prov["records"] = list(md.records)
+    prov.update({"recording": rec_name, "units": {"F": Fu, "x": xu},
                  "procedure": {"method": "GMS pre-sliding breakpoints (seed 000 eq. 19) + simulation error",
-                               "branch": branch, "samples": [int(a), int(b)], "elements": M,
-                               "refine": bool(refine)}})
+                               "branch": branch, "samples": [int(a), int(b)], "segment": int(pick),
+                               "elements": M, "refine": bool(refine), "rests": md.rests,
+                               "min_rest": int(min_rest)}})
     return IdentificationResult(
         kind="presliding",
         model_name=f"gms_M{M}",
@@ -357,7 +392,7 @@ def fit_presliding(
         units=tuple([f"{Fu}/{xu}"] * M + ["-"] * M),
         correlation=st["correlation"],
         rms=float(np.sqrt(np.mean(r**2))),
-        relative_error_percent=float(100 * np.linalg.norm(r) / max(np.linalg.norm(F), 1e-300)),
+        relative_error_percent=float(100 * np.linalg.norm(r) / max(np.linalg.norm(F_all), 1e-300)),
         n_obs=int(n),
         dof=int(dof),
         success=True,
@@ -367,7 +402,7 @@ def fit_presliding(
                      "total_stiffness": float(np.sum(k)), "initial_total_stiffness": float(np.sum(k0)),
                      "initial_k": k0.tolist(), "initial_xi": xi0.tolist(), "s_level": s_new,
                      "factor": factor, "C": C_sel, "C_grid": C_grid.tolist(), "C_grid_rms": grid_rms.tolist(),
-                     "branch": branch},
+                     "branch": branch, "segments": md.summary},
         provenance=prov,
-        data={"t": t, "y": F, "y_pred": F_pred},
+        data={"t": t_all, "y": F_all, "y_pred": F_pred},
     )

@@ -155,16 +155,14 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
         out.update(_stats(f[use], sinc_compensation(xi[use], F0=c.F0, xs=c.xs)))
         out["reversals"] = n_rev
     elif kind == "presliding":
-        from ..simulate.core import simulate
+        from .motion_data import evaluate_motion
 
-        ys, ps = [], []
-        for r in recs:
-            r.require("x", "F")
-            x = np.asarray(r.x, float)
-            sim = simulate(result.model, position=x - x[0], dt=r.dt)
-            ys.append(np.asarray(r.force(), float))
-            ps.append(sim.F)
-        out.update(_stats(np.concatenate(ys), np.concatenate(ps)))
+        rest_desc = str(proc.get("rests", "none"))  # files written before rests existed: whole records
+        kw = {"rests": None if rest_desc == "none" else "auto", "min_rest": int(proc.get("min_rest", 3))}
+        kw.update(how)
+        ev = evaluate_motion(result.model, recs[0] if len(recs) == 1 else {r.name: r for r in recs},
+                             drive="position", **kw)
+        out.update({"rms": ev["rms"], "relative_error_percent": ev["relative_error_percent"], "n": ev["n"]})
     else:
         raise DataError(f"validate: results of kind {kind!r} cannot be validated")
     return out

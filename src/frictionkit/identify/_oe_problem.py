@@ -14,6 +14,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..plants.mass import Mass
 from ..simulate.core import simulate, simulate_batch
+from . import _jacobian
 from ._oe_params import _NONNEG, _is_log
 
 class _Problem:
@@ -31,6 +32,9 @@ class _Problem:
         self._cache: tuple[bytes, np.ndarray] | None = None
         self.big = 10.0 * (np.max(np.abs(y)) + 1e-300)
         self.progress = None
+        #: exact Jacobians from forward sensitivities (set by the fitter when the law has them)
+        self.exact = False
+        self.nsens = 0  # augmented (sensitivity) runs
         #: ``[(start, stop), ...]``: the recordings concatenated in ``u``/``y``, each simulated from rest
         self.segments = [(0, u.size)]
 
@@ -78,7 +82,27 @@ class _Problem:
             self.progress(self.nfev, self.nsim, self.cost_history[-1])
         return r
 
+    def jac_exact(self, p) -> np.ndarray | None:
+        """``d r / d p`` from one augmented run per segment (None if it fails: the caller differences)."""
+        theta = self.to_nat(np.asarray(p, float))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                _, S, status = _jacobian.force_driven(lambda th: self.tmpl.build(self.free, th), theta, self.u,
+                                                      self.dt, self.options, self.segments, self.compare)
+        except ParameterError:
+            return None
+        self.nsens += 1
+        if status != 0 or not np.all(np.isfinite(S)):
+            return None
+        dthdp = np.where(self.is_log, theta, self.scale)
+        return S * self.w[:, None] * dthdp[None, :]
+
     def jac(self, p, h: float | None = None):
+        if self.exact:
+            J = self.jac_exact(p)
+            if J is not None:
+                return J
         h = self.diff_step if h is None else h
         p = np.asarray(p, float)
         r0 = self.fun(p)

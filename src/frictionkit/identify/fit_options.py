@@ -57,6 +57,11 @@ class FitOptions:
     diff_step : float
         Forward-difference step of the transformed parameters (> 0; relative for
         log-scale parameters).
+    jacobian : {"auto", "fd"}
+        ``"auto"``: exact Jacobians from forward sensitivities (one augmented run
+        instead of one simulation per parameter) for the laws that have them (LuGre,
+        Dahl, a ``Directional`` of them), forward differences for the others (GMS).
+        ``"fd"``: forward differences always.
     workers : int or None
         Threads for the Jacobian simulations of the force drive (None: CPU count).
     profile : bool
@@ -86,6 +91,7 @@ class FitOptions:
     optimiser: str = "trf"
     step_tol: float = 0.02
     diff_step: float = 1e-3
+    jacobian: str = "auto"
     workers: int | None = None
     profile: bool = False
     raise_on_failure: bool = False
@@ -106,6 +112,8 @@ class FitOptions:
         if self.diff_step >= 1.0:
             raise ParameterError(f"{own}.diff_step = {self.diff_step!r}: must be < 1 (a step of the "
                                  "transformed parameters; 1e-3 is typical)")
+        if self.jacobian not in ("auto", "fd"):
+            raise ParameterError(f"{own}.jacobian = {self.jacobian!r}: must be 'auto' or 'fd'")
         if self.optimiser not in _OPTIMISERS:
             raise ParameterError(f"{own}.optimiser = {self.optimiser!r}: must be 'trf' or 'lm'")
         if self.workers is not None:

@@ -329,6 +329,7 @@ def fit_output_error(
     prob.segments = segments
     prob.diff_step = cfg.diff_step
     prob.progress = progress
+    prob.exact = cfg.jacobian == "auto" and tmpl.kind == "lugre"  # forward sensitivities (kernels.sensitivity)
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):
@@ -355,7 +356,8 @@ def fit_output_error(
                                "free": list(names),
                                "optimiser": ("Levenberg-Marquardt, batched trial steps" if cfg.optimiser == "lm"
                                              else "scipy.optimize.least_squares trf")
-                                            + ", forward-difference Jacobian (threaded nogil simulations)",
+                                            + (", exact Jacobian (forward sensitivities)" if prob.exact else
+                                               ", forward-difference Jacobian (threaded nogil simulations)"),
                                "starts": int(cfg.starts), "refine": refine, "seed": int(cfg.seed),
                                "rtol": options.rtol, "atol_v": options.atol_v, "atol_F": options.atol_F}})
     units = tuple(_unit(n, units_map["F"], units_map["x"]) for n in names)
@@ -486,7 +488,8 @@ def fit_output_error(
                      "start_costs": start_costs.tolist(), "runs": [{k: v for k, v in rr.items() if k != "history"}
                                                                    for rr in runs],
                      "mass": float(m_fit), "offset": float(off_fit), "condition_number": cond,
-                     "simulations": int(prob.nsim), "segments": seg_summary, "initial": computed},
+                     "simulations": int(prob.nsim), "sensitivity_runs": int(prob.nsens),
+                     "segments": seg_summary, "initial": computed},
         provenance=prov,
         data={"t": t, "y": y, "y_pred": y_pred},
     )

@@ -1,0 +1,324 @@
+"""Forward sensitivities of the single-axis LuGre family (LuGre, Dahl): state and ``d state / d theta``.
+
+Private kernels behind the exact Jacobians of the output-error fits
+(:mod:`frictionkit.identify.output_error`, :mod:`frictionkit.identify.motion_error`):
+one augmented run gives the simulated signal *and* its derivatives with respect to
+every fitted parameter, instead of one extra simulation per parameter.
+
+Parameters enter through the packed rows the other kernels read (``static`` ``(2, 6)``
+``[Fc, Fs, vs, delta, sigma2, shape]``, ``dyn`` ``(2, 2)`` ``[sigma0, sigma1]``, row 0 for
+``v >= 0``). A fitted parameter ``theta_j`` is described by its derivative of those rows,
+``coef[j, row, :] = d[sigma0, sigma1, Fc, Fs, vs, delta, sigma2]_row / d theta_j``, and for the
+force-driven mass also ``dm[j]``, ``doff[j]`` (``m a = u - F - offset``). So a tied parameter
+(both rows), a per-direction one (one row), Dahl's ``Fc`` (``Fc`` and ``Fs`` of both rows)
+or the mass are all the same code path.
+
+Motion-driven (``lugre_motion_sens``)
+-------------------------------------
+The position is interpolated linearly, so ``v`` is constant on each interval and
+``z`` has the exact exponential update ``z+ = z_ss + (z - z_ss) exp(-a dt)`` with
+``a = sigma0 |v| / g(|v|)``, ``z_ss = sgn(v) g / sigma0``. The sensitivities are the exact
+derivatives of that update (and of ``F = sigma0 z + sigma1 (v - a z) + sigma2 v``), i.e. of
+the very map :func:`frictionkit.simulate` evaluates with ``position=`` — not of an
+approximation of it.
+
+Force-driven (``lugre_force_sens``)
+-----------------------------------
+State ``y = (x, v, z, w)`` with ``w`` the input force, linear inside each sample interval
+(``w' = du/dt``), ``v' = (w - F - offset) / m``, ``z' = v - a z``. The augmented system
+``y' = f(y)``, ``S' = J(y) S + f_theta(y)`` (``S = dy/dtheta``, ``J = df/dy``; the right-hand
+side is continuous — ``|v|`` has a kink, not a jump — so ``S`` is continuous across
+``v = 0``) is integrated by the two-stage L-stable Rosenbrock–W method ROS2 (Verwer, Spee,
+Blom & Hundsdorfer 1999, ``gamma = 1 + 1/sqrt 2``), with the stage matrix
+``W = I - gamma h J(y_n)`` block-diagonal over the state and every sensitivity column::
+
+    W k1 = f(y),                    W k1s = J(y) s + f_theta(y)
+    W k2 = f(y + h k1) - 2 k1,      W k2s = J(y2) (s + h k1s) + f_theta(y2) - 2 k1s
+    y+ = y + h (3 k1 + k2) / 2,     s+ = s + h (3 k1s + k2s) / 2
+
+A W-method is second order for any ``W``, so dropping the off-diagonal blocks
+``d(J S)/dy`` of the augmented Jacobian costs no order. Assumption (named): the step size is
+controlled on the state only (``v``, ``z``; as the plain kernel does), the sensitivities ride
+on the same steps — the usual "staggered" choice; the test checks them against central
+differences of tight simulations. This is a self-contained integrator: it does not share
+step logic with :mod:`.lugre`, so its trajectory agrees with :func:`frictionkit.simulate`
+to the integration tolerance, not bit for bit.
+
+The levels ``Fc``, ``Fs`` are used as given (the plain kernels floor them at ``1e-9`` of the
+largest level, which only matters for laws whose levels vanish; such fits are not
+differentiable there anyway).
+
+Status codes as :mod:`.lugre`: 0 ok, 1 non-finite state, 2 sub-step budget exhausted,
+3 step-size underflow.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import njit
+
+GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
+OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
+#: Smallest sub-step as a fraction of ``dt``.
+H_MIN = 1e-9
+#: Index of each packed quantity in ``coef[j, row, :]``.
+C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
+N_COEF = 7
+
+
+@njit(inline="always")
+def _g_parts(Fc, Fs, vs, delta, shape, av):
+    """``(g, dg/d|v|, phi, dphi/dvs, dphi/ddelta)`` with ``g = Fc + (Fs - Fc) phi(|v| / vs)``."""
+    r = av / vs
+    if r == 0.0:
+        return Fs, 0.0, 1.0, 0.0, 0.0
+    if shape == 0.0:
+        rd = r * r if delta == 2.0 else (r if delta == 1.0 else r**delta)
+        if rd > 700.0:  # phi has underflowed: g = Fc, flat
+            return Fc, 0.0, 0.0, 0.0, 0.0
+        phi = math.exp(-rd)
+        dphi_dr = -phi * delta * rd / r
+        return (Fc + (Fs - Fc) * phi, (Fs - Fc) * dphi_dr / vs, phi, -dphi_dr * r / vs,
+                -phi * rd * math.log(r))
+    q = 1.0 / (1.0 + r * r)
+    dphi_dr = -2.0 * r * q * q
+    return Fc + (Fs - Fc) * q, (Fs - Fc) * dphi_dr / vs, q, -dphi_dr * r / vs, 0.0
+
+
+@njit(inline="always")
+def _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de):
+    """``dg/dtheta_j`` from the coefficients of row ``row`` (indexed in place: a slice would
+    cost a reference-counted view per call)."""
+    return (coef[j, row, C_FC] * (1.0 - phi) + coef[j, row, C_FS] * phi
+            + (Fs - Fc) * (dphi_vs * coef[j, row, C_VS] + dphi_de * coef[j, row, C_DELTA]))
+
+
+@njit
+def lugre_motion_sens(xpos, dt, static, dyn, coef, F_out, S_out):
+    """Motion-driven LuGre from ``z = 0``: force ``F_out[N]`` and ``S_out[N, p] = dF/dtheta``.
+
+    Returns the status (1 if a state turned non-finite).
+    """
+    N = xpos.size
+    p = coef.shape[0]
+    z = 0.0
+    dz = np.zeros(p)
+    if N == 0:
+        return OK
+    for k in range(max(N - 1, 1)):
+        vk = (xpos[k + 1] - xpos[k]) / dt if N > 1 else 0.0
+        row = 0 if vk >= 0.0 else 1
+        Fc = static[row, 0]
+        Fs = static[row, 1]
+        s0 = dyn[row, 0]
+        s1 = dyn[row, 1]
+        s2 = static[row, 4]
+        av = abs(vk)
+        g, _, phi, dphi_vs, dphi_de = _g_parts(Fc, Fs, static[row, 2], static[row, 3], static[row, 5], av)
+        a = s0 * av / g
+        if k == 0:  # sample 0: z = 0, dz = 0, zd = v
+            F_out[0] = s1 * vk + s2 * vk
+            for j in range(p):
+                S_out[0, j] = (coef[j, row, C_S1] + coef[j, row, C_S2]) * vk
+            if N == 1:
+                return OK
+        if a > 0.0:
+            E = math.exp(-a * dt)
+            sg = 1.0 if vk > 0.0 else -1.0
+            zss = sg * g / s0
+            zo = z
+            z = zss + (zo - zss) * E
+            for j in range(p):
+                dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
+                da = av * (coef[j, row, C_S0] / g - s0 * dgj / (g * g))
+                dzss = sg * (dgj / s0 - g * coef[j, row, C_S0] / (s0 * s0))
+                dz[j] = dzss * (1.0 - E) + dz[j] * E - (zo - zss) * dt * E * da
+        zd = vk - a * z
+        F = s0 * z + s1 * zd + s2 * vk
+        F_out[k + 1] = F
+        for j in range(p):
+            if a > 0.0:
+                dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
+                da = av * (coef[j, row, C_S0] / g - s0 * dgj / (g * g))
+            else:
+                da = 0.0
+            dzd = -da * z - a * dz[j]
+            S_out[k + 1, j] = (coef[j, row, C_S0] * z + s0 * dz[j] + coef[j, row, C_S1] * zd + s1 * dzd
+                               + coef[j, row, C_S2] * vk)
+        if not math.isfinite(F):
+            return NONFINITE
+    return OK
+
+
+@njit(inline="always")
+def _rates(v, z, w, m, off, Fc, Fs, vs, delta, shape, s0, s1, s2):
+    """``(fv, zd, Fv, Fz, zdv, a, phi, dphi_vs, dphi_de, g)`` at one state (``zd = dz/dt``)."""
+    av = abs(v)
+    g, gr, phi, dphi_vs, dphi_de = _g_parts(Fc, Fs, vs, delta, shape, av)
+    ig = 1.0 / g
+    a = s0 * av * ig
+    zd = v - a * z
+    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+    zdv = 1.0 - s0 * z * sg * ig * (1.0 - av * gr * ig)
+    F = s0 * z + s1 * zd + s2 * v
+    fv = (w - F - off) / m
+    return fv, zd, s1 * zdv + s2, s0 - s1 * a, zdv, a, phi, dphi_vs, dphi_de, g
+
+
+@njit(inline="always")
+def _ftheta(coef, j, row, dmj, doffj, v, z, m, fv, a, zd, g, Fc, Fs, s0, s1, phi, dphi_vs, dphi_de):
+    """``(d fv / d theta_j, d fz / d theta_j)`` at fixed state, parameter rows of ``row``."""
+    dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
+    ds0 = coef[j, row, C_S0]
+    da = abs(v) * (ds0 - s0 * dgj / g) / g
+    dzd = -da * z
+    dF = ds0 * z + coef[j, row, C_S1] * zd + s1 * dzd + coef[j, row, C_S2] * v
+    return -(dF + doffj) / m - fv * dmj / m, dzd
+
+
+@njit
+def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, atol_z, max_sub,
+                     x_out, v_out, Sx_out, Sv_out):
+    """Force-driven LuGre on a mass from rest, with forward sensitivities (ROS2-W, see above).
+
+    Fills ``x_out``, ``v_out`` (``N``) and ``Sx_out``, ``Sv_out`` (``N, p``: ``dx/dtheta``,
+    ``dv/dtheta``). Returns ``(status, sub-steps)``.
+    """
+    N = u.size
+    p = coef.shape[0]
+    x = 0.0
+    v = 0.0
+    z = 0.0
+    sx = np.zeros(p)
+    sv = np.zeros(p)
+    sz = np.zeros(p)
+    k1x = np.zeros(p)
+    k1v = np.zeros(p)
+    k1z = np.zeros(p)
+    x_out[0] = 0.0
+    v_out[0] = 0.0
+    for j in range(p):
+        Sx_out[0, j] = 0.0
+        Sv_out[0, j] = 0.0
+    h = dt
+    nsub = 0
+    im = 1.0 / m
+    for k in range(N - 1):
+        w = u[k]
+        wd = (u[k + 1] - u[k]) / dt
+        t = 0.0
+        n0 = nsub
+        while t < dt:
+            if nsub - n0 >= max_sub:  # budget per sample interval, as the plain kernel's
+                return BUDGET, nsub
+            last = False
+            hu = h
+            if t + h >= dt * (1.0 - 1e-12):
+                h = dt - t
+                last = True
+            row = 0 if v >= 0.0 else 1
+            Fc = static[row, 0]
+            Fs = static[row, 1]
+            vs_ = static[row, 2]
+            de = static[row, 3]
+            sh = static[row, 5]
+            s0 = dyn[row, 0]
+            s1 = dyn[row, 1]
+            s2 = static[row, 4]
+            fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, g = _rates(v, z, w, m, off, Fc, Fs, vs_, de, sh,
+                                                                  s0, s1, s2)
+            gh = GAMMA * h
+            # W = I - gh J on (v, z) with the w column folded into the right-hand side
+            A11 = 1.0 + gh * Fv * im
+            A12 = gh * Fz * im
+            A21 = -gh * zdv
+            A22 = 1.0 + gh * a
+            det = A11 * A22 - A12 * A21
+            idet = 1.0 / det
+            # stage 1
+            bw = wd
+            bv = fv + gh * im * bw
+            bz = zd
+            k1v_ = (A22 * bv - A12 * bz) * idet
+            k1z_ = (A11 * bz - A21 * bv) * idet
+            k1x_ = v + gh * k1v_
+            k1w = bw
+            v2 = v + h * k1v_
+            z2 = z + h * k1z_
+            w2 = w + h * k1w
+            row2 = 0 if v2 >= 0.0 else 1
+            Fc2 = static[row2, 0]
+            Fs2 = static[row2, 1]
+            s02 = dyn[row2, 0]
+            s12 = dyn[row2, 1]
+            s22 = static[row2, 4]
+            fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, g2 = _rates(
+                v2, z2, w2, m, off, Fc2, Fs2, static[row2, 2], static[row2, 3], static[row2, 5], s02, s12, s22)
+            # stage 2 (k_w2 = wd - 2 wd = -wd)
+            bw2 = wd - 2.0 * k1w
+            bv = fv2 - 2.0 * k1v_ + gh * im * bw2
+            bz = zd2 - 2.0 * k1z_
+            k2v_ = (A22 * bv - A12 * bz) * idet
+            k2z_ = (A11 * bz - A21 * bv) * idet
+            k2x_ = (v2 - 2.0 * k1x_) + gh * k2v_
+            ev = 0.5 * h * (k1v_ + k2v_)
+            ez = 0.5 * h * (k1z_ + k2z_)
+            vn = v + 0.5 * h * (3.0 * k1v_ + k2v_)
+            zn = z + 0.5 * h * (3.0 * k1z_ + k2z_)
+            e1 = abs(ev) / (atol_v + rtol * max(abs(v), abs(vn)))
+            e2 = abs(ez) / (atol_z + rtol * max(abs(z), abs(zn)))
+            err = max(e1, e2)
+            nsub += 1
+            if not math.isfinite(err) or not math.isfinite(vn + zn):
+                if h <= H_MIN * dt:
+                    return NONFINITE, nsub
+                h *= 0.2
+                continue
+            if err > 1.0 and h > H_MIN * dt:
+                h *= max(0.2, 0.9 / math.sqrt(err))
+                continue
+            if err > 1.0:
+                return TOLERANCE, nsub
+            # accepted: the sensitivities on the same step
+            for j in range(p):
+                ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, m, fv, a, zd, g, Fc, Fs, s0, s1, phi, dpv, dpd)
+                bv = (-Fv * sv[j] - Fz * sz[j]) * im + ftv
+                bz = zdv * sv[j] - a * sz[j] + ftz
+                k1v[j] = (A22 * bv - A12 * bz) * idet
+                k1z[j] = (A11 * bz - A21 * bv) * idet
+                k1x[j] = sv[j] + gh * k1v[j]
+            for j in range(p):
+                ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, m, fv2, a2, zd2, g2, Fc2, Fs2, s02, s12,
+                                   phi2, dpv2, dpd2)
+                sv2 = sv[j] + h * k1v[j]
+                sz2 = sz[j] + h * k1z[j]
+                bv = (-Fv2 * sv2 - Fz2 * sz2) * im + ftv - 2.0 * k1v[j]
+                bz = zdv2 * sv2 - a2 * sz2 + ftz - 2.0 * k1z[j]
+                k2v = (A22 * bv - A12 * bz) * idet
+                k2z = (A11 * bz - A21 * bv) * idet
+                k2x = (sv2 - 2.0 * k1x[j]) + gh * k2v
+                sx[j] += 0.5 * h * (3.0 * k1x[j] + k2x)
+                sv[j] += 0.5 * h * (3.0 * k1v[j] + k2v)
+                sz[j] += 0.5 * h * (3.0 * k1z[j] + k2z)
+            x += 0.5 * h * (3.0 * k1x_ + k2x_)
+            v = vn
+            z = zn
+            w = w + h * wd
+            t += h
+            if last:
+                t = dt
+            fac = 5.0 if err < 0.0324 else 0.9 / math.sqrt(err)
+            if last and fac >= 1.0:  # the step was clipped at the interval's end: keep the step it wanted
+                h = min(max(h * fac, hu), dt)
+            else:
+                h = min(h * fac, dt)
+        x_out[k + 1] = x
+        v_out[k + 1] = v
+        for j in range(p):
+            Sx_out[k + 1, j] = sx[j]
+            Sv_out[k + 1, j] = sv[j]
+    return OK, nsub
+

@@ -775,6 +775,11 @@ def run(
     N = q_out.shape[0]
     h = dt / n_sub
 
+    # transposed copies of the sub-step maps (the state update runs column by column)
+    PhiT = np.ascontiguousarray(Phi.T)
+    G0T = np.ascontiguousarray(G0.T)
+    G1T = np.ascontiguousarray(G1.T)
+    GfT = np.ascontiguousarray(Gf.T)
     Fbar = np.zeros(ns)
     ds = np.zeros(ns)
     a = np.zeros(ns)
@@ -1023,13 +1028,20 @@ def run(
                 w1[nact + nmot + m] = (pb - pa) / dt
             for c in range(nw):
                 dw[c] = w1[c] - w0[c]
+            # Xf = Phi X + G0 w0 + G1 dw, column by column over the transposed matrices: each
+            # row sums its terms in the same order as a row-by-row product (same numbers), but
+            # the rows are independent lanes (vectorised, no chain of dependent additions)
             for r in range(n2):
-                y = 0.0
-                for c in range(n2):
-                    y += Phi[r, c] * X[c]
-                for c in range(nw):
-                    y += G0[r, c] * w0[c] + G1[r, c] * dw[c]
-                Xf[r] = y
+                Xf[r] = 0.0
+            for c in range(n2):
+                xc = X[c]
+                for r in range(n2):
+                    Xf[r] += PhiT[c, r] * xc
+            for c in range(nw):
+                wc = w0[c]
+                dc = dw[c]
+                for r in range(n2):
+                    Xf[r] += G0T[c, r] * wc + G1T[c, r] * dc
             if has_sched:
                 for j in range(ns):
                     if sch_mode[j] != 0:
@@ -1113,10 +1125,11 @@ def run(
                         else:
                             _gms_mean(par, site_po[j], st, so_j, ds[j], h, st, lam[j], v0s[j])
             for r in range(n2):
-                y = Xf[r]
-                for j in range(ns):
-                    y += Gf[r, j] * Fbar[j]
-                X[r] = y
+                X[r] = Xf[r]
+            for j in range(ns):
+                fj = Fbar[j]
+                for r in range(n2):
+                    X[r] += GfT[j, r] * fj
         for r in range(n2):
             if not math.isfinite(X[r]):
                 return STATUS_NONFINITE, k + 1, n_bad

@@ -36,7 +36,8 @@ import numpy as np
 
 from ..identify.static_map import fit_static_map
 from ..errors import ParameterError
-from ..identify.two_step import TwoStepResult, fit_two_step, is_flagged, velocity_nrmse
+from ..identify.two_step import (MAX_RIPPLE_PERCENT, TwoStepResult, constant_velocity_ripple, fit_two_step,
+                                  is_flagged, screen_constant_velocity, velocity_nrmse)
 from ..machines import PID, FrictionFeedforward, Sum, simulate_machine
 from ..models.lugre import LuGre
 from ..presets import sdss
@@ -103,11 +104,15 @@ def constant_velocity_runs(axis, speeds, *, seed: int = 0, accel: float = 0.01, 
 
     The position loop follows a ramp reached with ``accel`` [rad/s²]; after ``settle`` s at speed
     (at least :data:`SETTLE_TRAVEL` of travel) the encoder angle and the current are averaged over ``average`` s: mean velocity =
-    angle change / time, mean torque = eq. 2's gain × mean current. Returns ``v``, ``F``.
+    angle change / time, mean torque = eq. 2's gain × mean current. Returns ``v``, ``F`` and, per run, the
+    velocity ripple over the same window from the encoder angle (``ripple_percent``, ``floor_percent``:
+    :func:`~frictionkit.identify.two_step.constant_velocity_ripple` with windows of a tenth of the position
+    loop's period, ``1 / (10 bandwidth_hz)``, and the encoder's data-sheet resolution and noise).
     """
     m = machine or axis.machine(loop="position")
     dt = axis.dt
-    v_out, F_out = [], []
+    v_out, F_out, rip, floor = [], [], [], []
+    window = 0.1 / axis.bandwidth_hz
     for k, w in enumerate(np.asarray(speeds, float)):
         ta = abs(w) / accel
         ts = max(settle, SETTLE_TRAVEL / abs(w))
@@ -120,7 +125,12 @@ def constant_velocity_runs(axis, speeds, *, seed: int = 0, accel: float = 0.01, 
         i = res.signal("motor.applied" if "motor.applied" in res.signal_names else "motors.applied")[sel]
         v_out.append((enc[-1] - enc[0]) / (t[sel][-1] - t[sel][0]))
         F_out.append(axis.torque_constant * float(np.mean(i)))
-    return {"v": np.array(v_out), "F": np.array(F_out)}
+        r = constant_velocity_ripple(t[sel], enc, window=window, resolution=axis.encoder.resolution,
+                                     noise=axis.encoder.noise)
+        rip.append(r["ripple_percent"])
+        floor.append(r["floor_percent"])
+    return {"v": np.array(v_out), "F": np.array(F_out), "ripple_percent": np.array(rip),
+            "floor_percent": np.array(floor)}
 
 
 def speed_grid(quick: bool) -> np.ndarray:
@@ -147,8 +157,11 @@ def _true_model_nrmse(axis, runs: dict) -> dict:
     return {k: velocity_nrmse(axis.friction, r, axis.inertia) for k, r in runs.items()}
 
 
-def run_azimuth(axis=None, *, quick: bool = False, seed: int = 0, joint: bool = True) -> AxisOutcome:
-    """The azimuth in the paper's order; ``joint=False`` fits σ0, σ1 on the triangle alone."""
+def run_azimuth(axis=None, *, quick: bool = False, seed: int = 0, joint: bool = True,
+                max_ripple_percent: float | None = MAX_RIPPLE_PERCENT) -> AxisOutcome:
+    """The azimuth in the paper's order; ``joint=False`` fits σ0, σ1 on the triangle alone.
+    ``max_ripple_percent``: the constant-velocity screen (``None``: every run kept, the state
+    before the screen)."""
     axis = axis or sdss.AzimuthAxis()
     Ts = min(axis.friction.static.positive.Fs, axis.friction.static.negative.Fs)
     steady = constant_velocity_runs(axis, speed_grid(quick), seed=seed)
@@ -161,12 +174,12 @@ def run_azimuth(axis=None, *, quick: bool = False, seed: int = 0, joint: bool = 
     fit = fit_two_step(inertia=axis.inertia, steady=steady, triangle=runs["fig4a_triangle"],
                        also_below=[runs["fig4b_sine"]] if joint else (),
                        validate={"fig4b_sine": runs["fig4b_sine"], "fig4c_above": runs["fig4c_above"]},
-                       order="static_first")
+                       order="static_first", max_ripple_percent=max_ripple_percent)
     nr = {k: v for k, v in fit.nrmse_percent.items() if k != "triangle"}
     if "triangle" in fit.nrmse_percent:
         nr["fig4a_triangle"] = fit.nrmse_percent["triangle"]
     return AxisOutcome("azimuth", axis.truth(), fit, fit.parameters(), nr, _true_model_nrmse(axis, runs),
-                       runs, steady)
+                       runs, steady, extra={"screen": fit.screen})
 
 
 def run_altitude(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcome:
@@ -186,20 +199,36 @@ def run_altitude(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcom
     return AxisOutcome("altitude", axis.truth(), fit, fit.parameters(), nr, _true_model_nrmse(axis, runs), runs)
 
 
-def run_rotator(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcome:
+def _screened(steady: dict, max_ripple_percent):
+    """The constant-velocity screen of a campaign (``None``: keep every run)."""
+    if max_ripple_percent is None:
+        return None, steady
+    scr = screen_constant_velocity(steady, max_ripple_percent=max_ripple_percent)
+    if not scr.success:
+        raise RuntimeError(f"constant-velocity screen: {scr.message}")
+    return scr, scr.steady()
+
+
+def run_rotator(axis=None, *, quick: bool = False, seed: int = 0,
+                max_ripple_percent: float | None = MAX_RIPPLE_PERCENT) -> AxisOutcome:
+    """Eq. 13b's combined static map from constant-velocity runs, the runs whose speed was not
+    constant rejected first (``max_ripple_percent``, ``None`` keeps every run); then the
+    separation attempt (ours) from a bench campaign screened the same way."""
     axis = axis or sdss.RotatorAxis()
     speeds = speed_grid(quick)
     steady = constant_velocity_runs(axis, speeds, seed=seed)
-    res = fit_static_map(steady["v"], steady["F"], model="exponential", delta=2.0, direction="both",
+    screen, used = _screened(steady, max_ripple_percent)
+    res = fit_static_map(used["v"], used["F"], model="exponential", delta=2.0, direction="both",
                          units={"v": "rad/s", "F": "N·m"})
     identified = {n: {"value": res.parameter(n)["value"], "ci95": res.parameter(n)["ci95"],
                       "unit": res.parameter(n)["unit"], "flagged": is_flagged(n, res.warnings)}
                   for n in res.names}
     # separation attempt (ours, the paper's suggestion): the HD on the bench, then the bearing
     bench = constant_velocity_runs(axis, speeds, seed=seed + 500, machine=axis.machine(hd_only=True))
-    hd = fit_static_map(bench["v"], bench["F"], model="exponential", delta=2.0, direction="both",
+    bench_screen, bench_used = _screened(bench, max_ripple_percent)
+    hd = fit_static_map(bench_used["v"], bench_used["F"], model="exponential", delta=2.0, direction="both",
                         units={"v": "rad/s", "F": "N·m"})
-    bearing = fit_static_map(steady["v"], steady["F"] - hd.model.steady_state(steady["v"]), model="exponential",
+    bearing = fit_static_map(used["v"], used["F"] - hd.model.steady_state(used["v"]), model="exponential",
                              delta=2.0, direction="both", units={"v": "rad/s", "F": "N·m"})
     b, h, nc = axis.bearing.static, axis.hd_friction.static, axis.n_c
     sep = {"hd_at_rotator": {"truth": {"Fc": nc * h.Fc, "Fs": nc * h.Fs, "vs": h.vs / nc, "sigma2": nc**2 * h.sigma2},
@@ -207,7 +236,8 @@ def run_rotator(axis=None, *, quick: bool = False, seed: int = 0) -> AxisOutcome
            "bearing": {"truth": {"Fc": b.Fc, "Fs": b.Fs, "vs": b.vs, "sigma2": b.sigma2},
                        "identified": {k: bearing[f"{k}_pos"] for k in _STATIC}}}
     return AxisOutcome("rotator", axis.truth(), None, identified, {}, {}, {}, steady,
-                       extra={"static_result": res, "separation": sep, "hd_result": hd, "bearing_result": bearing})
+                       extra={"static_result": res, "separation": sep, "hd_result": hd, "bearing_result": bearing,
+                              "screen": screen, "bench_screen": bench_screen})
 
 
 
@@ -265,6 +295,11 @@ class SdssReproduction:
                           "nrmse_by_figure_percent": o.nrmse, "nrmse_true_model_percent": o.nrmse_floor}
             if name == "rotator":
                 axes[name]["separation_ours"] = o.extra["separation"]
+            for key, label in (("screen", "constant_velocity_screen"), ("bench_screen", "hd_bench_screen")):
+                scr = o.extra.get(key)
+                if scr is not None:  # ours: runs whose speed was not constant, rejected before eq. 10
+                    axes[name][label] = {"max_ripple_percent": scr.max_ripple_percent, "runs": int(scr.v.size),
+                                         "kept": int(scr.accepted.sum()), "rejected": scr.rejected()}
             if o.fit is not None:
                 axes[name]["initial_guess"] = {k: v for k, v in o.fit.initial_guess.items() if k.startswith("sigma")}
                 axes[name]["status"] = o.fit.status
@@ -279,15 +314,18 @@ class SdssReproduction:
         return reproduction_figure(self)
 
 
-def run(*, quick: bool = False, seed: int = 0, progress=None) -> SdssReproduction:
-    """Run every experiment and estimation. ``progress(label)`` is called before each part."""
+def run(*, quick: bool = False, seed: int = 0, progress=None,
+        max_ripple_percent: float | None = MAX_RIPPLE_PERCENT) -> SdssReproduction:
+    """Run every experiment and estimation. ``progress(label)`` is called before each part.
+    ``max_ripple_percent``: the constant-velocity screen of the azimuth and rotator campaigns
+    (``None`` keeps every run)."""
     step = progress or (lambda label: None)
     step("azimuth")
-    az = run_azimuth(quick=quick, seed=seed)
+    az = run_azimuth(quick=quick, seed=seed, max_ripple_percent=max_ripple_percent)
     step("altitude")
     alt = run_altitude(quick=quick, seed=seed)
     step("rotator")
-    rot = run_rotator(quick=quick, seed=seed)
+    rot = run_rotator(quick=quick, seed=seed, max_ripple_percent=max_ripple_percent)
     step("sidereal tracking (ours)")
     trk = sidereal_tracking(model=az.fit.model if az.fit.model is not None else None,
                             duration=15.0 if quick else 30.0, seed=seed)
@@ -298,12 +336,14 @@ def run(*, quick: bool = False, seed: int = 0, progress=None) -> SdssReproductio
 
 
 # --------------------------------------------------------------------------- interval coverage
-def _coverage_seed(*, seed: int, quick: bool, joint: bool = True) -> dict:
+def _coverage_seed(*, seed: int, quick: bool, joint: bool = True,
+                   max_ripple_percent: float | None = MAX_RIPPLE_PERCENT) -> dict:
     """One noise seed of :func:`coverage` (a task of :func:`frictionkit.study.run_tasks`):
     ``{axis: {name: [value, lo, hi, truth]}}`` of every identified parameter, in ``"params"``."""
     out = {}
     for name, fn in (("azimuth", run_azimuth), ("altitude", run_altitude), ("rotator", run_rotator)):
-        o = fn(quick=quick, seed=seed, **({"joint": joint} if name == "azimuth" else {}))
+        kw = {} if name == "altitude" else {"max_ripple_percent": max_ripple_percent}
+        o = fn(quick=quick, seed=seed, **kw, **({"joint": joint} if name == "azimuth" else {}))
         if o.fit is not None and o.fit.status != 0:
             raise RuntimeError(f"{name} seed {seed}: {o.fit.message}")
         out[name] = {k: [float(p["value"]), float(p["ci95"][0]), float(p["ci95"][1]), float(o.truth[k])]
@@ -312,13 +352,14 @@ def _coverage_seed(*, seed: int, quick: bool, joint: bool = True) -> dict:
 
 
 def coverage(*, seeds=range(20), quick: bool = False, joint: bool = True, workers: int | None = 0, scheduler=None,
-             out=None, progress=True) -> dict:
+             out=None, progress=True, max_ripple_percent: float | None = MAX_RIPPLE_PERCENT) -> dict:
     """How often the reported 95 % intervals contain the truth (issue 10: 85–99 % over 20 noise
     seeds and all identified parameters together): every identified parameter of the azimuth
     (8 static + σ0, σ1), the altitude (the same ten, dynamic first) and the rotator (the combined
     map of eq. 13b, 8) per noise seed, each seed one task of the study engine
     (:func:`frictionkit.study.run_tasks`; ``workers=0`` this process, ``N`` a LocalCluster).
     ``joint=False``: the azimuth's σ0, σ1 from the triangle alone (the state before the joint fit).
+    ``max_ripple_percent``: the constant-velocity screen (``None``: every run kept, the state before it).
 
     Returns a JSON-ready dict: ``hits``/``n``/``percent`` overall and per axis, per parameter,
     the misses (axis, parameter, seed), and per parameter the mean error over the seeds in
@@ -334,7 +375,9 @@ def coverage(*, seeds=range(20), quick: bool = False, joint: bool = True, worker
 
     t0 = time.perf_counter()
     seeds = [int(s) for s in seeds]
-    tasks = [Task(label=f"seed={s}", func=_coverage_seed, kwargs={"seed": s, "quick": bool(quick), "joint": bool(joint)}) for s in seeds]
+    tasks = [Task(label=f"seed={s}", func=_coverage_seed,
+                  kwargs={"seed": s, "quick": bool(quick), "joint": bool(joint), "max_ripple_percent": max_ripple_percent})
+             for s in seeds]
     res = run_tasks(tasks, out=None if out is None else Path(out) / "sdss_coverage.parquet", key="seed",
                     scheduler=scheduler, workers=workers, progress=progress, label="sdss coverage")
     per_param: dict = {}
@@ -364,6 +407,7 @@ def coverage(*, seeds=range(20), quick: bool = False, joint: bool = True, worker
         a["percent"] = 100.0 * a["hits"] / max(a["n"], 1)
     hits = sum(a["hits"] for a in axes.values())
     n = sum(a["n"] for a in axes.values())
-    return {"seeds": len(seeds), "quick": bool(quick), "joint": bool(joint), "hits": hits, "n": n, "percent": 100.0 * hits / max(n, 1),
+    return {"seeds": len(seeds), "quick": bool(quick), "joint": bool(joint), "max_ripple_percent": max_ripple_percent,
+            "hits": hits, "n": n, "percent": 100.0 * hits / max(n, 1),
             "axes": axes, "misses": misses, "failed": failed, "engine": res.summary(),
             "elapsed_s": time.perf_counter() - t0}

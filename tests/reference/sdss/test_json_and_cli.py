@@ -25,6 +25,13 @@ def test_summary_layout(azimuth, altitude, rotator):
     assert doc["axes"]["rotator"]["velocity_nrmse_percent"] is None  # the paper fits only its static map
     assert doc["axes"]["azimuth"]["velocity_nrmse_percent"] == azimuth.nrmse["fig4a_triangle"]
     assert doc["axes"]["altitude"]["velocity_nrmse_percent"] == altitude.nrmse["fig6b_above"]
+    # ours: the constant-velocity runs rejected before eq. 10 are named with their ripple
+    for name, key in (("azimuth", "constant_velocity_screen"), ("rotator", "constant_velocity_screen"),
+                      ("rotator", "hd_bench_screen")):
+        scr = doc["axes"][name][key]
+        assert scr["kept"] + len(scr["rejected"]) == scr["runs"] == 16
+        assert all(r["ripple_percent"] > scr["max_ripple_percent"] for r in scr["rejected"])
+    assert "constant_velocity_screen" not in doc["axes"]["altitude"]  # no constant-velocity runs (paper §3.2)
 
 
 def test_cli_refuses_bad_options_before_running(tmp_path):

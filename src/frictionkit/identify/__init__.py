@@ -12,7 +12,7 @@ from ..plants.rigid_body import RigidBody  # re-exported: the plant fit_rigid_bo
 from .rigid_body import fit_rigid_body, rigid_body_regressors
 from .static_map import MODELS as STATIC_MODELS
 from .static_map import fit_static_map, fit_static_records, stribeck_model
-from .two_step import TwoStepResult, fit_two_step
+from .two_step import ConstantVelocityScreen, TwoStepResult, fit_two_step, screen_constant_velocity
 
 __all__ = [
     "FitOptions",
@@ -37,6 +37,8 @@ __all__ = [
     "RigidBody",
     "TwoStepResult",
     "fit_two_step",
+    "ConstantVelocityScreen",
+    "screen_constant_velocity",
     "fit_rigid_body",
     "fit_static_map",
     "fit_static_records",

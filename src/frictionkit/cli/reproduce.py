@@ -236,6 +236,13 @@ def sdss(
             out.print("velocity NRMSE [%] (identified / true model on the same data): " + ", ".join(
                 f"{k} {v:.2f} / {ax['nrmse_true_model_percent'].get(k, float('nan')):.2f}"
                 for k, v in ax["nrmse_by_figure_percent"].items()))
+        for key in ("constant_velocity_screen", "hd_bench_screen"):
+            if key in ax:
+                s = ax[key]
+                out.print(f"{key.replace('_', ' ')} (ripple <= {s['max_ripple_percent']:g} %): kept {s['kept']} of "
+                          f"{s['runs']} runs; rejected: " + (", ".join(
+                              f"{r['speed_rad_s']:+.3e} rad/s ({r['ripple_percent']:.1f} %)" for r in s["rejected"])
+                              or "none"))
     trk = summary["sidereal_tracking_rms_arcsec"]
     out.print(f"sidereal tracking RMS (ours): no compensation {trk['no_compensation']:.4f} arcsec, "
               f"LuGre feed-forward {trk['lugre_feedforward']:.4f} arcsec")

@@ -313,9 +313,11 @@ def output_error(
     """Output-error fit of LuGre, GMS (or Dahl) parameters by simulation (seed 002 eq. 12).
 
     --drive force (default): the measured force drives mass + friction, the simulated
-    velocity (or position) is compared. --drive motion: the measured motion drives the
-    friction law and the predicted force is compared, with resets at rests — the
-    direction that suits logs of position-controlled drives.
+    velocity (or position) is compared; start values not given are computed by the
+    library (sub-breakaway slope). --drive motion: the measured motion drives the
+    friction law and the predicted force is compared — the direction that suits logs of
+    position-controlled drives. Both: --group records fitted jointly, every run between
+    rests simulated from the unloaded state.
     """
     from ..errors import DataError, ParameterError
 

@@ -38,6 +38,7 @@ from ..errors import DataError, IdentificationError, ParameterError
 from ..models.gms import GMS
 from ..models.lugre import Dahl, LuGre
 from ..models.static import Directional
+from . import _jacobian
 from . import identifiability as idf
 from ._advice import advisor, level, time_constants, unit
 from ._law_params import LawTemplate, base_name, is_log
@@ -142,6 +143,8 @@ class _Problem:
         self.big = 10.0 * F_scale
         self.n = md.n_fit
         self._cache: tuple[bytes, np.ndarray] | None = None
+        #: exact Jacobians (forward sensitivities of the LuGre family; set by the fitter)
+        self.exact = False
 
     def to_nat(self, p):
         return np.where(self.log, np.exp(np.clip(p, -700, 700)), p * self.scale)
@@ -179,7 +182,40 @@ class _Problem:
         self._cache = (key, r)
         return r
 
+    def jac_exact(self, p) -> np.ndarray | None:
+        """``d r / d p`` from the exact sensitivities of the motion-driven update (None: not available)."""
+        theta = self.to_nat(np.asarray(p, float))
+        law = [i for i, n in enumerate(self.names) if n not in MOTION_EXTRAS]
+
+        def build(th):
+            return self.tmpl.build(self.law_names, th), 1.0, 0.0
+        try:
+            if not _jacobian.supports(build(theta[law])[0]):
+                return None
+            rows = []
+            for s in self.md.segments:
+                _, S, status = _jacobian.motion_driven(build, theta[law], s.x, s.dt)
+                if status != 0:
+                    return None
+                rows.append(S[s.fit])
+        except ParameterError:
+            return None
+        J = np.zeros((self.n, len(self.names)))
+        J[:, law] = np.concatenate(rows)
+        for j, n in enumerate(self.names):
+            if n == "J":
+                J[:, j] = np.concatenate([s.a[s.fit] for s in self.md.segments])
+            elif n == "offset":
+                J[:, j] = 1.0
+        if not np.all(np.isfinite(J)):
+            return None
+        return J * np.where(self.log, theta, self.scale)[None, :]
+
     def jac(self, p, h: float = 1e-4):
+        if self.exact:
+            J = self.jac_exact(p)
+            if J is not None:
+                return J
         p = np.asarray(p, float)
         r0 = self.fun(p)
         J = np.empty((r0.size, p.size))
@@ -395,6 +431,7 @@ def fit_motion_error(
     theta0 = np.array([max(th, floors.get(n, th)) if n not in (bounds or {}) else th
                        for n, th in zip(names, theta0)])  # starts below a floor move up to it
     prob = _Problem(tmpl, names, md, {"J": inertia, "offset": offset}, theta0, F_scale)
+    prob.exact = cfg.jacobian == "auto"  # where the law has sensitivity kernels (else differences)
     p0 = prob.to_tr(theta0)
     lo, hi = _bounds(prob, p0, bounds, floors)
     if np.any(p0 < lo) or np.any(p0 > hi):
@@ -472,7 +509,9 @@ def fit_motion_error(
                                "fixed_offset": None if "offset" in names else offset,
                                "starts": starts if isinstance(starts, str) else int(starts), "profile": bool(profile),
                                "optimiser": "scipy.optimize.least_squares trf, log scale for positive parameters, "
-                                            "forward-difference Jacobian"}})
+                                            + ("exact Jacobian (forward sensitivities)"
+                                               if prob.exact and _jacobian.supports(model if model is not None else model0)
+                                               else "forward-difference Jacobian")}})
     law = model.positive if isinstance(model, Directional) else (model if model is not None else model0)
     law = law.positive if isinstance(law, Directional) else law
     return IdentificationResult(

@@ -155,7 +155,7 @@ def lugre_motion_sens(xpos, dt, static, dyn, coef, F_out, S_out):
 
 @njit(inline="always")
 def _rates(v, z, w, m, off, Fc, Fs, vs, delta, shape, s0, s1, s2):
-    """``(fv, zd, Fv, Fz, zdv, a, phi, dphi_vs, dphi_de, g)`` at one state (``zd = dz/dt``)."""
+    """``(fv, zd, Fv, Fz, zdv, a, phi, dphi_vs, dphi_de, 1/g)`` at one state (``zd = dz/dt``)."""
     av = abs(v)
     g, gr, phi, dphi_vs, dphi_de = _g_parts(Fc, Fs, vs, delta, shape, av)
     ig = 1.0 / g
@@ -165,21 +165,21 @@ def _rates(v, z, w, m, off, Fc, Fs, vs, delta, shape, s0, s1, s2):
     zdv = 1.0 - s0 * z * sg * ig * (1.0 - av * gr * ig)
     F = s0 * z + s1 * zd + s2 * v
     fv = (w - F - off) / m
-    return fv, zd, s1 * zdv + s2, s0 - s1 * a, zdv, a, phi, dphi_vs, dphi_de, g
+    return fv, zd, s1 * zdv + s2, s0 - s1 * a, zdv, a, phi, dphi_vs, dphi_de, ig
 
 
 @njit(inline="always")
-def _ftheta(coef, j, row, dmj, doffj, v, z, m, fv, a, zd, g, Fc, Fs, s0, s1, phi, dphi_vs, dphi_de):
-    """``(d fv / d theta_j, d fz / d theta_j)`` at fixed state, parameter rows of ``row``."""
+def _ftheta(coef, j, row, dmj, doffj, v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dphi_vs, dphi_de):
+    """``(d fv / d theta_j, d fz / d theta_j)`` at fixed state, parameter rows of ``row``
+    (``im = 1/m``, ``ig = 1/g``: no division in the per-parameter loop)."""
     dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
     ds0 = coef[j, row, C_S0]
-    da = abs(v) * (ds0 - s0 * dgj / g) / g
-    dzd = -da * z
+    dzd = -abs(v) * (ds0 - s0 * dgj * ig) * ig * z
     dF = ds0 * z + coef[j, row, C_S1] * zd + s1 * dzd + coef[j, row, C_S2] * v
-    return -(dF + doffj) / m - fv * dmj / m, dzd
+    return -(dF + doffj + fv * dmj) * im, dzd
 
 
-@njit
+@njit(error_model="numpy")  # IEEE division: no zero test per division; non-finite states are caught below
 def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, atol_z, max_sub,
                      x_out, v_out, Sx_out, Sv_out):
     """Force-driven LuGre on a mass from rest, with forward sensitivities (ROS2-W, see above).
@@ -228,7 +228,7 @@ def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, a
             s0 = dyn[row, 0]
             s1 = dyn[row, 1]
             s2 = static[row, 4]
-            fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, g = _rates(v, z, w, m, off, Fc, Fs, vs_, de, sh,
+            fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, w, m, off, Fc, Fs, vs_, de, sh,
                                                                   s0, s1, s2)
             gh = GAMMA * h
             # W = I - gh J on (v, z) with the w column folded into the right-hand side
@@ -255,7 +255,7 @@ def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, a
             s02 = dyn[row2, 0]
             s12 = dyn[row2, 1]
             s22 = static[row2, 4]
-            fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, g2 = _rates(
+            fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, ig2 = _rates(
                 v2, z2, w2, m, off, Fc2, Fs2, static[row2, 2], static[row2, 3], static[row2, 5], s02, s12, s22)
             # stage 2 (k_w2 = wd - 2 wd = -wd)
             bw2 = wd - 2.0 * k1w
@@ -284,14 +284,14 @@ def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, a
                 return TOLERANCE, nsub
             # accepted: the sensitivities on the same step
             for j in range(p):
-                ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, m, fv, a, zd, g, Fc, Fs, s0, s1, phi, dpv, dpd)
+                ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
                 bv = (-Fv * sv[j] - Fz * sz[j]) * im + ftv
                 bz = zdv * sv[j] - a * sz[j] + ftz
                 k1v[j] = (A22 * bv - A12 * bz) * idet
                 k1z[j] = (A11 * bz - A21 * bv) * idet
                 k1x[j] = sv[j] + gh * k1v[j]
             for j in range(p):
-                ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, m, fv2, a2, zd2, g2, Fc2, Fs2, s02, s12,
+                ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, im, fv2, zd2, ig2, Fc2, Fs2, s02, s12,
                                    phi2, dpv2, dpd2)
                 sv2 = sv[j] + h * k1v[j]
                 sz2 = sz[j] + h * k1z[j]

@@ -221,3 +221,20 @@ def test_fit_object_and_keywords_agree_and_raising_is_on_request(records):
     np.testing.assert_array_equal(a.values, b.values)
     with pytest.raises(IdentificationError, match="did not converge"):
         fit_output_error(one, start, plant_mass=1.0, fit=FitOptions(max_nfev=2, raise_on_failure=True))
+
+
+def test_motion_start_model_keeps_given_values_and_computes_the_rest():
+    from frictionkit.identify.motion_error import motion_start
+    from frictionkit.identify.start_values import motion_error_start
+
+    t = np.arange(2001) * DT
+    data = {"t": t, "x": 1e-3 * np.sin(2 * np.pi * t), "F": np.ones(t.size)}
+    auto = motion_start("lugre", LAW, fk.identify.motion_data(data))
+    got = motion_error_start("lugre", LAW, data, given={"sigma1": 7.0})
+    assert got.sigma1 == 7.0 and got.sigma0 == pytest.approx(auto.sigma0)
+    gms = motion_error_start("gms", LAW, data, given={"k": [1e5, 1e4], "xi": [0.4, 0.6]})
+    assert list(gms.k) == [1e5, 1e4] and gms.C == pytest.approx(motion_start("gms", LAW, data, elements=2).C)
+    with pytest.raises(ParameterError, match="initial has 'sigma1', not a start value of dahl"):
+        motion_error_start("dahl", LAW, data, given={"sigma1": 1.0})
+    with pytest.raises(ParameterError, match="give both, or neither"):
+        motion_error_start("gms", LAW, data, given={"xi": [1.0]})

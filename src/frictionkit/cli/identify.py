@@ -463,35 +463,21 @@ def _rest_option(rests: str, mask: Optional[str], mask_loader, path: Path):
 def _output_error_motion(data, law, *, model, names, position, rests, mask, min_rest, integration, inertia, offset,
                          sigma0, sigma1, k, xi, C, elements, starts, profile, mask_loader, path,
                          max_presliding=None):
-    """The ``--drive motion`` branch: segments, start model, fit."""
+    """The ``--drive motion`` branch: segments, the start model from the library (given values kept), fit."""
     from ..errors import ParameterError
-    from ..identify.motion_error import fit_motion_error, motion_data, motion_start
-    from ..models import GMS, Dahl, Directional, LuGre
+    from ..identify.motion_error import fit_motion_error, motion_data
+    from ..identify.start_values import motion_error_start
 
     rest = _rest_option(rests, mask, mask_loader, path)
     md = motion_data(data, drive="position" if position is not None else "velocity", integration=integration,
                      rests=rest, min_rest=min_rest)
-    if model == "lugre":
-        start = motion_start("lugre", law, md, max_presliding=max_presliding)
-        mdl = LuGre(law, sigma0=sigma0 if sigma0 is not None else start.sigma0,
-                    sigma1=sigma1 if sigma1 is not None else start.sigma1)
-    elif model == "gms":
-        kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
-        if (kk is None) != (xx is None):
-            raise ParameterError("--model gms: give both --k and --xi, or neither (then --elements sets the start)")
-        start = motion_start("gms", law, md, elements=elements if kk is None else len(kk),
-                             max_presliding=max_presliding)
-        mdl = GMS(law, k=kk if kk is not None else start.k, xi=xx if xx is not None else start.xi,
-                  C=C if C is not None else start.C)
-    else:
-        start = motion_start("dahl", law, md, max_presliding=max_presliding)
-        if sigma0 is not None:
-            if isinstance(start, Directional):
-                start = Directional(positive=Dahl(Fc=start.positive.Fc, sigma0=sigma0, sigma2=start.positive.sigma2),
-                                    negative=Dahl(Fc=start.negative.Fc, sigma0=sigma0, sigma2=start.negative.sigma2))
-            else:
-                start = Dahl(Fc=start.Fc, sigma0=sigma0, sigma2=start.sigma2)
-        mdl = start
+    kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
+    if model == "gms" and (kk is None) != (xx is None):
+        raise ParameterError("--model gms: give both --k and --xi, or neither (then --elements sets the start)")
+    given = {n: v for n, v in {"lugre": (("sigma0", sigma0), ("sigma1", sigma1)),
+                               "gms": (("k", kk), ("xi", xx), ("C", C)),
+                               "dahl": (("sigma0", sigma0),)}[model] if v is not None}
+    mdl = motion_error_start(model, law, md, given=given, elements=elements, max_presliding=max_presliding)
     return fit_motion_error(md, mdl, free=names or None, inertia=inertia or 0.0, offset=offset,
                             starts=starts if starts is not None else "auto", profile=profile,
                             max_presliding=max_presliding)

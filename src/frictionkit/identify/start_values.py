@@ -12,7 +12,9 @@ fit as the command line:
   sub-breakaway branches (:func:`~frictionkit.identify.initial_guess_lugre`, seed 002
   §3.1), ``sigma1`` from critical damping of the linearised pre-sliding oscillator;
   GMS ``k_i`` sharing that total stiffness;
-* the default free parameters (:data:`FORCE_DRIVE_FREE`).
+* the default free parameters (:data:`FORCE_DRIVE_FREE`);
+* the start model of the motion-driven fit with some values given
+  (:func:`motion_error_start`, over :func:`~frictionkit.identify.motion_start`).
 """
 
 from __future__ import annotations
@@ -29,7 +31,8 @@ from ..models.gms import GMS
 from ..models.lugre import LuGre
 from .initial_guess import initial_guess_lugre
 
-__all__ = ["FORCE_DRIVE_FREE", "GMS_C_START", "load_static_law", "output_error_start", "static_law"]
+__all__ = ["FORCE_DRIVE_FREE", "GMS_C_START", "load_static_law", "motion_error_start", "output_error_start",
+           "static_law"]
 
 #: Parameters the force-driven fit frees by default: LuGre ``sigma0, sigma1``; GMS the
 #: stiffnesses ``k`` (a force-driven velocity record rarely pins ``C`` or the weights).
@@ -236,3 +239,68 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     k = info["sigma0"] * share / share.sum()
     info = {"k_total": info["sigma0"], "branches": info["branches"]}
     return GMS(static, k=k.tolist(), xi=[1.0 / M] * M, C=C), info
+
+
+def motion_error_start(kind: str, static, data, *, given: Mapping[str, Any] | None = None, elements: int = 3,
+                       max_presliding: float | None = None, drive: str = "auto", integration: str = "held",
+                       rests="auto", min_rest: int = 3):
+    """Start model of a motion-driven fit: the given values, the rest from :func:`.motion_error.motion_start`.
+
+    Parameters
+    ----------
+    kind : {"lugre", "gms", "dahl"}
+    static : law, static-map result, or path
+        The static map (see :func:`static_law`).
+    data
+        The records, or their :class:`~.motion_data.MotionData`.
+    given : mapping, optional
+        Start values the caller fixes: LuGre ``sigma0``, ``sigma1``; GMS ``k``, ``xi``
+        (both or neither), ``C``; Dahl ``sigma0`` (both directions).
+    elements : int
+        GMS elements when ``k`` and ``xi`` are not given.
+    max_presliding, drive, integration, rests, min_rest
+        As in :func:`~.motion_error.fit_motion_error`.
+
+    Returns
+    -------
+    law
+        LuGre, GMS, Dahl or a ``Directional`` of two Dahl laws.
+    """
+    from ..models.lugre import Dahl
+    from ..models.static import Directional
+    from .motion_data import MotionData, motion_data
+    from .motion_error import motion_start
+
+    owner = "motion_error_start"
+    allowed = {"lugre": ("sigma0", "sigma1"), "gms": ("k", "xi", "C"), "dahl": ("sigma0",)}
+    if kind not in allowed:
+        raise ParameterError(f"{owner}: kind = {kind!r}: must be 'lugre', 'gms' or 'dahl'")
+    given = dict(given or {})
+    unknown = sorted(set(given) - set(allowed[kind]))
+    if unknown:
+        raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
+                             f"give {', '.join(allowed[kind])}")
+    law = static_law(static, owner)
+    md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,
+                                                                rests=rests, min_rest=min_rest)
+    if kind == "lugre":
+        start = motion_start("lugre", law, md, max_presliding=max_presliding)
+        return LuGre(law, sigma0=float(given.get("sigma0", start.sigma0)), sigma1=float(given.get("sigma1", start.sigma1)))
+    if kind == "gms":
+        if ("k" in given) != ("xi" in given):
+            raise ParameterError(f"{owner}: initial gives {'k' if 'k' in given else 'xi'} without "
+                                 f"{'xi' if 'k' in given else 'k'}; give both, or neither (then elements sets the start)")
+        M = len(given["k"]) if "k" in given else elements
+        start = motion_start("gms", law, md, elements=M, max_presliding=max_presliding)
+        return GMS(law, k=list(given.get("k", start.k)), xi=list(given.get("xi", start.xi)),
+                   C=float(given.get("C", start.C)))
+    start = motion_start("dahl", law, md, max_presliding=max_presliding)
+    if "sigma0" not in given:
+        return start
+    s0 = float(given["sigma0"])
+
+    def dahl(d):
+        return Dahl(Fc=d.Fc, sigma0=s0, sigma2=d.sigma2)
+    if isinstance(start, Directional):
+        return Directional(positive=dahl(start.positive), negative=dahl(start.negative))
+    return dahl(start)

@@ -133,6 +133,32 @@ class ClosedLoopResult:
     def true_error(self) -> np.ndarray:
         return self.r - self.x_t
 
+    def summary(self) -> str:
+        """Run length, status, and the true and measured tracking errors [µm]."""
+        n = int(self.t.size)
+        head = (f"closed loop: {n} samples over {float(self.t[-1]) if n else 0.0:.6g} s; status {self.status} "
+                f"({self.message})")
+        e, m = self.true_error, self.error
+        if not (n and np.isfinite(e).any()):
+            return head
+        return (head + f"\n  true error r - x_t: max |e| {float(np.nanmax(np.abs(e))) * 1e6:.4g} µm, "
+                f"RMS {float(np.sqrt(np.nanmean(e * e))) * 1e6:.4g} µm; measured: max |e| "
+                f"{float(np.nanmax(np.abs(m))) * 1e6:.4g} µm")
+
+    def plot(self, ax=None):
+        """True and measured tracking error [µm] over time; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        ax.plot(self.t, self.true_error * 1e6, lw=0.9, label="true r - x_t")
+        ax.plot(self.t, self.error * 1e6, lw=0.6, alpha=0.7, label="measured r - x_t,meas")
+        ax.set_xlabel("t [s]")
+        ax.set_ylabel("tracking error [µm]")
+        ax.set_title("closed loop")
+        ax.legend(fontsize=8)
+        return ax
+
 
 def simulate_closed_loop(plant, controller: TwoDofController, reference: Reference, *,
                          compensation=None, sensors: Sensors | None = None, seed: int | None = 0,

@@ -247,7 +247,7 @@ class IdentificationResult:
     n_obs, dof : int
         Observations used, and residual degrees of freedom.
     success : bool
-        False when the optimiser did not converge.
+        False when the optimiser did not converge (``status`` 2; 1 = converged with warnings).
     message : str
         Optimiser or procedure message.
     warnings : tuple of str
@@ -340,6 +340,12 @@ class IdentificationResult:
     def flagged(self) -> bool:
         """True when the fit carries warnings or did not converge."""
         return bool(self.warnings) or not self.success
+
+    @property
+    def status(self) -> int:
+        """0 converged without warnings, 1 converged with warnings (:attr:`warnings`), 2 did not
+        converge (:attr:`message` says why) — the package's one result convention."""
+        return 2 if not self.success else (1 if self.warnings else 0)
 
     def summary(self) -> str:
         """Plain-text parameter table with intervals, residuals and warnings."""

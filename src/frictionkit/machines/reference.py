@@ -72,7 +72,7 @@ from ..errors import DataError, ParameterError, SimulationError
 from ..models.pack import pack_gms, pack_lugre
 from .elements import HertzContact, PiecewiseLinearSpring, SineLoad
 from .machine import Machine
-from .simulate import TraceAccess, discretise, law_family
+from .simulate import MachineResult, TraceAccess, discretise, law_family
 
 __all__ = ["ReferenceResult", "reference_machine"]
 
@@ -239,6 +239,18 @@ class ReferenceResult(TraceAccess):
     @property
     def success(self) -> bool:
         return self.status == 0
+
+    def summary(self) -> str:
+        lines = [f"{self.machine.name} (solve_ivp twin, {self.method}, rtol {self.rtol:g}): {self.t.size} samples "
+                 f"over {self.t[-1]:.6g} s, {self.nfev} RHS evaluations, {self.n_events} switchings, "
+                 f"{self.wall_s:.3g} s; status {self.status} ({self.message})"]
+        for i, d in enumerate(self.machine.dofs):
+            lines.append(f"  {d.name:>12s}: final x = {self.q[-1, i]:.6g} {d.unit}, "
+                         f"max |v| = {np.nanmax(np.abs(self.v[:, i])):.4g} {d.unit}/s")
+        return "\n".join(lines)
+
+    #: Positions of the DOFs over time, drawn as for a :class:`MachineResult`; returns the Axes.
+    plot = MachineResult.plot
 
 
 # --------------------------------------------------------------------------- the twin

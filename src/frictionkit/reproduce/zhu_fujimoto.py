@@ -516,6 +516,24 @@ class ReproductionResult:
     fig5: Fig5Result | None = None
     redesign: RedesignResult | None = None
 
+    @property
+    def status(self) -> int:
+        """0: every part ran (a part that cannot run raises, so a result always has status 0)."""
+        return 0
+
+    @property
+    def message(self) -> str:
+        return "ok"
+
+    def plot(self, ax=None):
+        """Without ``ax``: the whole reproduction figure (Fig. 15, Fig. 10, Fig. 5, Table 2's
+        redesign), returning its Axes array; with ``ax``: Table 3's error traces in that Axes."""
+        from ..plotting.ballscrew import plot_reversal_errors, reproduction_figure
+
+        if ax is None:
+            return reproduction_figure(self)[1]
+        return plot_reversal_errors(self.table3, ax=ax)
+
     def summary(self) -> str:
         """Table 3 (simulated vs paper, µm), Fig. 5(b), the selector, Table 2's redesign and Fig. 2."""
         t3 = self.table3

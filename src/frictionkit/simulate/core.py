@@ -136,6 +136,22 @@ class SimulationResult:
     def success(self) -> bool:
         return self.status == 0
 
+    def summary(self) -> str:
+        """One paragraph: run length, status, travel, peak speed and friction, sub-steps taken."""
+        n = int(self.t.size)
+        head = (f"simulation: {n} samples over {float(self.t[-1]) if n else 0.0:.6g} s"
+                f"{'' if self.model is None else f' of {type(self.model).__name__}'}; status {self.status} "
+                f"({self.message})")
+        ok = np.isfinite(self.x) & np.isfinite(self.v) & np.isfinite(self.F)
+        if not ok.any():
+            return head
+        x, v, F = self.x[ok], self.v[ok], self.F[ok]
+        body = (f"travel {float(x.max() - x.min()):.4g} m, peak |v| {float(np.abs(v).max()):.4g} m/s, "
+                f"friction {float(F.min()):.4g} … {float(F.max()):.4g} N")
+        if self.substeps:
+            body += f", {self.substeps} sub-steps ({self.substeps / max(n - 1, 1):.2f} per sample)"
+        return head + "\n  " + body
+
     def plot(self, ax=None):
         """Friction force over displacement (hysteresis) and over time.
 
@@ -392,6 +408,26 @@ class BatchResult:
         parts = [f"{int((st == c).sum())} with status {int(c)} ({_MESSAGES.get(int(c), '?').split(':')[0]})"
                  for c in np.unique(st[bad])]
         return f"{int(bad.sum())} of {st.size} parameter sets failed (sse = inf): " + "; ".join(parts)
+
+    def plot(self, ax=None):
+        """RMS error of each parameter set (failed sets marked at the top); returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        rms = np.asarray(self.rms, dtype=float)
+        idx = np.arange(rms.size)
+        ok = np.isfinite(rms)
+        ax.plot(idx[ok], rms[ok], ".", ms=4, label="finished")
+        if (~ok).any():
+            top = float(rms[ok].max()) if ok.any() else 1.0
+            ax.plot(idx[~ok], np.full(int((~ok).sum()), top), "rx", label="failed (sse = inf)")
+        ax.set_xlabel("parameter set")
+        ax.set_ylabel("RMS error")
+        ax.set_yscale("log" if ok.any() and float(rms[ok].min()) > 0 else "linear")
+        ax.set_title("simulate_batch")
+        ax.legend(fontsize="small")
+        return ax
 
     def summary(self) -> str:
         ok = np.isfinite(self.sse)

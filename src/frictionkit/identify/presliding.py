@@ -205,7 +205,9 @@ def fit_presliding(
     rests, min_rest
         Where the records are cut (state reset, rest samples not fitted): ``"auto"``
         (force logged exactly 0 over ``min_rest`` samples), a mask, or None; see
-        :func:`.motion_data.motion_data`.
+        :func:`.motion_data.motion_data`. A force sensor quantised so coarsely that a
+        slow zero crossing reads exactly 0 for ``min_rest`` samples would be cut there:
+        give ``rests=None`` (or a larger ``min_rest``) for such records.
 
     Returns
     -------

@@ -5,10 +5,15 @@ from __future__ import annotations
 import numpy as np
 
 
-def _map_panel(ax, law, pts, title, vmax):
+def _map_panel(ax, law, pts, title, vmax, screen=None):
     vv = np.linspace(-vmax, vmax, 1201)
     if pts is not None:
-        ax.plot(pts["v"], pts["F"], "k*", ms=5, label="data (run means)")
+        keep = np.ones(np.size(pts["v"]), bool) if screen is None else screen.accepted
+        v, F = np.asarray(pts["v"]), np.asarray(pts["F"])
+        ax.plot(v[keep], F[keep], "k*", ms=5, label="data (run means)")
+        if not keep.all():
+            ax.plot(v[~keep], F[~keep], "rx", ms=7,
+                    label=f"rejected: ripple > {screen.max_ripple_percent:g} % (not fitted)")
     ax.plot(vv, law.steady_state(vv), "-", lw=1.2, label="model")
     ax.set_xlabel("ω [rad/s]")
     ax.set_ylabel("T_f [N·m]")
@@ -39,7 +44,7 @@ def reproduction_figure(rep):
     az, alt, rot = rep.axes["azimuth"], rep.axes["altitude"], rep.axes["rotator"]
     if az.fit is not None and az.fit.model is not None:
         _map_panel(axs[0, 0], az.fit.model.static, az.steady, "Fig. 3 analogue: azimuth static map (eq. 10)",
-                   float(np.max(np.abs(az.steady["v"]))))
+                   float(np.max(np.abs(az.steady["v"]))), az.extra.get("screen"))
         axs[0, 0].set_xscale("symlog", linthresh=1e-4)
         for ax, k, ttl in ((axs[0, 1], "fig4a_triangle", "Fig. 4a: azimuth, triangle below breakaway"),
                            (axs[0, 2], "fig4b_sine", "Fig. 4b: azimuth, sine below breakaway"),
@@ -55,7 +60,7 @@ def reproduction_figure(rep):
     res = rot.extra.get("static_result")
     if res is not None and res.model is not None:
         _map_panel(axs[2, 1], res.model, rot.steady, "Fig. 8 analogue: rotator static map (eq. 13b)",
-                   float(np.max(np.abs(rot.steady["v"]))))
+                   float(np.max(np.abs(rot.steady["v"]))), rot.extra.get("screen"))
         axs[2, 1].set_xscale("symlog", linthresh=1e-4)
     ax = axs[2, 2]
     trk = rep.tracking

@@ -40,3 +40,19 @@ def test_cli_refuses_bad_options_before_running(tmp_path):
     assert res.exit_code == 2 and not out.exists()
     res = CliRunner().invoke(app, ["reproduce", "sdss", "--json", str(out), "--plot", str(tmp_path / "p.xyz")])
     assert res.exit_code == 2 and not out.exists()
+
+
+def test_figure_marks_the_rejected_runs(azimuth, altitude, rotator):
+    import matplotlib.pyplot as plt
+
+    r = rep.SdssReproduction(axes={"azimuth": azimuth, "altitude": altitude, "rotator": rotator},
+                             tracking={"no_compensation": 0.1, "lugre_feedforward": 0.05}, quick=True, seed=0)
+    fig, axs = r.plot()
+    try:
+        labels = [ln.get_label() for ln in axs[2, 1].get_lines()]  # Fig. 8 analogue
+        n_rej = len(rotator.extra["screen"].rejected())
+        assert n_rej > 0 and any(lb.startswith("rejected: ripple > 10 %") for lb in labels)
+        rej = [ln for ln in axs[2, 1].get_lines() if ln.get_label().startswith("rejected")][0]
+        assert rej.get_xdata().size == n_rej
+    finally:
+        plt.close(fig)

@@ -29,7 +29,7 @@ def test_reproduce_zhu_fujimoto_quick(tmp_path):
 
 def test_reproduce_requires_json():
     res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick"])
-    assert res.exit_code != 0
+    assert res.exit_code == 2 and "Missing option '--json'" in res.output, res.output
 
 
 def test_reproduce_zhu_fujimoto_flank_nut_model(tmp_path):
@@ -45,7 +45,8 @@ def test_reproduce_zhu_fujimoto_flank_nut_model(tmp_path):
 def test_reproduce_rejects_unknown_nut_model(tmp_path):
     res = CliRunner().invoke(app, ["reproduce", "zhu-fujimoto", "--quick", "--nut-model", "lost",
                                    "--json", str(tmp_path / "x.json")])
-    assert res.exit_code != 0
+    assert res.exit_code == 2 and "--nut-model 'lost'" in res.output and "sliding" in res.output, res.output
+    assert not (tmp_path / "x.json").exists()
 
 
 def test_reproduce_zhu_fujimoto_hertz_nut_model_and_fig2(tmp_path):

@@ -64,3 +64,13 @@ def test_docstring_examples(name, tmp_path, monkeypatch):
         runner.run(test, out=out.write)
     result = runner.summarize(verbose=False)
     assert result.failed == 0, f"{result.failed} of {result.attempted} example(s) failed in {name}:\n{out.getvalue()}"
+
+
+def test_py_typed_is_shipped():
+    """PEP 561 marker in the package and in the wheel's package data (checked by building a wheel
+    once by hand: ``frictionkit/py.typed`` is in it)."""
+    import tomllib
+
+    assert (ROOT / "py.typed").is_file()
+    pyproject = tomllib.loads((ROOT.parents[1] / "pyproject.toml").read_text(encoding="utf-8"))
+    assert "py.typed" in pyproject["tool"]["setuptools"]["package-data"]["frictionkit"]

@@ -15,7 +15,8 @@ import sys
 
 import typer
 
-from ._errors import FrictionKitGroup, report
+from ._errors import FrictionKitGroup
+from ._errors import report as _report_error  # 'report' is also the name of the report verb's module
 
 app = typer.Typer(
     name="frictionkit",
@@ -48,7 +49,7 @@ def _root(
 
 def _register() -> None:
     """Import the command modules; each adds its commands to ``app``."""
-    for name in ("demo", "identify", "reproduce", "fleet", "models", "simulate", "export", "compensate"):
+    for name in ("demo", "identify", "reproduce", "fleet", "models", "simulate", "export", "compensate", "report"):
         try:
             __import__(f"{__name__}.{name}")
         except ModuleNotFoundError as exc:  # command group not built yet
@@ -60,5 +61,5 @@ def main() -> None:
     try:
         _register()
     except KeyboardInterrupt as exc:  # Ctrl-C while the command modules import
-        sys.exit(report(exc, debug=False))
+        sys.exit(_report_error(exc, debug=False))
     app()

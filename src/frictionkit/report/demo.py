@@ -1,17 +1,16 @@
 """The demo job behind ``make demo``: simulate every law, identify on real data, reproduce,
-and write plots, a text summary and a self-contained HTML report.
+run a small fleet and a small Monte-Carlo study, and write plots, a text summary and a
+self-contained HTML report.
 
-Every number written comes from this run.
+The page is built by the reusable report builder (:class:`frictionkit.report.Report`); the
+reproduction findings table and the study summary are the same adapters
+``frictionkit report`` uses. Every number written comes from this run.
 """
 
 from __future__ import annotations
 
-import base64
-import html
-import io
 import json
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
@@ -21,23 +20,16 @@ from .. import models as _m
 from ..plants import Mass
 from ..simulate import simulate
 from ..simulate.inputs import example_gms, example_law, example_lugre, reversal_position, stick_slip_force
+from .builder import Report, Section, figure_png
 
 DT = 2.5e-4
 
-
-@dataclass
-class _Section:
-    title: str
-    text: list[str] = field(default_factory=list)
-    figures: list[tuple[str, bytes]] = field(default_factory=list)
-    table: list[list[str]] | None = None
-    links: list[tuple[str, str]] = field(default_factory=list)  # (file beside report.html, label)
+#: The demo's sections are report-builder sections (name kept for the tests that build them).
+_Section = Section
 
 
 def _png(fig) -> bytes:
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=110)
-    return buf.getvalue()
+    return figure_png(fig, close=False)
 
 
 def _laws():
@@ -213,43 +205,12 @@ def section_zhu_fujimoto() -> _Section | None:
         return None
     import matplotlib.pyplot as plt
 
+    from .adapters import zhu_fujimoto_findings
+
     sec = _Section("Ball-screw stage at the zero-speed point (seed 001, quick runs, both stages)")
     res = {st: run(quick=True, stage=st) for st in ("table1", "fig2")}
-    sm = {st: r.to_dict() for st, r in res.items()}
-    paper = {"sinc": 4.24, "coulomb": 5.44, "sigmoid": 1.65}
-
-    def ms(x):
-        return "never" if x is None else f"{x:.1f} ms before"
-
-    def order(st):
-        e = {k: sm[st]["table3"][k]["max_error_um"] for k in paper}
-        return " < ".join(sorted(e, key=e.get))
-
-    rows = [["finding (paper)", "table1 stage", "fig2 stage (default)"]]
-    rows.append(["Fig. 2 level vs the eq. 1 fit, 5–50 Hz"]
-                + ["{:+.2f} to {:+.2f} dB".format(*sm[st]["fig2"]["gain_offset_vs_eq1_db"]) for st in res])
-    rows.append(["Fig. 5(b): motor input turns to braking before zero speed (§5 reversal)"]
-                + [ms(sm[st]["fig5b"]["motor_input_reverses_before_zero_ms"]) for st in res])
-    rows.append(["Fig. 5: sinc compensation, max error slow / fast deceleration [µm] (paper: fast much worse)"]
-                + [f"{sm[st]['fig5']['slow_reverse']['max_error_um']:.2f} / {sm[st]['fig5']['fast_reverse']['max_error_um']:.2f}"
-                   for st in res])
-    for law in ("sinc", "coulomb", "sigmoid"):
-        rows.append([f"Table 3 {law} [µm] (paper {paper[law]:.2f})"]
-                    + [f"{sm[st]['table3'][law]['max_error_um']:.2f}" for st in res])
-    rows.append(["Table 3 order (paper: sigmoid < sinc < coulomb)"] + [order(st) for st in res])
-    rows.append(["sigmoid without its pre-zero reduction (post-only) [µm] (paper: the reduction helps)"]
-                + [f"{sm[st]['table3']['sigmoid_post_only']['max_error_um']:.2f}" for st in res])
-    rows.append(["Fig. 10: l_d/R before zero speed, slow / fast (min–max; paper: fast drops)"]
-                + ["{:.4f}–{:.4f} / {:.4f}–{:.4f}".format(
-                    sm[st]["ld"]["slow_reverse"]["min_ratio_before_zero"], sm[st]["ld"]["slow_reverse"]["max_ratio_before_zero"],
-                    sm[st]["ld"]["fast_reverse"]["min_ratio_before_zero"], sm[st]["ld"]["fast_reverse"]["max_ratio_before_zero"])
-                   for st in res])
-    rows.append(["Table 2 selector vs best fixed law, mixed run [µm]"]
-                + [f"{sm[st]['selector']['mixed_max_error_um']:.2f} vs {sm[st]['selector']['best_fixed_max_error_um']:.2f}"
-                   for st in res])
-    rows.append(["Table 2 fast non-reverse: original vs redesigned stop [µm]"]
-                + ["{:.2f} vs {:.2f}".format(sm[st]["table2_fast_non_reverse"]["original"]["max_error_um"],
-                                             sm[st]["table2_fast_non_reverse"]["redesigned"]["max_error_um"]) for st in res])
+    rows = zhu_fujimoto_findings({st: r.to_dict() for st, r in res.items()})
+    rows[0][-1] += " (default)"
     sec.table = rows
     sec.text.append("Simulated elastic stage on the machine core (presets/zhu_fujimoto.py, presets/ballscrew.py), "
                     "sliding nut, seed 0. Stage table1 takes Table 1's inertias (4.3e-3 kg·m²); stage fig2, the "
@@ -332,30 +293,40 @@ def _rmtree(path: Path) -> None:
     shutil.rmtree(path, ignore_errors=True)
 
 
+#: The demo study: the package's generic axis (frictionkit.study defaults: 20 kg, LuGre, PID)
+#: with its default spreads, 4 draws x 3 compensators x 1 noise seed on a 1 s sine (demo-only
+#: sizes so that it adds seconds, not minutes; `frictionkit study` runs the real sizes).
+STUDY_DEMO = {"reference": {"duration": 1.0}, "study": {"draws": 4, "seeds": 1, "seed": 0}}
+
+
+def section_study(out: Path) -> _Section:
+    """A small Monte-Carlo study (in this process: the same tasks Dask runs), summarised by the
+    report builder's study adapter; its table goes to ``out/study_results.parquet``."""
+    from ..study import StudySpec, run_study
+    from .adapters import study_sections
+
+    t0 = time.perf_counter()
+    res = run_study(StudySpec(**STUDY_DEMO), out=out / "study_results.parquet", workers=0, progress=False)
+    _rmtree(out / "study_results.parquet.parts")  # not resumed: keep out/ small
+    sec = study_sections(res.table)[0]
+    sec.title = f"Monte-Carlo study: {sec.title.split(': ', 1)[-1]}, friction spread × compensators"
+    sec.text.insert(0, f"frictionkit study on the generic axis (20 kg, LuGre friction, PID on a 0.1 µm scale; the "
+                       f"defaults of frictionkit.study) with the friction parameters drawn around their nominal values; "
+                       f"each compensator knows only the nominal friction. {res.runs} runs in "
+                       f"{time.perf_counter() - t0:.1f} s in one process; 'frictionkit study --workers N' runs the same "
+                       "tasks on Dask.")
+    sec.links.append(("study_results.parquet", "Results table (Parquet, one row per run)"))
+    return sec
+
+
+def _report(sections: list[_Section], elapsed: float) -> Report:
+    return Report("frictionkit — demo report", intro=[
+        f"Generated by make demo in {elapsed:.1f} s. Every figure and number below comes from this run."]).add(*sections)
+
+
 def _render(sections: list[_Section], elapsed: float) -> str:
-    parts = [
-        "<!doctype html><html><head><meta charset='utf-8'><title>frictionkit demo report</title>",
-        "<style>body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
-        "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:4px 8px;font-size:14px;vertical-align:top}"
-        "th{background:#f3f3f3}img{max-width:100%;border:1px solid #eee;margin:.5em 0}h2{border-bottom:1px solid #ddd}</style>",
-        "</head><body><h1>frictionkit — demo report</h1>",
-        f"<p>Generated by <code>make demo</code> in {elapsed:.1f} s. Every figure and number below comes from this run.</p>",
-    ]
-    for s in sections:
-        parts.append(f"<h2>{html.escape(s.title)}</h2>")
-        for t in s.text:
-            parts.append(f"<p>{html.escape(t)}</p>")
-        if s.table:
-            parts.append("<table><tr>" + "".join(f"<th>{h}</th>" for h in s.table[0]) + "</tr>")
-            for row in s.table[1:]:
-                parts.append("<tr>" + "".join(f"<td>{c}</td>" for c in row) + "</tr>")
-            parts.append("</table>")
-        for name, png in s.figures:
-            parts.append(f"<img alt='{name}' src='data:image/png;base64,{base64.b64encode(png).decode()}'>")
-        for href, label in s.links:
-            parts.append(f"<p><a href='{html.escape(href)}'>{html.escape(label)}</a></p>")
-    parts.append("</body></html>")
-    return "\n".join(parts)
+    """The demo page (through the report builder)."""
+    return _report(sections, elapsed).html(footer="Built by 'frictionkit demo'.")
 
 
 def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str], None] | None = None) -> dict:
@@ -383,6 +354,7 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
         ("screw-drive static maps", lambda: section_screw(shared)),
         ("ball-screw reproduction", section_zhu_fujimoto),
         ("fleet", lambda: section_fleet(out)),
+        ("Monte-Carlo study", lambda: section_study(out)),
     ]
     sections = []
     skipped = []
@@ -402,16 +374,7 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
         for name, png in s.figures:
             atomic_write_bytes(out / name, png)
             written.append(out / name)
-    lines = [f"frictionkit demo ({elapsed:.1f} s)", ""]
-    for s in sections:
-        lines.append(f"== {s.title}")
-        lines.extend(s.text)
-        lines.extend(f"{label}: {href}" for href, label in s.links)
-        if s.table:
-            for row in s.table:
-                lines.append("  " + " | ".join(html.unescape(c).replace("<br>", "; ") for c in row))
-        lines.append("")
-    atomic_write_text(out / "summary.txt", "\n".join(lines))
-    atomic_write_text(out / "report.html", _render(sections, elapsed))
-    return {"sections": [s.title for s in sections], "report": out / "report.html", "files": written,
-            "skipped": skipped}
+    rep = _report(sections, elapsed)
+    atomic_write_text(out / "summary.txt", rep.text(heading=f"frictionkit demo ({elapsed:.1f} s)"))
+    page = rep.write(out, footer="Built by 'frictionkit demo'.")
+    return {"sections": [s.title for s in sections], "report": page, "files": written, "skipped": skipped}

@@ -614,8 +614,9 @@ def run_tasks(tasks: list[Task], *, out: str | Path | None = None, key: str = "t
         Unique labels.
     out : str, Path or None
         Results Parquet file (one row per task); parts go to ``<out>.parts/`` and a rerun
-        computes only the tasks without a part (label and tag). None: nothing written, nothing
-        reused.
+        computes only the tasks without a part of the same label, tag and frictionkit version
+        (a part from another version is recomputed, with a warning, and counted in
+        ``TaskRun.other_version``). None: nothing written, nothing reused.
     key : str
         Column holding the labels.
     scheduler, workers

@@ -238,3 +238,15 @@ def test_motion_start_model_keeps_given_values_and_computes_the_rest():
         motion_error_start("dahl", LAW, data, given={"sigma1": 1.0})
     with pytest.raises(ParameterError, match="give both, or neither"):
         motion_error_start("gms", LAW, data, given={"xi": [1.0]})
+
+
+def test_motion_fit_takes_a_model_name_and_auto_start_values_too():
+    true = fk.LuGre(LAW, sigma0=1e5, sigma1=30.0)
+    dt = 1e-4
+    t = np.arange(4001) * dt
+    x = 20e-6 * np.sin(2 * np.pi * 5 * t)
+    F = fk.simulate(true, position=x, dt=dt).F
+    res = fk.identify.fit_motion_error({"t": t, "x": x, "F": F}, "lugre", static=LAW, profile=False)
+    assert res.success and res["sigma0"] == pytest.approx(1e5, rel=1e-3)
+    with pytest.raises(ParameterError, match="static= and initial= are for a model name"):
+        fk.identify.fit_motion_error({"t": t, "x": x, "F": F}, true, static=LAW)

@@ -466,7 +466,6 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
     """The ``--drive motion`` branch: segments, the start model from the library (given values kept), fit."""
     from ..errors import ParameterError
     from ..identify.motion_error import fit_motion_error, motion_data
-    from ..identify.start_values import motion_error_start
 
     rest = _rest_option(rests, mask, mask_loader, path)
     md = motion_data(data, drive="position" if position is not None else "velocity", integration=integration,
@@ -477,10 +476,9 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
     given = {n: v for n, v in {"lugre": (("sigma0", sigma0), ("sigma1", sigma1)),
                                "gms": (("k", kk), ("xi", xx), ("C", C)),
                                "dahl": (("sigma0", sigma0),)}[model] if v is not None}
-    mdl = motion_error_start(model, law, md, given=given, elements=elements, max_presliding=max_presliding)
-    return fit_motion_error(md, mdl, free=names or None, inertia=inertia or 0.0, offset=offset,
-                            starts=starts if starts is not None else "auto", profile=profile,
-                            max_presliding=max_presliding)
+    return fit_motion_error(md, model, static=law, initial=given or "auto", elements=elements, free=names or None,
+                            inertia=inertia or 0.0, offset=offset, starts=starts if starts is not None else "auto",
+                            profile=profile, max_presliding=max_presliding)
 
 
 @identify_app.command("reversal")

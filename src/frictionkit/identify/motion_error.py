@@ -292,6 +292,9 @@ def fit_motion_error(
     data,
     model0,
     *,
+    static=None,
+    initial="auto",
+    elements: int = 3,
     free: Sequence[str] | None = None,
     drive: str = "auto",
     integration: str = "held",
@@ -311,9 +314,21 @@ def fit_motion_error(
     data : Recording, mapping of arrays, or a list / dict of them
         One or several records: ``t`` [s], force ``F`` [N or N·m] and position ``x``
         or velocity ``v``. Each run between rests is simulated from the unloaded state.
-    model0 : dynamic law
+    model0 : dynamic law, or "lugre" / "gms" / "dahl"
         Structure and start values: ``LuGre``, ``Dahl``, ``GMS``, a ``Directional``
-        of one of them, or any registered law (see :func:`motion_start` for start values).
+        of one of them, or any registered law. A name: the structure, with ``static``
+        the map and ``initial`` the start values (the same words as
+        :func:`~.output_error.fit_output_error`).
+    static : law, static-map result, or path, optional
+        With a model name: the static map (a law, the result of ``fit_static_map``, or
+        the JSON file ``identify static --json`` wrote).
+    initial : "auto" or mapping
+        With a model name: ``"auto"`` computes every start value
+        (:func:`motion_start`); a mapping gives some of them (LuGre ``sigma0``,
+        ``sigma1``; GMS ``k``, ``xi``, ``C``; Dahl ``sigma0``), see
+        :func:`.start_values.motion_error_start`.
+    elements : int
+        GMS elements when ``model0="gms"`` and ``k``, ``xi`` are not given.
     free : sequence of str, optional
         Parameters to fit (default: the law's dynamic ones, LuGre ``sigma0, sigma1``,
         Dahl ``sigma0``, GMS ``k, C``). Any field of the law by name (``Fc``, ``xi``, ``k2``),
@@ -403,6 +418,16 @@ def fit_motion_error(
     max_nfev, ftol, xtol, raise_on_failure = cfg.max_nfev, cfg.ftol, cfg.xtol, cfg.raise_on_failure
     md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,
                                                                 rests=rests, min_rest=min_rest)
+    if isinstance(model0, str):
+        from .start_values import motion_error_start
+
+        if not (initial == "auto" or isinstance(initial, Mapping)):
+            raise ParameterError(f"{owner}: initial = {initial!r}: must be 'auto' or a mapping of start values")
+        model0 = motion_error_start(model0.lower(), static, md, given=initial if isinstance(initial, Mapping) else None,
+                                    elements=elements, max_presliding=max_presliding)
+    elif static is not None or initial != "auto":
+        raise ParameterError(f"{owner}: static= and initial= are for a model name (model0='lugre', 'gms' or "
+                             f"'dahl'); the {type(model0).__name__} given carries its own map and start values")
     tmpl = LawTemplate.of(model0)
     free = tuple(free) if free is not None else default_free(model0)
     names = tmpl.expand(free, extra=MOTION_EXTRAS)

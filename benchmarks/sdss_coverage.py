@@ -1,6 +1,7 @@
 """Interval coverage of the SDSS two-step estimation over noise seeds (issue 10).
 
-    python benchmarks/sdss_coverage.py [--seeds 20] [--quick] [--triangle-only] [--workers N] [--out DIR] [--json FILE]
+    python benchmarks/sdss_coverage.py [--seeds 20] [--quick] [--triangle-only] [--max-ripple PCT|none] [--workers N]
+                                       [--out DIR] [--json FILE]
 
 Every identified parameter of the azimuth, altitude and rotator per seed (see
 :func:`frictionkit.reproduce.sdss.coverage`); one seed per task of the study engine, with its
@@ -22,14 +23,19 @@ def main() -> None:
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--triangle-only", action="store_true", help="azimuth sigma0/sigma1 from the triangle alone")
+    ap.add_argument("--max-ripple", default=str(sdss.MAX_RIPPLE_PERCENT),
+                    help="constant-velocity screen threshold [%% RMS ripple]; 'none' keeps every run (the state before it)")
     ap.add_argument("--workers", type=int, default=0, help="0: this process; N: a LocalCluster of N processes")
     ap.add_argument("--out", default=None, help="directory for the per-seed Parquet parts (a rerun reuses them)")
     ap.add_argument("--json", default=None)
     a = ap.parse_args()
     t0 = time.perf_counter()
-    r = sdss.coverage(seeds=range(a.seeds), quick=a.quick, joint=not a.triangle_only, workers=a.workers, out=a.out)
+    mr = None if a.max_ripple.lower() == "none" else float(a.max_ripple)
+    r = sdss.coverage(seeds=range(a.seeds), quick=a.quick, joint=not a.triangle_only, workers=a.workers, out=a.out,
+                      max_ripple_percent=mr)
     wall = time.perf_counter() - t0
-    print(f"{r['seeds']} seeds, quick={r['quick']}, joint={r['joint']}, workers={a.workers}: {wall:.0f} s wall")
+    print(f"{r['seeds']} seeds, quick={r['quick']}, joint={r['joint']}, max ripple {mr} %, workers={a.workers}: "
+          f"{wall:.0f} s wall")
     for axis, s in r["axes"].items():
         print(f"  {axis:9s} {s['hits']:4d} / {s['n']:4d} = {s['percent']:5.1f} %")
         for k, p in s["parameters"].items():

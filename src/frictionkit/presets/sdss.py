@@ -153,7 +153,10 @@ class AzimuthAxis:
     encoder : Encoder — on the axis.
     dt : float — 1 ms servo period (assumption).
     bandwidth_hz : float — 2 Hz position loop of the constant-velocity runs (below the
-        paper's > 10 Hz structural resonances).
+        paper's > 10 Hz structural resonances). Not tuned per axis: on the light rotator the
+        loop's derivative damping (3 J w = 4.0e4 N·m·s/rad) is below the combined map's steepest
+        negative slope (6.2e4), so it hunts between about 1.1e-4 and 5.1e-4 rad/s; those runs are
+        rejected by the two-step workflow's constant-velocity screen, not hidden by a gain change.
     """
 
     J: float = 4.0e4

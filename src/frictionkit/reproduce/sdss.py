@@ -5,12 +5,15 @@ core, then the two-step estimation (:func:`frictionkit.identify.two_step.fit_two
 paper's order per axis:
 
 * azimuth: closed-loop constant-velocity runs at many speeds in both directions, averaged per
-  run → static map (eq. 10, Fig. 3); open-loop triangle and sine torques below breakaway →
+  run, the runs whose speed was not constant rejected by name (ours: velocity ripple from the
+  encoder angle above :data:`~frictionkit.identify.two_step.MAX_RIPPLE_PERCENT`; eq. 10 needs a
+  constant speed) → static map (eq. 10, Fig. 3); open-loop triangle and sine torques below breakaway →
   σ0, σ1 (eq. 12, Figs. 4a/4b), slightly above breakaway (Fig. 4c, shown, not fitted);
 * altitude: open-loop torque runs only, with the gravity term (eq. 13a): σ0, σ1 from the
   sub-breakaway triangle first (Fig. 6a), then the static map per direction from a run above
   breakaway; Fig. 6b slightly above breakaway; Fig. 7 the computed static curve;
-* rotator: constant-velocity runs → the combined static map of bearing and harmonic drive
+* rotator: constant-velocity runs (screened the same way: its 2 Hz loop hunts in the
+  Stribeck region) → the combined static map of bearing and harmonic drive
   (eq. 13b, Fig. 8); **beyond the paper**: the separation the paper calls necessary — a bench
   run of the motor and harmonic drive alone (capstan disengaged), then the bearing map from
   the combined points minus ``n_c T_fHD`` (the paper's own suggestion, §3.3: "identify the
@@ -35,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..identify.static_map import fit_static_map
-from ..errors import ParameterError
+from ..errors import IdentificationError, ParameterError
 from ..identify.two_step import (MAX_RIPPLE_PERCENT, TwoStepResult, constant_velocity_ripple, fit_two_step,
                                   is_flagged, screen_constant_velocity, velocity_nrmse)
 from ..machines import PID, FrictionFeedforward, Sum, simulate_machine
@@ -205,7 +208,7 @@ def _screened(steady: dict, max_ripple_percent):
         return None, steady
     scr = screen_constant_velocity(steady, max_ripple_percent=max_ripple_percent)
     if not scr.success:
-        raise RuntimeError(f"constant-velocity screen: {scr.message}")
+        raise IdentificationError(f"constant-velocity screen: {scr.message}")
     return scr, scr.steady()
 
 

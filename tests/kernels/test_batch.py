@@ -186,8 +186,8 @@ def test_simulate_batch_fixed_and_accuracy(run, lugre):
 
 def test_vexp_within_2_ulp():
     x = np.concatenate([-np.random.default_rng(0).uniform(0.0, 708.0, 20000), -np.linspace(0.0, 2.0, 20001)])
-    got = np.array([kb._vexp(v) for v in x[:200]])  # jitted scalar call path
-    ref = np.exp(x[:200])
+    got = np.array([kb._vexp(v) for v in x])  # jitted scalar call path, every value built above
+    ref = np.exp(x)
     assert np.all(np.abs(got - ref) <= 2 * np.spacing(ref))
     assert kb._vexp(0.0) == 1.0
     assert math.isclose(kb._vexp(-700.0), math.exp(-700.0), rel_tol=1e-15)

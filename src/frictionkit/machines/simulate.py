@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -397,8 +398,126 @@ def _length(inputs: dict, n_samples):
     return n_samples
 
 
-#: ``MachineResult.status`` when ``atol`` could not be met within ``max_substeps``.
+#: ``MachineResult.status`` when ``atol`` could not be met within ``max_substeps``, or when the
+#: sub-step check (:func:`site_coupling`) finds the sub-step too coarse for a site.
 STATUS_TOLERANCE = 2
+
+
+#: Sub-step check (issue 13): a site whose force feeds back on its own motion within one
+#: sub-step by more than this (:func:`site_coupling`) makes the run suspect, and it is checked
+#: against a run at ``SUBSTEP_CHECK_FACTOR`` times the sub-steps. Below it the held-force
+#: scheme is in its accurate regime and nothing extra runs (every preset and parity case is
+#: at <= 0.01).
+COUPLING_CHECK = 1.0
+SUBSTEP_CHECK_FACTOR = 16
+#: Flag bounds of that check, as fractions of each trace's range in the finer run: positions
+#: 1 %, velocities and site forces 10 %.
+CHECK_TOL_POSITION = 0.01
+CHECK_TOL_RATE = 0.1
+
+
+def _site_stiffness_damping(site, folded: float = 0.0) -> tuple[float, float]:
+    """``(k, c)`` a site's force can take against its own motion: the stiffness of a sticking
+    law (LuGre/Dahl ``sigma0``, GMS ``sum k_i``) or of a compliance beyond its linear part, and
+    its damping (``sigma1 + |sigma2|``; a static law: ``|sigma2|`` unless folded into the chain,
+    plus its steepest Stribeck slope bound ``|Fs - Fc| / vs``). Normal loads are taken at their
+    reference (``lam = 1``; assumption: the check then sees the nominal law)."""
+    law = site.law
+    if site.role != "friction":
+        if isinstance(law, HertzContact):
+            return float(law.stiffness), 0.0
+        if isinstance(law, PiecewiseLinearSpring):
+            k = np.asarray(law.stiffness, dtype=float)
+            return float(np.max(np.abs(k - k[0]))), 0.0
+        if isinstance(law, SineLoad):
+            return float(abs(getattr(law, "amplitude", 0.0))), 0.0
+        return 0.0, 0.0
+    fam = law_family(law)
+    if fam == "static":
+        from ..models.tdmssc import schedule_rows
+
+        r = np.asarray(schedule_rows(law), dtype=float)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
+        with np.errstate(divide="ignore", invalid="ignore"):
+            slope = np.where(r[:, 4] > 0.0, np.abs(r[:, 2] - r[:, 0]) / r[:, 4], 0.0)
+        c = float(np.max(slope)) + (0.0 if folded else float(np.max(np.abs(r[:, 6]))))
+        return 0.0, c if math.isfinite(c) else 0.0
+    from ..models.pack import pack_gms, pack_lugre
+
+    if fam == "lugre":
+        p = pack_lugre(law)
+        return float(np.max(np.abs(p.dyn[:, 0]))), float(np.max(np.abs(p.dyn[:, 1])) + np.max(np.abs(p.static[:, 4])))
+    p = pack_gms(law)
+    return float(np.max(np.sum(np.abs(p.k), axis=1))), float(np.max(np.abs(p.static[:, 4])))
+
+
+def site_coupling(machine: Machine, dt: float, substeps: int) -> np.ndarray:
+    """Per site, how strongly its held force feeds back on its own motion within one sub-step:
+    ``r_j = k_j G_jj + c_j H_jj`` (``G``, ``H``: the sub-step displacement and end-velocity
+    compliances of the discretised chain; ``k_j, c_j``: :func:`_site_stiffness_damping`).
+
+    For a site on a free mass ``m`` this is ``k h^2 / (2 m) + c h / m``. Well below 1 the site's
+    own time scales span many sub-steps; far above it they are shorter than a sub-step, and the
+    held-force scheme (which, like the trapezoidal rule, damps such a mode by a factor
+    ``~ -(r - 1) / (r + 1)`` per sub-step only) can leave an undamped sub-step ringing in the
+    velocities and forces after a breakaway or reversal. The positions stay close; the forces
+    can be wrong by orders of magnitude (a LuGre slider of 1e-7 kg at 10 sub-steps: 99 N for 2 N).
+    """
+    n = machine.n
+    ns = len(machine.sites)
+    if ns == 0:
+        return np.zeros(0)
+    fold = _folded_viscous(machine)
+    kc = np.array([_site_stiffness_damping(s, fold[j]) for j, s in enumerate(machine.sites)])
+    if not np.any(kc):
+        return np.zeros(ns)
+    _, _, _, Gf, parts = discretise(machine, dt / int(substeps), site_damping=fold)
+    Cq = parts["Cq"]
+    G = np.abs(np.einsum("jn,nj->j", Cq, Gf[:n]))
+    H = np.abs(np.einsum("jn,nj->j", Cq, Gf[n:]))
+    return kc[:, 0] * G + kc[:, 1] * H
+
+
+def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+    """Flag a run whose sub-step is too coarse for a site (status 2), by a run at
+    ``SUBSTEP_CHECK_FACTOR`` x the sub-steps; only when :func:`site_coupling` exceeds
+    ``COUPLING_CHECK`` (otherwise ``res`` is returned untouched and nothing extra runs)."""
+    if res.status != 0:
+        return res
+    r = site_coupling(machine, dt, substeps)
+    if r.size == 0 or not r.max() > COUPLING_CHECK:
+        return res
+    j = int(np.argmax(r))
+    why = (f"site {machine.sites[j].name!r} couples to its own motion by {r[j]:.3g} per sub-step "
+           f"(> {COUPLING_CHECK:g}: its time scales are shorter than the sub-step dt/{substeps})")
+    fine_n = SUBSTEP_CHECK_FACTOR * int(substeps)
+    fine = _run_machine(machine, dt, inputs, N, fine_n, seed, False)
+    if fine.status != 0:
+        worst, est = f"the check run at {fine_n} sub-steps failed ({fine.message})", math.inf
+    else:
+        est, worst = 0.0, ""
+        # a static site's force is the mean over the last sub-step (no state): at a stick/slip
+        # switch it legitimately depends on the sub-step, so only its motion is compared
+        static = {s.name for s in machine.sites if s.role == "friction" and law_family(s.law) == "static"}
+        for arr, ref, names, what, tol in ((res.q, fine.q, res.dof_names, "position", CHECK_TOL_POSITION),
+                                           (res.v, fine.v, res.dof_names, "velocity", CHECK_TOL_RATE),
+                                           (res.F, fine.F, res.site_names, "force", CHECK_TOL_RATE)):
+            for i, name in enumerate(names):
+                if what == "force" and name in static:
+                    continue
+                d = float(np.max(np.abs(arr[:, i] - ref[:, i])))
+                span = float(np.ptp(ref[:, i]))
+                floor = 1e-9 * float(np.max(np.abs(ref[:, i]))) + 1e-15
+                frac = d / (tol * span + floor)  # > 1: beyond the bound
+                if frac > est:
+                    est = frac
+                    worst = (f"{what} of {name!r} moves by {d:.3g} ({100 * d / span if span else math.inf:.3g} % "
+                             f"of its range; bound {100 * tol:g} %)")
+    if est <= 1.0:
+        return dataclasses.replace(res, message=f"{res.message}; sub-step check passed ({why}; at {fine_n} "
+                                                f"sub-steps every trace within its bound)")
+    message = (f"sub-steps too coarse: {why}; at {fine_n} sub-steps the {worst}. Raise substeps until "
+               f"this check passes, or pass atol= for error-controlled positions")
+    return dataclasses.replace(res, status=STATUS_TOLERANCE, message=message)
 
 
 def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
@@ -483,7 +602,8 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     if atol is not None:
         return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
                                  val.positive("simulate_machine", "atol", atol), max_substeps)
-    return _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+    res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+    return _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
 
 
 def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, atol, max_substeps):

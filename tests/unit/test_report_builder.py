@@ -183,6 +183,16 @@ def test_model_file(files):
     assert rows["sigma0"][1:] == ["100000", "N/m"] and rows["static.Fc"][1:] == ["1", "N"]
     assert ["method", "test <model>"] in _table(sec, "Provenance")
     assert "test &lt;model&gt;" in Report("t").add(sec).html()
+    # the hysteresis loop over 5 pre-sliding distances: 5 x Fs / sigma0 = 5 x 1.5 N / 1e5 N/m = 75 µm
+    assert sec.text == ["Hysteresis loop: the law driven along a slow sine of ±7.5e-05 m (5 × its pre-sliding "
+                        "distance, level / stiffness) from the unloaded state."]
+    assert len(sec.figures) == 1
+
+
+def test_static_model_file_has_no_loop(tmp_path):
+    fk.save_model(fk.CoulombViscous(Fc=2.0, sigma2=10.0), tmp_path / "cv.json")
+    kind, (sec,) = sections_from_file(tmp_path / "cv.json")
+    assert kind == "model" and sec.text == [] and len(sec.figures) == 1
 
 
 @pytest.mark.parametrize("name", ["traces.csv", "traces.parquet"])
@@ -254,6 +264,17 @@ def test_zhang2023_findings(tmp_path):
     assert [r[2] for r in sec.table[1:]] == ["does not hold", "holds"]
     assert "LuGre 23.6; GMS 5.7" in sec.table[2][1]
     assert ["same", "6", "ACIM", "+0.0010 (0.0100)", "-0.328 (0.102)"] in _table(sec, "Table 7")
+
+
+def test_robustness_sweep(tmp_path):
+    doc = {"runtime_s": 1.0, "variants": [], "holds_fraction": {"t7_diff0_wsim_better": 1.0, "crawling": 0.25},
+           "sensitivity": {}, "ranking": ["loop_bandwidth", "ball_preload"], "quick": True, "failed": ["v3"],
+           "computed": 4, "skipped": 0}
+    (tmp_path / "rob.json").write_text(json.dumps(doc))
+    kind, (sec,) = sections_from_file(tmp_path / "rob.json")
+    assert kind == "robustness" and sec.table[1:] == [["t7_diff0_wsim_better", "1"], ["crawling", "0.25"]]
+    assert "Sensitivity ranking (most sensitive first): loop_bandwidth, ball_preload." in sec.text
+    assert "Failed variants: v3." in sec.text
 
 
 # --------------------------------------------------------------------------- bad input

@@ -298,10 +298,63 @@ def model_sections(p: Path) -> list[Section]:
     prov.append(["file format", mf.format])
     sec.tables.append(("Provenance", prov))
     plt = _plt()
-    fig, ax = plt.subplots(figsize=(7, 3.8), layout="constrained")
-    mf.plot(ax=ax)
-    sec.figures.append((f"{p.stem}_steady_state.png", figure_png(fig)))
+    loop = _hysteresis_run(mf.model)
+    fig, axs = plt.subplots(1, 2 if loop else 1, figsize=(12 if loop else 7, 3.8), layout="constrained", squeeze=False)
+    mf.plot(ax=axs[0, 0])
+    if loop:
+        x, F, amp = loop
+        axs[0, 1].plot(1e6 * x if mf.units["x"] == "m" else x, F, lw=1)
+        axs[0, 1].set(xlabel=f"x [{'µm' if mf.units['x'] == 'm' else mf.units['x']}]", ylabel=f"F [{mf.units['F']}]",
+                      title=f"{name}: hysteresis, ±{fmt(amp, 3)} {mf.units['x']} sine, two cycles")
+        axs[0, 1].grid(alpha=0.3)
+        sec.text.append(f"Hysteresis loop: the law driven along a slow sine of ±{fmt(amp, 3)} {mf.units['x']} "
+                        "(5 × its pre-sliding distance, level / stiffness) from the unloaded state.")
+    sec.figures.append((f"{p.stem}_model.png", figure_png(fig)))
     return [sec]
+
+
+def _hysteresis_run(law) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """``(x, F, amplitude)`` of a dynamic law driven along a slow sine of 5 pre-sliding distances,
+    or None for laws without one (static maps, scheduled laws, no stiffness in the parameters).
+
+    The pre-sliding distance is the largest friction level (``Fc``/``Fs`` fields) over the smallest
+    stiffness (``sigma0``/``k``); the peak speed is a tenth of the smallest ``vs`` (1e-3 of the
+    amplitude per second without one), so the loop shows pre-sliding, not the Stribeck dip.
+    """
+    from ..models.base import kernel_family, law_to_dict
+    from ..models.files import _flatten
+
+    try:
+        if kernel_family(law) == "static":
+            return None
+    except Exception:  # noqa: BLE001 - a law the kernels do not know
+        return None
+    flat = _flatten(law_to_dict(law))
+    levels, stiff, vs = [], [], []
+    for key, val in flat.items():
+        leaf = key.split(".")[-1]
+        vals = [float(v) for v in (val if isinstance(val, list) else [val]) if isinstance(v, (int, float))]
+        if leaf in ("Fc", "Fs"):
+            levels += [abs(v) for v in vals]
+        elif leaf in ("sigma0", "k"):
+            stiff += [v for v in vals if v > 0]
+        elif leaf == "vs":
+            vs += [abs(v) for v in vals if v != 0]
+    if not levels or not stiff or max(levels) <= 0:
+        return None
+    amp = 5.0 * max(levels) / min(stiff)
+    vmax = 0.1 * min(vs) if vs else 1e-3 * amp
+    period = 2 * np.pi * amp / vmax
+    t = np.linspace(0.0, 2 * period, 4001)
+    try:
+        from ..simulate import simulate
+
+        res = simulate(law, position=amp * np.sin(2 * np.pi * t / period), dt=float(t[1] - t[0]))
+    except Exception:  # noqa: BLE001 - the loop is an extra; the parameters are the section
+        return None
+    if not res.success:
+        return None
+    return res.x, res.F, amp
 
 
 # --------------------------------------------------------------------------- reproductions

@@ -157,6 +157,15 @@ def test_static_map(files):
     assert any(t.startswith("positive direction: exponential") for t in sec.text)
 
 
+def test_result_saved_without_data_has_no_plot(tmp_path):
+    v = np.r_[np.linspace(0.01, 0.2, 12), -np.linspace(0.01, 0.2, 12)]
+    fit_static_map(v, np.sign(v) * 2.0 + 10.0 * v, model="coulomb_viscous").save_json(tmp_path / "f.json",
+                                                                                        include_data=False)
+    _, (sec,) = sections_from_file(tmp_path / "f.json")
+    assert sec.figures == [] and sec.text[-1].startswith("The file holds no fitted data")
+    assert [r[0] for r in _table(sec, "Parameters")[1:]] == ["Fc_pos", "sigma2_pos", "Fc_neg", "sigma2_neg"]
+
+
 def test_flagged_parameter_is_marked(files, tmp_path):
     doc = json.loads((files / "rigid.json").read_text())
     doc["warnings"] = ["Fv not identifiable: its interval spans more than a decade"]

@@ -261,8 +261,11 @@ def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
                         + (f"; {len(part.warnings)} warning(s)" if part.warnings else "") + ".")
     for w in res.warnings:
         sec.text.append(f"Flag: {w}")
+    if not any(np.asarray(a).size for a in res.data.values()):
+        sec.text.append("The file holds no fitted data (saved with include_data=False): no plot of the fit.")
+        return [sec]
+    plt = _plt()
     try:
-        plt = _plt()
         ax = res.plot()
         fig = ax.figure
         fig.set_size_inches(8, 4.2)
@@ -270,9 +273,7 @@ def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
         sec.figures.append((f"{p.stem}.png", figure_png(fig)))
     except Exception as exc:  # noqa: BLE001 - a plot must not hide the numbers
         plt.close("all")
-        sec.text.append(f"(plot failed: {type(exc).__name__}: {exc})")
-    if res.kind == "rigid_body" and "t" not in res.data:
-        sec.text.append("The file holds no fitted data (saved without include_data): no overlay plot.")
+        sec.text.append(f"(plot failed: {type(exc).__name__}: {' '.join(str(exc).split())})")
     return [sec]
 
 

@@ -406,9 +406,16 @@ STATUS_TOLERANCE = 2
 #: Sub-step check (issue 13): a site whose force feeds back on its own motion within one
 #: sub-step by more than this (:func:`site_coupling`) makes the run suspect, and it is checked
 #: against a run at ``SUBSTEP_CHECK_FACTOR`` times the sub-steps. Below it the held-force
-#: scheme is in its accurate regime and nothing extra runs (every preset and parity case is
-#: at <= 0.01).
+#: scheme is in its accurate regime and nothing extra runs (the presets are at <= 0.23: the
+#: hertz-nut ball screw; the parity cases and the other presets at <= 0.04).
 COUPLING_CHECK = 1.0
+#: The same bound for a GMS site. Its sticking elements are undamped springs, and the
+#: presliding oscillation they make with the mass must be resolved: a GMS-3 slider of 1e-4 kg
+#: was 9 / 3.4 % of its stroke off at coupling 0.92 / 0.067 (80 / 320 sub-steps), right at 0.017;
+#: 1e-3 kg was right at 0.36 and 1e-2 kg at 0.56 (measured against the adaptive single-axis
+#: kernel). Not a function of the coupling alone, so the bound sits below the worst case seen;
+#: a 0.1 kg GMS slider at 10 sub-steps (0.056) is then checked too (17x its cost).
+GMS_COUPLING_CHECK = 0.03
 SUBSTEP_CHECK_FACTOR = 16
 #: Flag bounds of that check, as fractions of each trace's range in the finer run: positions
 #: 1 %, velocities and site forces 10 %.
@@ -484,11 +491,15 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
     if res.status != 0:
         return res
     r = site_coupling(machine, dt, substeps)
-    if r.size == 0 or not r.max() > COUPLING_CHECK:
+    if r.size == 0:
         return res
-    j = int(np.argmax(r))
+    limit = np.array([GMS_COUPLING_CHECK if s.role == "friction" and law_family(s.law) == "gms" else COUPLING_CHECK
+                      for s in machine.sites])
+    if not np.any(r > limit):
+        return res
+    j = int(np.argmax(r / limit))
     why = (f"site {machine.sites[j].name!r} couples to its own motion by {r[j]:.3g} per sub-step "
-           f"(> {COUPLING_CHECK:g}: its time scales are shorter than the sub-step dt/{substeps})")
+           f"(> {limit[j]:g}: its time scales are shorter than the sub-step dt/{substeps})")
     fine_n = SUBSTEP_CHECK_FACTOR * int(substeps)
     fine = _run_machine(machine, dt, inputs, N, fine_n, seed, False)
     if fine.status != 0:
@@ -538,7 +549,11 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     n_samples, duration : int / float, optional — run length when no input gives it.
     substeps : int — plant sub-steps per sample (the site forces are held over a sub-step;
         the linear chain is exact). Raise it until the result stops changing; the parity
-        tests against the solve_ivp twin show the error at the default.
+        tests against the solve_ivp twin show the error at the default. A site whose time
+        scales are shorter than the sub-step (:func:`site_coupling`: a very light mass on a
+        stiff or damped contact) makes the run check itself against 16x the sub-steps and
+        return status 2 (``STATUS_TOLERANCE``) with what to do when they disagree; other
+        runs cost nothing extra.
     seed : int — seed of the sensor noise.
     fast_path : bool — a machine that is one mass, one dynamic friction site (LuGre, Dahl, GMS)
         and one open-loop force input, with nothing else, runs on the single-axis adaptive

@@ -181,6 +181,24 @@ def plot_formats() -> dict[str, str]:
     return dict(FigureCanvasBase.get_supported_filetypes())
 
 
+def _probe_folder(folder: Path) -> str | None:
+    """Create and remove a temporary file in ``folder`` (the way :func:`atomic_open` will write
+    there); ``None`` when that works, else the reason.
+
+    ``os.access`` alone answers for the permission bits, and for root it says yes to almost
+    everything: an immutable folder, ``/sys``, a read-only bind mount then failed only when the
+    result was written, after all the work (issue 13).
+    """
+    try:
+        fd, name = tempfile.mkstemp(prefix=".fk-probe-", dir=folder)
+    except OSError as exc:
+        return exc.strerror or type(exc).__name__
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(name)
+    return None
+
+
 def _writable_folder(folder: Path, option: str, out: Path) -> None:
     if not folder.exists():
         raise DataError(f"{option} '{out}': folder '{folder}' does not exist")
@@ -188,6 +206,9 @@ def _writable_folder(folder: Path, option: str, out: Path) -> None:
         raise DataError(f"{option} '{out}': '{folder}' is not a folder")
     if not os.access(folder, os.W_OK | os.X_OK):
         raise DataError(f"{option} '{out}': folder '{folder}' is not writable")
+    why = _probe_folder(folder)
+    if why is not None:
+        raise DataError(f"{option} '{out}': folder '{folder}' is not writable ({why})")
 
 
 def _nearest_existing(folder: Path) -> Path:
@@ -250,6 +271,9 @@ def check_output_dir(path: str | os.PathLike, *, option: str, inputs: Iterable[s
         raise DataError(f"{option} '{out}': '{base}' is a file, not a folder")
     if not os.access(base, os.W_OK | os.X_OK):
         raise DataError(f"{option} '{out}': folder '{base}' is not writable")
+    why = _probe_folder(base)
+    if why is not None:
+        raise DataError(f"{option} '{out}': folder '{base}' is not writable ({why})")
     for inp in inputs:
         if inp is not None and _same_file(out, Path(inp)):
             raise DataError(f"{option} '{out}' is the input '{inp}'")

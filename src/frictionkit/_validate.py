@@ -128,14 +128,23 @@ OUTLIER_FACTOR = 1e6
 HUGE = 1e150
 
 
+#: Longest run of samples :func:`outlier` still reads as a spike (corrupt samples) rather
+#: than a short real motion: assumption — a recording sampled fast enough for its motion
+#: does not jump by OUTLIER_FACTOR and back within 4 samples; 40 samples of motion in a
+#: quiet log (tests/robustness/test_library_identify.py) stay accepted.
+MAX_SPIKE_RUN = 4
+
+
 def outlier(arr: np.ndarray) -> tuple[int, float] | None:
     """``(index, limit)`` of the first sample beyond the outlier limit, or ``None``.
 
     The limit is ``OUTLIER_FACTOR`` times the 99th percentile of ``|arr|`` (which
     one corrupt sample cannot move), capped at :data:`HUGE`. A signal that is zero
     in 99 % of its samples is judged by :data:`HUGE` alone. Below :data:`HUGE` a
-    sample counts only when it is also ``OUTLIER_FACTOR`` times larger than both its
-    neighbours — a spike, not the start of a short, real motion in a long quiet log.
+    sample counts only when it lies in a spike: a run of at most :data:`MAX_SPIKE_RUN`
+    samples beyond the limit, each ``OUTLIER_FACTOR`` times larger than both samples
+    around the run — not the start of a short, real motion in a long quiet log. (Runs,
+    not single samples: two adjacent corrupt samples each had a huge neighbour and passed.)
     """
     a = np.abs(np.asarray(arr, dtype=float))
     if a.size == 0:
@@ -146,10 +155,20 @@ def outlier(arr: np.ndarray) -> tuple[int, float] | None:
     if not big.any():
         return None
     if limit < HUGE and a.size > 1:
-        nb = np.maximum(np.r_[a[1], a[:-1]], np.r_[a[1:], a[-2]])  # larger neighbour
-        big &= (a > HUGE) | (a > OUTLIER_FACTOR * nb)
-        if not big.any():
+        edges = np.diff(np.r_[0, big.astype(np.int8), 0])
+        starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # runs [start, end)
+        run_min = np.minimum.reduceat(np.where(big, a, np.inf), starts)
+        n = a.size
+        before = a[np.where(starts > 0, starts - 1, np.minimum(ends, n - 1))]  # at an edge: the other side
+        after = a[np.where(ends < n, np.minimum(ends, n - 1), np.maximum(starts - 1, 0))]
+        spike = (ends - starts <= MAX_SPIKE_RUN) & (run_min > OUTLIER_FACTOR * np.maximum(before, after))
+        hits = [int(st) for st, ok in zip(starts, spike) if ok]
+        huge = np.flatnonzero(a > HUGE)
+        if huge.size:
+            hits.append(int(huge[0]))
+        if not hits:
             return None
+        return min(hits), limit
     return int(np.flatnonzero(big)[0]), limit
 
 

@@ -331,7 +331,8 @@ def _check_name(name: str, fmt: str) -> str:
     return name
 
 
-def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float | None = None, points: int = 201,
+def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float | None = None,
+                 points: int | None = None,
                  units: Mapping[str, str] | None = None, provenance: Mapping[str, Any] | None = None) -> str:
     """A friction law as the text of a lookup table, a C header or an IEC 61131-3 function block.
 
@@ -344,8 +345,9 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
     name : str, optional
         Identifier prefix of the C functions (default ``fk_friction``) or name of the
         function block (default ``FK_Friction``).
-    v_max, points : float, int
-        Grid of the lookup table (see :func:`lookup_table`); CSV only.
+    v_max, points : float, int, optional
+        Grid of the lookup table (see :func:`lookup_table`; default 201 points); CSV only —
+        given with another format they are refused (they were silently ignored).
     units : mapping, optional
         Axis unit labels ``{"F", "v", "x"}`` for the comments and the CSV header
         (numbers are SI; default N, m/s, m).
@@ -368,11 +370,15 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
 
     if fmt not in FORMATS:
         raise ParameterError(f"export: format {fmt!r}: must be one of {', '.join(FORMATS)}")
+    if fmt != "csv" and (v_max is not None or points is not None):
+        given = ", ".join(k for k, x in (("v_max", v_max), ("points", points)) if x is not None)
+        raise ParameterError(f"export: {given} set the csv lookup table's grid; format {fmt!r} has no grid "
+                             "(leave them out, or use format 'csv')")
     law_entry(model)
     ax = _axis_units(units)
     prov = dict(provenance or {})
     if fmt == "csv":
-        v, F = lookup_table(model, v_max=v_max, points=points)
+        v, F = lookup_table(model, v_max=v_max, points=201 if points is None else points)
         lines = [f"v [{ax['v']}],F [{ax['F']}]"] + [f"{a!r},{b!r}" for a, b in zip(v.tolist(), F.tolist())]
         return "\n".join(lines) + "\n"
     if fmt == "json":

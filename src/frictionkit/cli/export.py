@@ -38,20 +38,25 @@ def export(
                                        "block name (default FK_Friction)."),
     v_max: Optional[float] = typer.Option(None, "--v-max", help="csv: grid half-width [m/s] (default 10 x the "
                                           "largest Stribeck velocity)."),
-    points: int = typer.Option(201, "--points", help="csv: grid points, odd (v = 0 is one of them)."),
+    points: Optional[int] = typer.Option(None, "--points", help="csv: grid points, odd (v = 0 is one of them; "
+                                         "default 201)."),
     json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary to a file (- for stdout, "
                                            "instead of the text)."),
 ) -> None:
     """Export a friction model as a lookup table (CSV), a C header or IEC 61131-3 structured text."""
+    from ..errors import ParameterError
     from ..export import FORMATS
 
     chk.choice(fmt, "--format", FORMATS)
+    if fmt != "csv" and (v_max is not None or points is not None):  # were silently ignored
+        given = " and ".join(k for k, x in (("--v-max", v_max), ("--points", points)) if x is not None)
+        raise ParameterError(f"{given}: only --format csv has a grid; --format {fmt} does not use it "
+                             "(leave it out)")
     if v_max is not None:
         chk.positive(v_max, "--v-max")
-    chk.integer(points, "--points", lo=3, hi=1_000_001)
-    if points % 2 == 0:
-        from ..errors import ParameterError
-
+    if points is not None:
+        chk.integer(points, "--points", lo=3, hi=1_000_001)
+    if points is not None and points % 2 == 0:
         raise ParameterError(f"--points {points}: must be odd (so that v = 0 is a grid point)")
     chk.outputs([model], files={"--out": out, **({"--json": Path(json_out)} if json_out not in (None, "-") else {})})
 

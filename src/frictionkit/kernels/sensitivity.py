@@ -179,146 +179,179 @@ def _ftheta(coef, j, row, dmj, doffj, v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi,
     return -(dF + doffj + fv * dmj) * im, dzd
 
 
+@njit(inline="always")
+def _u_at(u, dt, t):
+    """The input force at time ``t``, linear between samples (clamped at the record's end)."""
+    q = t / dt
+    k = int(q)
+    if k >= u.size - 1:
+        return u[u.size - 1]
+    return u[k] + (u[k + 1] - u[k]) * (q - k)
+
+
+@njit(inline="always")
+def _hermite(a0, d0, a1, d1, h, th):
+    """Cubic Hermite interpolant at ``t_n + th h`` from values and slopes at both step ends."""
+    th2 = th * th
+    th3 = th2 * th
+    return ((2.0 * th3 - 3.0 * th2 + 1.0) * a0 + (th3 - 2.0 * th2 + th) * h * d0
+            + (3.0 * th2 - 2.0 * th3) * a1 + (th3 - th2) * h * d1)
+
+
+#: Longest step, in sample periods. Steps may span samples (the input is evaluated exactly
+#: at the stage times and the W-matrix leaves out the time column, which a W-method allows);
+#: the samples inside a step are read off the cubic Hermite interpolant of the step.
+H_SPAN = 50.0
+
+
 @njit(error_model="numpy")  # IEEE division: no zero test per division; non-finite states are caught below
 def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, atol_z, max_sub,
                      x_out, v_out, Sx_out, Sv_out):
     """Force-driven LuGre on a mass from rest, with forward sensitivities (ROS2-W, see above).
 
     Fills ``x_out``, ``v_out`` (``N``) and ``Sx_out``, ``Sv_out`` (``N, p``: ``dx/dtheta``,
-    ``dv/dtheta``). Returns ``(status, sub-steps)``.
+    ``dv/dtheta``). Steps span samples where the error control allows (at most ``H_SPAN``
+    sample periods); ``max_sub`` is the sub-step budget per sample interval on average.
+    Returns ``(status, sub-steps)``.
     """
     N = u.size
     p = coef.shape[0]
-    x = 0.0
-    v = 0.0
-    z = 0.0
-    sx = np.zeros(p)
-    sv = np.zeros(p)
-    sz = np.zeros(p)
-    k1x = np.zeros(p)
-    k1v = np.zeros(p)
-    k1z = np.zeros(p)
     x_out[0] = 0.0
     v_out[0] = 0.0
     for j in range(p):
         Sx_out[0, j] = 0.0
         Sv_out[0, j] = 0.0
+    if N < 2:
+        return OK, 0
+    T = (N - 1) * dt
+    im = 1.0 / m
+    x = 0.0
+    v = 0.0
+    z = 0.0
+    t = 0.0
+    sx = np.zeros(p)
+    sv = np.zeros(p)
+    sz = np.zeros(p)
+    dsv = np.zeros(p)  # d(sv)/dt = (J S + f_theta)_v at the current point
+    dsz = np.zeros(p)
+    sx0 = np.zeros(p)
+    sv0 = np.zeros(p)
+    dsv0 = np.zeros(p)
+    k1v = np.zeros(p)
+    k1z = np.zeros(p)
+    k1x = np.zeros(p)
+    # rates and sensitivity slopes at the start
+    row = 0
+    Fc = static[row, 0]
+    Fs = static[row, 1]
+    s0 = dyn[row, 0]
+    s1 = dyn[row, 1]
+    fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, u[0], m, off, Fc, Fs, static[row, 2],
+                                                       static[row, 3], static[row, 5], s0, s1, static[row, 4])
+    for j in range(p):
+        ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
+        dsv[j] = ftv
+        dsz[j] = ftz
     h = dt
     nsub = 0
-    im = 1.0 / m
-    for k in range(N - 1):
-        w = u[k]
-        wd = (u[k + 1] - u[k]) / dt
-        t = 0.0
-        n0 = nsub
-        while t < dt:
-            if nsub - n0 >= max_sub:  # budget per sample interval, as the plain kernel's
-                return BUDGET, nsub
-            last = False
-            hu = h
-            if t + h >= dt * (1.0 - 1e-12):
-                h = dt - t
-                last = True
-            row = 0 if v >= 0.0 else 1
-            Fc = static[row, 0]
-            Fs = static[row, 1]
-            vs_ = static[row, 2]
-            de = static[row, 3]
-            sh = static[row, 5]
-            s0 = dyn[row, 0]
-            s1 = dyn[row, 1]
-            s2 = static[row, 4]
-            fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, w, m, off, Fc, Fs, vs_, de, sh,
-                                                                  s0, s1, s2)
-            gh = GAMMA * h
-            # W = I - gh J on (v, z) with the w column folded into the right-hand side
-            A11 = 1.0 + gh * Fv * im
-            A12 = gh * Fz * im
-            A21 = -gh * zdv
-            A22 = 1.0 + gh * a
-            det = A11 * A22 - A12 * A21
-            idet = 1.0 / det
-            # stage 1
-            bw = wd
-            bv = fv + gh * im * bw
-            bz = zd
-            k1v_ = (A22 * bv - A12 * bz) * idet
-            k1z_ = (A11 * bz - A21 * bv) * idet
-            k1x_ = v + gh * k1v_
-            k1w = bw
-            v2 = v + h * k1v_
-            z2 = z + h * k1z_
-            w2 = w + h * k1w
-            row2 = 0 if v2 >= 0.0 else 1
-            Fc2 = static[row2, 0]
-            Fs2 = static[row2, 1]
-            s02 = dyn[row2, 0]
-            s12 = dyn[row2, 1]
-            s22 = static[row2, 4]
-            fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, ig2 = _rates(
-                v2, z2, w2, m, off, Fc2, Fs2, static[row2, 2], static[row2, 3], static[row2, 5], s02, s12, s22)
-            # stage 2 (k_w2 = wd - 2 wd = -wd)
-            bw2 = wd - 2.0 * k1w
-            bv = fv2 - 2.0 * k1v_ + gh * im * bw2
-            bz = zd2 - 2.0 * k1z_
-            k2v_ = (A22 * bv - A12 * bz) * idet
-            k2z_ = (A11 * bz - A21 * bv) * idet
-            k2x_ = (v2 - 2.0 * k1x_) + gh * k2v_
-            ev = 0.5 * h * (k1v_ + k2v_)
-            ez = 0.5 * h * (k1z_ + k2z_)
-            vn = v + 0.5 * h * (3.0 * k1v_ + k2v_)
-            zn = z + 0.5 * h * (3.0 * k1z_ + k2z_)
-            e1 = abs(ev) / (atol_v + rtol * max(abs(v), abs(vn)))
-            e2 = abs(ez) / (atol_z + rtol * max(abs(z), abs(zn)))
-            err = max(e1, e2)
-            nsub += 1
-            if not math.isfinite(err) or not math.isfinite(vn + zn):
-                if h <= H_MIN * dt:
-                    return NONFINITE, nsub
-                h *= 0.2
-                continue
-            if err > 1.0 and h > H_MIN * dt:
-                h *= max(0.2, 0.9 / math.sqrt(err))
-                continue
-            if err > 1.0:
+    budget = max_sub * (N - 1)
+    kout = 1
+    while kout < N:
+        if nsub >= budget:
+            return BUDGET, nsub
+        h = min(h, H_SPAN * dt)
+        if t + h >= T - 1e-9 * dt:
+            h = T - t
+        gh = GAMMA * h
+        A11 = 1.0 + gh * Fv * im
+        A12 = gh * Fz * im
+        A21 = -gh * zdv
+        A22 = 1.0 + gh * a
+        idet = 1.0 / (A11 * A22 - A12 * A21)
+        k1v_ = (A22 * fv - A12 * zd) * idet
+        k1z_ = (A11 * zd - A21 * fv) * idet
+        k1x_ = v + gh * k1v_
+        v2 = v + h * k1v_
+        z2 = z + h * k1z_
+        row2 = 0 if v2 >= 0.0 else 1
+        Fc2 = static[row2, 0]
+        Fs2 = static[row2, 1]
+        s02 = dyn[row2, 0]
+        s12 = dyn[row2, 1]
+        fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, ig2 = _rates(
+            v2, z2, _u_at(u, dt, t + h), m, off, Fc2, Fs2, static[row2, 2], static[row2, 3], static[row2, 5],
+            s02, s12, static[row2, 4])
+        bv = fv2 - 2.0 * k1v_
+        bz = zd2 - 2.0 * k1z_
+        k2v_ = (A22 * bv - A12 * bz) * idet
+        k2z_ = (A11 * bz - A21 * bv) * idet
+        k2x_ = (v2 - 2.0 * k1x_) + gh * k2v_
+        vn = v + 0.5 * h * (3.0 * k1v_ + k2v_)
+        zn = z + 0.5 * h * (3.0 * k1z_ + k2z_)
+        e1 = abs(0.5 * h * (k1v_ + k2v_)) / (atol_v + rtol * max(abs(v), abs(vn)))
+        e2 = abs(0.5 * h * (k1z_ + k2z_)) / (atol_z + rtol * max(abs(z), abs(zn)))
+        err = max(e1, e2)
+        nsub += 1
+        if not math.isfinite(err) or not math.isfinite(vn + zn):
+            if h <= H_MIN * dt:
+                return NONFINITE, nsub
+            h *= 0.2
+            continue
+        if err > 1.0:
+            if h <= H_MIN * dt:
                 return TOLERANCE, nsub
-            # accepted: the sensitivities on the same step
-            for j in range(p):
-                ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
-                bv = (-Fv * sv[j] - Fz * sz[j]) * im + ftv
-                bz = zdv * sv[j] - a * sz[j] + ftz
-                k1v[j] = (A22 * bv - A12 * bz) * idet
-                k1z[j] = (A11 * bz - A21 * bv) * idet
-                k1x[j] = sv[j] + gh * k1v[j]
-            for j in range(p):
-                ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, im, fv2, zd2, ig2, Fc2, Fs2, s02, s12,
-                                   phi2, dpv2, dpd2)
-                sv2 = sv[j] + h * k1v[j]
-                sz2 = sz[j] + h * k1z[j]
-                bv = (-Fv2 * sv2 - Fz2 * sz2) * im + ftv - 2.0 * k1v[j]
-                bz = zdv2 * sv2 - a2 * sz2 + ftz - 2.0 * k1z[j]
-                k2v = (A22 * bv - A12 * bz) * idet
-                k2z = (A11 * bz - A21 * bv) * idet
-                k2x = (sv2 - 2.0 * k1x[j]) + gh * k2v
-                sx[j] += 0.5 * h * (3.0 * k1x[j] + k2x)
-                sv[j] += 0.5 * h * (3.0 * k1v[j] + k2v)
-                sz[j] += 0.5 * h * (3.0 * k1z[j] + k2z)
-            x += 0.5 * h * (3.0 * k1x_ + k2x_)
-            v = vn
-            z = zn
-            w = w + h * wd
-            t += h
-            if last:
-                t = dt
-            fac = 5.0 if err < 0.0324 else 0.9 / math.sqrt(err)
-            if last and fac >= 1.0:  # the step was clipped at the interval's end: keep the step it wanted
-                h = min(max(h * fac, hu), dt)
-            else:
-                h = min(h * fac, dt)
-        x_out[k + 1] = x
-        v_out[k + 1] = v
+            h *= max(0.2, 0.9 / math.sqrt(err))
+            continue
+        # accepted: the sensitivities on the same step (stage 1: their slope at the current point)
         for j in range(p):
-            Sx_out[k + 1, j] = sx[j]
-            Sv_out[k + 1, j] = sv[j]
+            k1v[j] = (A22 * dsv[j] - A12 * dsz[j]) * idet
+            k1z[j] = (A11 * dsz[j] - A21 * dsv[j]) * idet
+            k1x[j] = sv[j] + gh * k1v[j]
+        for j in range(p):
+            ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, im, fv2, zd2, ig2, Fc2, Fs2, s02, s12,
+                               phi2, dpv2, dpd2)
+            sv2 = sv[j] + h * k1v[j]
+            sz2 = sz[j] + h * k1z[j]
+            bv = (-Fv2 * sv2 - Fz2 * sz2) * im + ftv - 2.0 * k1v[j]
+            bz = zdv2 * sv2 - a2 * sz2 + ftz - 2.0 * k1z[j]
+            k2v = (A22 * bv - A12 * bz) * idet
+            k2z = (A11 * bz - A21 * bv) * idet
+            k2x = (sv2 - 2.0 * k1x[j]) + gh * k2v
+            sx0[j] = sx[j]
+            sv0[j] = sv[j]
+            dsv0[j] = dsv[j]
+            sx[j] += 0.5 * h * (3.0 * k1x[j] + k2x)
+            sv[j] += 0.5 * h * (3.0 * k1v[j] + k2v)
+            sz[j] += 0.5 * h * (3.0 * k1z[j] + k2z)
+        x0 = x
+        v0 = v
+        fv0 = fv
+        x += 0.5 * h * (3.0 * k1x_ + k2x_)
+        v = vn
+        z = zn
+        t0 = t
+        t = T if h == T - t0 else t0 + h
+        # rates and sensitivity slopes at the new point (the next step's first stage)
+        row = 0 if v >= 0.0 else 1
+        Fc = static[row, 0]
+        Fs = static[row, 1]
+        s0 = dyn[row, 0]
+        s1 = dyn[row, 1]
+        fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, _u_at(u, dt, t), m, off, Fc, Fs, static[row, 2],
+                                                           static[row, 3], static[row, 5], s0, s1, static[row, 4])
+        for j in range(p):
+            ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
+            dsv[j] = (-Fv * sv[j] - Fz * sz[j]) * im + ftv
+            dsz[j] = zdv * sv[j] - a * sz[j] + ftz
+        # the samples inside (t0, t]
+        while kout < N and kout * dt <= t + 1e-9 * dt:
+            th = min(1.0, (kout * dt - t0) / h)
+            x_out[kout] = _hermite(x0, v0, x, v, h, th)
+            v_out[kout] = _hermite(v0, fv0, v, fv, h, th)
+            for j in range(p):
+                Sx_out[kout, j] = _hermite(sx0[j], sv0[j], sx[j], sv[j], h, th)
+                Sv_out[kout, j] = _hermite(sv0[j], dsv0[j], sv[j], dsv[j], h, th)
+            kout += 1
+        fac = 5.0 if err < 0.0324 else 0.9 / math.sqrt(err)
+        h = h * fac
     return OK, nsub
-

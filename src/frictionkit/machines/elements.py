@@ -99,6 +99,12 @@ class Coord:
         TDMSSC's base speed: ``Machine.friction("nut", ..., schedule=(R * theta2).velocity)``."""
         return CoordSignal(self, "velocity")
 
+    def to_dict(self) -> dict:
+        """JSON form: ``{name: coefficient}`` over its degrees of freedom, then its motions
+        (``Machine.from_dict`` reads it back)."""
+        names, mnames = self._owner._dof_names, self._owner._motion_names
+        return {**{names[i]: c for i, c in self.dofs.items()}, **{mnames[i]: c for i, c in self.motions.items()}}
+
     def __repr__(self) -> str:
         names = self._owner._dof_names
         mnames = self._owner._motion_names
@@ -534,3 +540,84 @@ class FrictionFeedforward:
 
 
 BLOCK_TYPES = (Sum, PID, StateSpace, Saturation, FrictionFeedforward)
+
+
+# --------------------------------------------------------------------------- JSON form (machine files)
+#: Parts with a JSON form of their own, by the name written in their ``"type"`` key.
+#: Friction laws are not here: they use the law registry (:func:`frictionkit.models.law_to_dict`).
+ELEMENT_TYPES = {cls.__name__: cls for cls in (HertzContact, PiecewiseLinearSpring, SineLoad, NormalLoad,
+                                               *BLOCK_TYPES)}
+#: Fields written as ``null`` when infinite (JSON has no infinity): ``None`` reads back as ``-inf`` / ``+inf``.
+_UNBOUNDED = {("Saturation", "lo"): -math.inf, ("Saturation", "hi"): math.inf}
+
+
+def element_to_dict(obj) -> dict:
+    """JSON form ``{"type": <class>, <field>: <value>, ...}`` of a compliance, load, normal load or
+    controller block; a :class:`FrictionFeedforward`'s law in the law registry's JSON form.
+
+    Examples
+    --------
+    >>> from frictionkit.machines import Saturation
+    >>> from frictionkit.machines.elements import element_to_dict
+    >>> element_to_dict(Saturation("u", "u_c", -10.0, float("inf")))
+    {'type': 'Saturation', 'out': 'u', 'inp': 'u_c', 'lo': -10.0, 'hi': None}
+    """
+    import dataclasses
+
+    from ..models.base import law_to_dict
+
+    name = type(obj).__name__
+    if ELEMENT_TYPES.get(name) is not type(obj):
+        raise ParameterError(f"element_to_dict: {name} has no JSON form; known: {sorted(ELEMENT_TYPES)}")
+    out: dict = {"type": name}
+    for f in dataclasses.fields(obj):
+        v = getattr(obj, f.name)
+        if name == "FrictionFeedforward" and f.name == "law":
+            v = law_to_dict(v)
+        elif isinstance(v, np.ndarray):
+            v = v.tolist()
+        elif isinstance(v, tuple):
+            v = list(v)
+        elif isinstance(v, dict):
+            v = dict(v)
+        elif (name, f.name) in _UNBOUNDED and isinstance(v, float) and math.isinf(v):
+            v = None
+        out[f.name] = v
+    return out
+
+
+def element_from_dict(data, where: str = "element"):
+    """Inverse of :func:`element_to_dict`; the part validates itself (``ParameterError``), an unknown
+    type, a missing or unknown field raises ``DataError`` naming ``where``."""
+    import dataclasses
+
+    from ..errors import DataError
+    from ..models.base import law_from_dict
+
+    if not isinstance(data, dict):
+        raise DataError(f"{where}: a JSON {type(data).__name__}, expected an object {{\"type\": ..., ...}}")
+    name = data.get("type")
+    cls = ELEMENT_TYPES.get(name) if isinstance(name, str) else None
+    if cls is None:
+        raise DataError(f"{where}: type {name!r} unknown; known: {sorted(ELEMENT_TYPES)}")
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    unknown = sorted(set(data) - set(fields) - {"type"})
+    if unknown:
+        raise DataError(f"{where} ({name}): unknown field(s) {unknown}; known: {sorted(fields)}")
+    missing = [k for k, f in fields.items() if k not in data and f.default is dataclasses.MISSING]
+    if missing:
+        raise DataError(f"{where} ({name}): missing field(s) {missing}")
+    kw = {}
+    for k in fields:
+        if k not in data:
+            continue
+        v = data[k]
+        if name == "FrictionFeedforward" and k == "law":
+            v = law_from_dict(v)
+        elif (name, k) in _UNBOUNDED and v is None:
+            v = _UNBOUNDED[(name, k)]
+        kw[k] = v
+    try:
+        return cls(**kw)
+    except ParameterError as exc:
+        raise ParameterError(f"{where}: {exc}") from None

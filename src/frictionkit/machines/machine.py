@@ -304,6 +304,143 @@ class Machine:
                     raise ParameterError(f"Machine.add: block output {out!r} clashes with a dof/motion name")
             self.blocks.append(b)
 
+    # ------------------------------------------------------------------ JSON form (machine files)
+    def input_names(self) -> list[str]:
+        """The input arrays a run needs (``simulate_machine(..., inputs={name: array})``):
+        prescribed motions, actuator commands no block writes, and block inputs nothing
+        produces (references, feed-forwards, disturbances), in that order."""
+        produced = {s.name for s in self.sensors} | {f"{a.name}.applied" for a in self.actuators}
+        for b in self.blocks:
+            produced |= set(b.outputs)
+        names = list(self._motion_names)
+        names += [a.command for a in self.actuators if a.command not in produced]
+        names += [s for b in self.blocks for s in b.inputs if s not in produced]
+        return list(dict.fromkeys(names))
+
+    def to_dict(self) -> dict:
+        """The machine as JSON-ready data: every part in the order it was added, friction laws
+        in the law registry's JSON form, other parts by :func:`~frictionkit.machines.elements.element_to_dict`.
+        Infinite actuator limits are written as ``null``. Inverse: :meth:`from_dict`."""
+        from ..models.base import law_to_dict
+        from .elements import element_to_dict
+
+        def site(s: Site) -> dict:
+            return {"name": s.name, "role": s.role, "at": s.at.to_dict(),
+                    "law": law_to_dict(s.law) if s.role == "friction" else element_to_dict(s.law),
+                    "load": None if s.load is None else element_to_dict(s.load),
+                    "schedule": None if s.schedule is None else {"at": s.schedule.at.to_dict(),
+                                                                 "quantity": s.schedule.quantity}}
+
+        return {
+            "name": self.name,
+            "dofs": [{"name": d.name, "kind": d.kind, "inertia": d.inertia, "x0": d.x0, "v0": d.v0} for d in self.dofs],
+            "motions": list(self._motion_names),
+            "masses": [{"at": at.to_dict(), "mass": mass} for at, mass in self.masses],
+            "springs": [{"name": s.name, "at": s.at.to_dict(), "k": s.k, "c": s.c} for s in self.springs],
+            "sites": [site(s) for s in self.sites],
+            "actuators": [{"name": a.name, "at": a.at.to_dict(), "gain": a.gain,
+                           "limit": None if math.isinf(a.limit) else a.limit, "delay": a.delay, "command": a.command}
+                          for a in self.actuators],
+            "sensors": [{"name": s.name, "at": s.at.to_dict(), "quantity": s.quantity, "resolution": s.resolution,
+                         "noise": s.noise, "delay": s.delay} for s in self.sensors],
+            "blocks": [element_to_dict(b) for b in self.blocks],
+        }
+
+    @classmethod
+    def from_dict(cls, data) -> "Machine":
+        """Rebuild a machine from :meth:`to_dict`'s form through the same validating methods
+        (:meth:`dof`, :meth:`spring`, :meth:`friction` ...). A missing or unknown key, an
+        unknown name in a coordinate or a wrong type raises ``DataError`` naming the part; a
+        value that breaks its rule raises ``ParameterError`` as when built in Python."""
+        from ..errors import DataError
+        from ..models.base import law_from_dict
+        from .elements import element_from_dict
+
+        def obj(d, where: str, required: tuple, optional: tuple = ()) -> dict:
+            if not isinstance(d, dict):
+                raise DataError(f"{where}: a JSON {type(d).__name__}, expected an object")
+            unknown = sorted(set(d) - set(required) - set(optional))
+            if unknown:
+                raise DataError(f"{where}: unknown key(s) {unknown}; known: {sorted(required + optional)}")
+            missing = [k for k in required if k not in d]
+            if missing:
+                raise DataError(f"{where}: missing key(s) {missing}")
+            return d
+
+        def seq(d, key: str) -> list:
+            v = d.get(key, [])
+            if not isinstance(v, list):
+                raise DataError(f"machine.{key}: a JSON {type(v).__name__}, expected a list")
+            return v
+
+        top = obj(data, "machine", ("name", "dofs"), ("motions", "masses", "springs", "sites", "actuators",
+                                                       "sensors", "blocks"))
+        m = cls(top["name"])
+
+        def coord(d, where: str) -> Coord:
+            if not isinstance(d, dict) or not d:
+                raise DataError(f"{where}.at = {d!r}: expected an object {{dof or motion name: coefficient}}")
+            dofs, mot = {}, {}
+            for name, c in d.items():
+                if isinstance(c, bool) or not isinstance(c, (int, float)) or not math.isfinite(c):
+                    raise DataError(f"{where}.at[{name!r}] = {c!r}: must be a finite number")
+                if name in m._dof_names:
+                    dofs[m._dof_names.index(name)] = c
+                elif name in m._motion_names:
+                    mot[m._motion_names.index(name)] = c
+                else:
+                    raise DataError(f"{where}.at: {name!r} is no degree of freedom or motion of the machine "
+                                    f"(has {m._dof_names + m._motion_names})")
+            return Coord(m, dofs, mot)
+
+        for i, d in enumerate(seq(top, "dofs")):
+            d = obj(d, f"machine.dofs[{i}]", ("name", "inertia"), ("kind", "x0", "v0"))
+            m.dof(d["name"], inertia=d["inertia"], kind=d.get("kind", "translational"), x0=d.get("x0", 0.0),
+                  v0=d.get("v0", 0.0))
+        for name in seq(top, "motions"):
+            m.motion(name)
+        for i, d in enumerate(seq(top, "masses")):
+            w = f"machine.masses[{i}]"
+            d = obj(d, w, ("at", "mass"))
+            m.mass(coord(d["at"], w), d["mass"])
+        for i, d in enumerate(seq(top, "springs")):
+            w = f"machine.springs[{i}]"
+            d = obj(d, w, ("at",), ("name", "k", "c"))
+            m.spring(coord(d["at"], w), k=d.get("k", 0.0), c=d.get("c", 0.0), name=d.get("name"))
+        for i, d in enumerate(seq(top, "sites")):
+            w = f"machine.sites[{i}]"
+            d = obj(d, w, ("name", "role", "at", "law"), ("load", "schedule"))
+            at, role = coord(d["at"], w), d["role"]
+            if role == "friction":
+                sch = d.get("schedule")
+                if sch is not None:
+                    sch = obj(sch, f"{w}.schedule", ("at", "quantity"))
+                    sch = CoordSignal(coord(sch["at"], f"{w}.schedule"), sch["quantity"])
+                load = d.get("load")
+                load = None if load is None else element_from_dict(load, f"{w}.load")
+                m.friction(d["name"], at, law=law_from_dict(d["law"]), load=load, schedule=sch)
+            elif role in ("compliance", "load"):
+                for k in ("load", "schedule"):
+                    if d.get(k) is not None:
+                        raise DataError(f"{w}: a {role} site has no {k!r}")
+                law = element_from_dict(d["law"], f"{w}.law")
+                (m.compliance if role == "compliance" else m.load)(d["name"], at, law=law)
+            else:
+                raise DataError(f"{w}.role = {role!r}: must be 'friction', 'compliance' or 'load'")
+        for i, d in enumerate(seq(top, "actuators")):
+            w = f"machine.actuators[{i}]"
+            d = obj(d, w, ("name", "at"), ("gain", "limit", "delay", "command"))
+            lim = d.get("limit")
+            m.actuator(d["name"], coord(d["at"], w), gain=d.get("gain", 1.0), limit=math.inf if lim is None else lim,
+                       delay=d.get("delay", 0), command=d.get("command"))
+        for i, d in enumerate(seq(top, "sensors")):
+            w = f"machine.sensors[{i}]"
+            d = obj(d, w, ("name", "at"), ("quantity", "resolution", "noise", "delay"))
+            m.sensor(d["name"], coord(d["at"], w), quantity=d.get("quantity", "position"),
+                     resolution=d.get("resolution", 0.0), noise=d.get("noise", 0.0), delay=d.get("delay", 0))
+        m.add(*[element_from_dict(b, f"machine.blocks[{i}]") for i, b in enumerate(seq(top, "blocks"))])
+        return m
+
     # ------------------------------------------------------------------ views
     @property
     def n(self) -> int:

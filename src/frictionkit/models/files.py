@@ -30,6 +30,18 @@ broken model raises one :class:`~frictionkit.DataError` line naming the file and
 Units: the numbers are SI (m, s, N; rad and N·m for a rotary axis) — the ``units``
 entry labels them, it does not convert them.
 
+Machine files
+-------------
+A :class:`~frictionkit.Machine` saves to the same format with ``"kind": "machine"``:
+``"model"`` is :meth:`Machine.to_dict` (degrees of freedom, masses, springs, sites with
+their laws in the registry's JSON form, actuators, sensors and the controller blocks with
+their settings — PID gains, state-space matrices, saturations, feed-forward laws), ``"inputs"``
+lists the input arrays a run needs (:meth:`Machine.input_names`; the arrays themselves —
+references, feed-forwards — are not in the file: give them to
+:func:`~frictionkit.simulate_machine` as ``inputs=`` or to ``frictionkit simulate
+MACHINE.json --input NAME=FILE:COLUMN``), ``"units"`` the unit of every field
+(:data:`MACHINE_UNITS`), ``"provenance"`` as for a law. A file without ``"kind"`` is a law.
+
 Examples
 --------
 >>> import frictionkit as fk
@@ -54,7 +66,7 @@ from typing import Any
 from ..errors import DataError, FrictionKitError, ParameterError
 from .base import is_law_dict, law_entry, law_from_dict, law_to_dict
 
-__all__ = ["MODEL_FORMAT", "ModelFile", "load_model", "parameter_units", "save_model"]
+__all__ = ["MACHINE_UNITS", "MODEL_FORMAT", "ModelFile", "load_model", "parameter_units", "save_model"]
 
 #: Format (and version) of the files written by :func:`save_model`.
 MODEL_FORMAT = "frictionkit.model/1"
@@ -63,6 +75,36 @@ _VERSIONED = re.compile(r"^(?P<kind>frictionkit\.[a-z_]+)/(?P<version>\d+)$")
 
 #: Unit labels of a linear axis; a rotary axis passes ``{"F": "N·m", "v": "rad/s"}``.
 LINEAR_UNITS = {"F": "N", "x": "m", "v": "m/s"}
+
+#: What a file may hold (``"kind"``); a file without the key holds a law.
+KINDS = ("law", "machine")
+
+#: Unit of every field of a machine file (SI; labels, not conversions). A coordinate ``at``
+#: ``{name: c}`` has the unit of ``c`` times its terms' unit: m for a translational degree of
+#: freedom, rad for a rotational one, and a screw's ``R theta`` (R in m/rad) is in m. "u" below
+#: is the unit of the coordinate a part acts on and "F(u)" its force unit (N on m, N·m on rad).
+MACHINE_UNITS = {
+    "time": "s (inputs and signals are sampled at the run's dt; blocks are discrete at dt)",
+    "dofs.inertia": "kg (translational) or kg·m² (rotational)",
+    "dofs.x0": "m or rad", "dofs.v0": "m/s or rad/s",
+    "masses.mass": "kg (moving with its coordinate u: F(u)·s²/u)",
+    "springs.k": "F(u)/u (N/m, N·m/rad)", "springs.c": "F(u)·s/u (N·s/m, N·m·s/rad)",
+    "sites.law": "friction law in F(u) at velocity u/s (see each law's parameter units)",
+    "sites.law.HertzContact": "preload N, stiffness N/m",
+    "sites.law.PiecewiseLinearSpring": "stiffness F(u)/u, breaks u",
+    "sites.law.SineLoad": "amplitude F(u), phase rad",
+    "sites.load": "NormalLoad: reference, preload F of the spring it is on; gain, floor_gain 1",
+    "sites.schedule": "a coordinate's position (u) or velocity (u/s)",
+    "actuators.gain": "F(u) per command unit (K_t: N·m/A)", "actuators.limit": "command unit (null: none)",
+    "actuators.delay": "samples",
+    "sensors.resolution": "u (position) or u/s (velocity)", "sensors.noise": "as resolution (std)",
+    "sensors.delay": "samples",
+    "blocks.Sum": "terms: output unit per input unit; bias: output unit",
+    "blocks.PID": "Kp output/error unit; Ki Kp/s; Kd Kp·s; tau_d s",
+    "blocks.StateSpace": "discrete at dt: A 1, B state/input, C output/state, D output/input",
+    "blocks.Saturation": "lo, hi: signal unit (null: unbounded)",
+    "blocks.FrictionFeedforward": "law: force at the velocity of its input signal; scale: command per force",
+}
 
 
 def _version() -> str:
@@ -153,13 +195,28 @@ class ModelFile:
     format: str = MODEL_FORMAT
 
     def __post_init__(self) -> None:
-        law_entry(self.model)  # raises ParameterError naming the type when it is not a law
-        object.__setattr__(self, "units", MappingProxyType(_axis_units(self.units)))
+        if _is_machine(self.model):
+            if dict(self.units or {}) not in ({}, LINEAR_UNITS, MACHINE_UNITS):
+                raise ParameterError("units: a machine file's units are fixed per field (SI, MACHINE_UNITS); "
+                                     "axis labels {'F', 'v'} are for a friction law")
+            object.__setattr__(self, "units", MappingProxyType(dict(MACHINE_UNITS)))
+        else:
+            law_entry(self.model)  # raises ParameterError naming the type when it is not a law or machine
+            object.__setattr__(self, "units", MappingProxyType(_axis_units(self.units)))
         object.__setattr__(self, "provenance", MappingProxyType(dict(self.provenance or {})))
+
+    @property
+    def kind(self) -> str:
+        """``"machine"`` for a :class:`~frictionkit.Machine`, else ``"law"``."""
+        return "machine" if _is_machine(self.model) else "law"
 
     # ------------------------------------------------------------------ JSON
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of format :data:`MODEL_FORMAT`."""
+        if self.kind == "machine":
+            return {"format": MODEL_FORMAT, "kind": "machine", "model": self.model.to_dict(),
+                    "inputs": self.model.input_names(), "units": dict(MACHINE_UNITS),
+                    "provenance": _jsonable(dict(self.provenance))}
         return {
             "format": MODEL_FORMAT,
             "model": law_to_dict(self.model),
@@ -175,10 +232,24 @@ class ModelFile:
         return atomic_write_text(Path(path), text)
 
     @classmethod
-    def load(cls, path: str | Path) -> ModelFile:
-        """Read any model file :func:`load_model` reads, with its units and provenance."""
+    def load(cls, path: str | Path, *, kind: str | None = "law") -> ModelFile:
+        """Read any model file :func:`load_model` reads, with its units and provenance.
+
+        ``kind``: ``"law"`` (default: the callers that need a friction law refuse a machine
+        file in one line), ``"machine"``, or ``None`` for either.
+        """
+        if kind is not None and kind not in KINDS:
+            raise ParameterError(f"ModelFile.load kind = {kind!r}: must be one of {KINDS} or None")
         p = Path(path)
         where = f"model file '{p}'"
+        out = cls._load(p, where)
+        if kind is not None and out.kind != kind:
+            what = {"law": "a friction law", "machine": "a machine"}
+            raise DataError(f"{where}: holds {what[out.kind]} (kind {out.kind!r}); {what[kind]} is expected here")
+        return out
+
+    @classmethod
+    def _load(cls, p: Path, where: str) -> ModelFile:
         try:
             raw = p.read_bytes()
         except IsADirectoryError:
@@ -240,6 +311,12 @@ class ModelFile:
             return cls._from_identification(doc)
         if "model" not in doc:
             raise DataError("missing key 'model'")
+        kind = doc.get("kind", "law")
+        if kind not in KINDS:
+            raise DataError(f"\"kind\" is {kind!r}: this frictionkit ({_version()}) reads {list(KINDS)} "
+                            "(a newer frictionkit may have written it)")
+        if kind == "machine":
+            return cls._machine_from_dict(doc, fmt)
         if not is_law_dict(doc["model"]):
             raise DataError("\"model\" is not a friction law in JSON form ({\"law\": ..., ...})")
         units = doc.get("units") or {}
@@ -250,6 +327,23 @@ class ModelFile:
             raise DataError(f"\"provenance\" is a JSON {type(prov).__name__}, expected an object")
         return cls(model=law_from_dict(doc["model"]), units={k: v for k, v in units.items() if k != "parameters"},
                    provenance=prov, format=fmt)
+
+    @classmethod
+    def _machine_from_dict(cls, doc: Mapping[str, Any], fmt: str) -> ModelFile:
+        from ..machines import Machine
+
+        unknown = sorted(set(doc) - {"format", "kind", "model", "inputs", "units", "provenance"})
+        if unknown:
+            raise DataError(f"machine file: unknown key(s) {unknown}")
+        prov = doc.get("provenance") or {}
+        if not isinstance(prov, Mapping):
+            raise DataError(f"\"provenance\" is a JSON {type(prov).__name__}, expected an object")
+        if not isinstance(doc.get("units", {}), Mapping):
+            raise DataError(f"\"units\" is a JSON {type(doc['units']).__name__}, expected an object")
+        machine = Machine.from_dict(doc["model"])
+        if not isinstance(doc.get("inputs", []), list):  # written for the reader; derived again from the machine
+            raise DataError(f"\"inputs\" is a JSON {type(doc['inputs']).__name__}, expected a list of names")
+        return cls(model=machine, provenance=prov, format=fmt)
 
     @classmethod
     def _from_identification(cls, doc: Mapping[str, Any]) -> ModelFile:
@@ -283,6 +377,16 @@ class ModelFile:
     # ------------------------------------------------------------------ presentation
     def summary(self) -> str:
         """Law, parameters with units, and provenance, as plain text."""
+        if self.kind == "machine":
+            m = self.model
+            lines = [f"{m!r} ({self.format})", f"  inputs: {', '.join(m.input_names()) or 'none'}"]
+            lines += [f"  dof {d.name}: {d.kind}, inertia {_fmt(d.inertia)} {'kg' if d.kind == 'translational' else 'kg·m²'}"
+                      for d in m.dofs]
+            lines += [f"  site {s.name}: {s.role}, {type(s.law).__name__}" for s in m.sites]
+            lines += [f"  block {type(b).__name__} -> {', '.join(b.outputs)}" for b in m.blocks]
+            lines += [f"  {k}: {self.provenance[k]}" for k in ("method", "created", "frictionkit_version", "data_file",
+                                                                 "data_sha256") if k in self.provenance]
+            return "\n".join(lines)
         units = parameter_units(self.model, self.units)
         flat = _flatten(law_to_dict(self.model))
         lines = [f"{law_entry(self.model).name} model ({self.format})"]
@@ -303,6 +407,19 @@ class ModelFile:
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 4))
+        if self.kind == "machine":  # the steady state of every friction site
+            sites = [s for s in self.model.sites if s.role == "friction"]
+            vmax = max([_speed_scale(s.law) for s in sites] or [1.0])
+            v = np.linspace(-vmax, vmax, 801)
+            for s in sites:
+                ax.plot(v, s.law.steady_state(v), lw=1.5, label=f"{s.name} ({law_entry(s.law).name})")
+            ax.axhline(0.0, color="0.7", lw=0.8)
+            ax.set_xlabel("site velocity [m/s or rad/s]")
+            ax.set_ylabel("F [N or N·m]")
+            ax.set_title(f"{self.model.name}: friction sites, steady state")
+            if sites:
+                ax.legend(fontsize=8)
+            return ax
         vmax = _speed_scale(self.model)
         v = np.linspace(-vmax, vmax, 801)
         ax.plot(v, self.model.steady_state(v), lw=1.5)
@@ -312,6 +429,12 @@ class ModelFile:
         ax.set_ylabel(f"F [{self.units['F']}]")
         ax.set_title(f"{law_entry(self.model).name}: steady state")
         return ax
+
+
+def _is_machine(model: Any) -> bool:
+    from ..machines import Machine
+
+    return isinstance(model, Machine)
 
 
 def _speed_scale(model: Any) -> float:
@@ -351,17 +474,18 @@ def _jsonable(x: Any) -> Any:
 # --------------------------------------------------------------------------- public shorthands
 def save_model(model: Any, path: str | Path, *, units: Mapping[str, str] | None = None, method: str | None = None,
                data: str | Path | None = None, provenance: Mapping[str, Any] | None = None) -> Path:
-    """Write a friction law to a model file (format :data:`MODEL_FORMAT`), atomically.
+    """Write a friction law or a machine to a model file (format :data:`MODEL_FORMAT`), atomically.
 
     Parameters
     ----------
-    model : friction law
-        Any registered law (its numbers in SI).
+    model : friction law or Machine
+        Any registered law (its numbers in SI), or a :class:`~frictionkit.Machine` with its
+        controller blocks (``"kind": "machine"``; see the module docstring).
     path : path-like
         The JSON file to write.
     units : mapping, optional
         Axis unit labels ``{"F": ..., "v": ...}``; default N and m/s (``{"F": "N·m",
-        "v": "rad/s"}`` for a rotary axis).
+        "v": "rad/s"}`` for a rotary axis). Not for a machine (its units are per field).
     method : str, optional
         How the parameters were obtained ("seed 002 Table 2", "identify output-error" ...).
     data : path-like, optional
@@ -394,7 +518,8 @@ def save_model(model: Any, path: str | Path, *, units: Mapping[str, str] | None 
 
 
 def load_model(path: str | Path) -> Any:
-    """The friction law in a model file, an identification result JSON or a bare law JSON.
+    """The friction law (or :class:`~frictionkit.Machine`) in a model file, an identification
+    result JSON or a bare law JSON.
 
     Use :meth:`ModelFile.load` for its units and provenance too.
 
@@ -411,4 +536,4 @@ def load_model(path: str | Path) -> Any:
     >>> fk.load_model("fit.json")  # doctest: +SKIP
     LuGre(static=Stribeck(Fc=1.0, ...), sigma0=100000.0, sigma1=63.2)
     """
-    return ModelFile.load(path).model
+    return ModelFile.load(path, kind=None).model

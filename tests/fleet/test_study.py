@@ -145,3 +145,17 @@ def test_ballscrew_spec_checks():
         kw = {**kw, "machine": kw.get("machine", {"preset": "ballscrew"})}
         with pytest.raises(DataError, match=match):
             StudySpec(**kw)
+
+
+def test_study_cli_exits_1_when_every_run_failed(tmp_path):
+    from typer.testing import CliRunner
+
+    spec = tmp_path / "bad_runs.toml"  # a valid spec whose plant every run refuses: flank friction > nut level
+    spec.write_text('[machine]\npreset = "ballscrew"\nnut_model = "flank"\nnut_friction = 1.0\n[reference]\n'
+                    'duration = 0.65\n[spread]\n[study]\ndraws = 2\ncompensators = ["none"]\n')
+    res = CliRunner().invoke(app, ["study", str(spec), "--out", str(tmp_path / "s.parquet"), "--workers", "0",
+                                   "--no-progress"])
+    err = (res.stderr if hasattr(res, "stderr") else res.output).strip()
+    assert res.exit_code == 1, res.output
+    assert len(err.splitlines()) == 1 and err.startswith("error: all 2 run(s) failed") and "nut_friction" in err, err
+    assert not pd.read_parquet(tmp_path / "s.parquet")["ok"].any()

@@ -283,8 +283,11 @@ def study_cmd(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar on stderr."),
     json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary (- for stdout)."),
 ) -> None:
-    """Monte-Carlo robustness study: friction spreads x compensators x noise seeds, on Dask."""
-    from ..errors import ParameterError
+    """Monte-Carlo robustness study: friction spreads x compensators x noise seeds, on Dask.
+
+    Exit 1 when every run failed (one line: how many and the first error; the table is still
+    written); a warning on stderr counts the failed runs otherwise."""
+    from ..errors import ParameterError, SimulationError
     from ..study import load_study, run_study
 
     workers = dask_options(workers, scheduler)
@@ -303,4 +306,13 @@ def study_cmd(
                      f" ({s['runs']} runs, {s['failed']} failed)" if med is not None else
                      f"  {comp:8s} every run failed")
     lines.append(f"wrote {out}")
+    bad = res.table.loc[~res.table["ok"].astype(bool)] if len(res.table) else res.table
+    if len(bad) and len(bad) == len(res.table):
+        if json_out not in (None, "-"):
+            chk.save_json(doc, Path(json_out))
+        raise SimulationError(f"all {len(bad)} run(s) failed (their rows, with the errors, are in {out}); "
+                              f"first: {bad['run'].iloc[0]}: {bad['error'].iloc[0]}")
+    if len(bad):
+        typer.echo(f"warning: {len(bad)} of {len(res.table)} run(s) failed; their rows carry the error "
+                   "(column 'error')", err=True)
     _summary(doc, json_out, "\n".join(lines))

@@ -21,6 +21,7 @@ from frictionkit.identify import fit_static_map
 
 _register()
 runner = CliRunner()
+pytestmark = pytest.mark.xdist_group("report_cli")  # module fixtures (inputs, the README run) built once
 README = Path(__file__).resolve().parents[2] / "README.md"
 PNG = b"\x89PNG\r\n\x1a\n"
 

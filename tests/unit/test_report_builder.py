@@ -30,6 +30,7 @@ from frictionkit.report.adapters import sections_from_file
 
 _register()
 runner = CliRunner()
+pytestmark = pytest.mark.xdist_group("report_builder")  # module fixtures (fits, study, fleet) built once
 PNG = b"\x89PNG\r\n\x1a\n"
 
 

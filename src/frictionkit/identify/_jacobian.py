@@ -41,14 +41,18 @@ def _packed(build: Callable, theta: np.ndarray):
     return pk.static, pk.dyn, float(m), float(off)
 
 
-def row_coefficients(build: Callable, theta: np.ndarray):
+def row_coefficients(build: Callable, theta: np.ndarray, cache: dict | None = None):
     """Packed rows at ``theta`` and their derivatives.
 
     ``build(theta) -> (law, mass, offset)``. Returns ``(static, dyn, m, off, coef, dm, doff)``
     with ``coef[j, row] = d[sigma0, sigma1, Fc, Fs, vs, delta, sigma2]_row / d theta_j``.
+    ``cache`` (a dict kept by the caller for one problem): coefficients that all came out as
+    integers (a linear packing, every law today) are kept there and not differenced again.
     """
     theta = np.asarray(theta, float)
     static, dyn, m, off = _packed(build, theta)
+    if cache is not None and "coef" in cache:
+        return (static, dyn, m, off, *cache["coef"])
     p = theta.size
     coef = np.zeros((p, 2, _ks.N_COEF))
     dm = np.zeros(p)
@@ -72,6 +76,8 @@ def row_coefficients(build: Callable, theta: np.ndarray):
         coef[j] = _snap(d)
         dm[j] = _snap(np.array([(mj - m) / step]))[0]
         doff[j] = _snap(np.array([(oj - off) / step]))[0]
+    if cache is not None and all(np.array_equal(a, np.round(a)) for a in (coef, dm, doff)):
+        cache["coef"] = (coef, dm, doff)
     return static, dyn, m, off, coef, dm, doff
 
 
@@ -81,12 +87,12 @@ def _snap(d: np.ndarray) -> np.ndarray:
 
 
 def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt: float, options: SimOptions,
-                 segments, compare: str = "v"):
+                 segments, compare: str = "v", cache: dict | None = None):
     """Simulated ``x`` or ``v`` and ``d(.)/d theta`` (``N x p``) of the force-driven mass, each segment from rest.
 
     Returns ``(y, S, status)``; ``status`` is 0 when every segment integrated.
     """
-    static, dyn, m, off, coef, dm, doff = row_coefficients(build, theta)
+    static, dyn, m, off, coef, dm, doff = row_coefficients(build, theta, cache)
     F_scale = _f_scale(static)
     sigma0 = float(dyn[:, 0].max())
     atol_v = _atol_v(options, F_scale, sigma0, m, float((dyn[:, 1] + static[:, 4]).max()))
@@ -103,9 +109,9 @@ def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt: float, o
     return (x, Sx, status) if compare == "x" else (v, Sv, status)
 
 
-def motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: float):
+def motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: float, cache: dict | None = None):
     """Force of the motion-driven law from ``z = 0`` and ``dF/d theta`` (``N x p``): ``(F, S, status)``."""
-    static, dyn, _, _, coef, _, _ = row_coefficients(build, theta)
+    static, dyn, _, _, coef, _, _ = row_coefficients(build, theta, cache)
     x = np.ascontiguousarray(x, dtype=float)
     F = np.empty(x.size)
     S = np.empty((x.size, theta.size))

@@ -35,6 +35,7 @@ class _Problem:
         #: exact Jacobians from forward sensitivities (set by the fitter when the law has them)
         self.exact = False
         self.nsens = 0  # augmented (sensitivity) runs
+        self._coef_cache: dict = {}  # parameter -> packed-row derivatives (_jacobian.row_coefficients)
         #: ``[(start, stop), ...]``: the recordings concatenated in ``u``/``y``, each simulated from rest
         self.segments = [(0, u.size)]
 
@@ -89,14 +90,16 @@ class _Problem:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 _, S, status = _jacobian.force_driven(lambda th: self.tmpl.build(self.free, th), theta, self.u,
-                                                      self.dt, self.options, self.segments, self.compare)
+                                                      self.dt, self.options, self.segments, self.compare,
+                                                      self._coef_cache)
         except ParameterError:
             return None
         self.nsens += 1
         if status != 0 or not np.all(np.isfinite(S)):
             return None
-        dthdp = np.where(self.is_log, theta, self.scale)
-        return S * self.w[:, None] * dthdp[None, :]
+        S *= self.w[:, None]
+        S *= np.where(self.is_log, theta, self.scale)[None, :]  # d theta / d p
+        return S
 
     def jac(self, p, h: float | None = None):
         if self.exact:

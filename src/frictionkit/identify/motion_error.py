@@ -145,6 +145,7 @@ class _Problem:
         self._cache: tuple[bytes, np.ndarray] | None = None
         #: exact Jacobians (forward sensitivities of the LuGre family; set by the fitter)
         self.exact = False
+        self._coef_cache: dict = {}  # parameter -> packed-row derivatives (_jacobian.row_coefficients)
 
     def to_nat(self, p):
         return np.where(self.log, np.exp(np.clip(p, -700, 700)), p * self.scale)
@@ -194,7 +195,7 @@ class _Problem:
                 return None
             rows = []
             for s in self.md.segments:
-                _, S, status = _jacobian.motion_driven(build, theta[law], s.x, s.dt)
+                _, S, status = _jacobian.motion_driven(build, theta[law], s.x, s.dt, self._coef_cache)
                 if status != 0:
                     return None
                 rows.append(S[s.fit])

@@ -169,21 +169,28 @@ def _lugre_mean(par, o, z0, ds, h, lam):
 
 
 @njit(inline="always", error_model="numpy")
-def _gms_el(F0, mode, k, xi, g, C, ds, dur, va, vb):
+def _sgn(v):
+    """Sign of ``v`` (0 at 0), as :func:`_gms_el` takes it."""
+    return 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+
+
+@njit(inline="always", error_model="numpy")
+def _gms_el(F0, mode, k, xi, g, e, frac, ds, dur, va, vb):
     """One GMS element over ``dur``: ``(F1, mean, mode)``.
 
     The site moves by ``ds`` with its velocity linear from ``va`` to ``vb`` (one sign; mean
     ``ds / dur``), so a sticking element's force is quadratic in time and its breakaway
     instant is the root of a quadratic. A slipping element relaxes towards ``xi s(v)`` at the
-    rate ``C / g``, with ``g`` at the mean speed.
+    rate ``C / g``, with ``g`` at the mean speed: ``(e, frac) = _relax(C dur / g)``, the same for
+    every element of the site, so the caller evaluates it once per phase (only read here when
+    the element keeps slipping).
     """
     v = ds / dur
-    sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+    sg = _sgn(v)
     if mode != 0.0 and mode == sg:  # keeps slipping: relaxes to xi s(v) at rate C / g
         Fst = sg * xi * g
         if g <= 0.0:
             return Fst, Fst, mode
-        e, frac = _relax(C * dur / g)
         return Fst + (F0 - Fst) * e, Fst + (F0 - Fst) * frac, mode
     # sticking (a slipping element sticks when the motion stops or reverses)
     if sg == 0.0:
@@ -272,13 +279,25 @@ def _gms_mean(par, o, st, so, ds, h, out, lam, v0):
         g2 = _g(par, ro2, abs(d2) / dur2)
     w1 = dur1 / h
     w2 = dur2 / h
+    # the slip relaxation factors of each phase, evaluated once, when an element first needs them
+    sg1 = _sgn(d1 / dur1)
+    sg2 = _sgn(d2 / dur2) if two else 0.0
+    e1 = fr1 = e2 = fr2 = 0.0
+    have1 = have2 = False
     fric = 0.0
     for i in range(M):
-        F1, m1, mode = _gms_el(st[so + i], st[so + M + i], par[ko1 + i], par[xo1 + i], g1, C1, d1, dur1,
+        mode = st[so + M + i]
+        if not have1 and mode != 0.0 and mode == sg1 and g1 > 0.0:
+            e1, fr1 = _relax(C1 * dur1 / g1)
+            have1 = True
+        F1, m1, mode = _gms_el(st[so + i], mode, par[ko1 + i], par[xo1 + i], g1, e1, fr1, d1, dur1,
                                va1, vb1)
         mean = m1 * w1
         if two:
-            F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, C2, d2, dur2, 0.0, v1)
+            if not have2 and mode != 0.0 and mode == sg2 and g2 > 0.0:
+                e2, fr2 = _relax(C2 * dur2 / g2)
+                have2 = True
+            F1, m2, mode = _gms_el(F1, mode, par[ko2 + i], par[xo2 + i], g2, e2, fr2, d2, dur2, 0.0, v1)
             mean += m2 * w2
         fric += mean
         out[so + i] = F1
@@ -364,13 +383,15 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit(error_model="numpy")
-def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0):
+def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0, xg):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
     ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
     ``kt`` is the site's last secant slope ``dFbar/dds`` (a Newton-like first step from the
-    explicit guess ``a - Gjj Fguess``); secant steps follow until the root is bracketed, then
-    Illinois regula falsi. Most sub-steps converge in two or three law evaluations.
+    explicit guess ``a - Gjj Fguess``, or from ``xg`` when it is finite: the caller's
+    linearised update of the site's last solution when only ``a`` moved); secant steps follow
+    until the root is bracketed, then Illinois regula falsi. Most sub-steps converge in two or
+    three law evaluations.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
         Fa, za = _site_mean(kind, par, o, st, stw, so, s0, a, h, lam, v0)
@@ -452,7 +473,7 @@ def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt,
                 hi = x1
                 fhi = f1
     else:
-        x0 = a - Gjj * Fguess
+        x0 = xg if math.isfinite(xg) else a - Gjj * Fguess
         F0, z0e = _site_mean(kind, par, o, st, stw, so, s0, x0, h, lam, v0)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
@@ -814,6 +835,8 @@ def run(
             has_load = True
     stw = np.zeros(st.size)  # scratch: GMS element states of a site's last evaluation
     zend = np.zeros(ns)  # LuGre end state of the converged solve (GMS: 1.0, states in stw)
+    aused = np.zeros(ns)  # a site's input at its last solve in this sub-step, and its tolerance
+    tused = np.zeros(ns)
     kt = np.zeros(ns)  # last secant slope dFbar/dds per site (first guess of the next solve)
     for j in range(ns):
         if ld_mode[j] != 0:
@@ -1079,10 +1102,11 @@ def run(
                     a[j] = aj
                     s0[j] = sj
                     v0s[j] = vj
-                # Gauss-Seidel over the sites
+                # Gauss-Seidel over the sites, lazily: a site is solved again only when the
+                # other sites' forces have moved its input ``aj`` by more than its tolerance since
+                # its last solve, and the sweeps end when no input has (every site's equation then
+                # holds to its tolerance with the final forces)
                 for sweep in range(60):
-                    change = 0.0
-                    tol = 0.0
                     for j in range(ns):
                         aj = a[j]
                         if site_kind[j] == S_STATIC:
@@ -1095,19 +1119,39 @@ def run(
                                 if i != j:
                                     aj -= Gss[j, i] * Fbar[i]
                             Gjj = Gss[j, j]
+                        if sweep > 0 and abs(aj - aused[j]) <= tused[j]:
+                            continue
                         tj = xtol[j] + 1e-13 * abs(aj)
+                        xg = math.nan
+                        if sweep > 0:  # same law and state, only aj moved: a Newton step from the last root
+                            slope = 1.0 + Gjj * kt[j]
+                            if slope >= 0.05:
+                                xg = ds[j] + (aj - aused[j]) / slope
                         dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, stw, site_so[j], s0[j], aj,
-                                                       Gjj, h, Fbar[j], tj, lam[j], kt[j], v0s[j])
+                                                       Gjj, h, Fbar[j], tj, lam[j], kt[j], v0s[j], xg)
                         kt[j] = ktj
                         zend[j] = zj
-                        dF = abs(Fj - Fbar[j]) * Gjj
-                        if dF > change:
-                            change = dF
-                        if tj > tol:
-                            tol = tj
+                        aused[j] = aj
+                        tused[j] = tj
                         Fbar[j] = Fj
                         ds[j] = dsj
-                    if ns == 1 or change <= tol:
+                    if ns == 1:
+                        break
+                    done = True
+                    for j in range(ns):
+                        aj = a[j]
+                        if site_kind[j] == S_STATIC:
+                            for i in range(ns):
+                                if i != j:
+                                    aj -= Hss[j, i] * Fbar[i]
+                        else:
+                            for i in range(ns):
+                                if i != j:
+                                    aj -= Gss[j, i] * Fbar[i]
+                        if abs(aj - aused[j]) > tused[j]:
+                            done = False
+                            break
+                    if done:
                         break
                     if sweep == 59:
                         n_bad += 1

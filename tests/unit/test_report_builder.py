@@ -214,6 +214,27 @@ def test_traces(files, name):
     assert len(sec.figures) == 1
 
 
+def test_result_objects(files, study):
+    """Report.add_result takes the objects themselves: the same sections as their files."""
+    from frictionkit.identify import IdentificationResult
+
+    rep = Report("objects")
+    res = IdentificationResult.load_json(files / "static.json")
+    (sec,) = rep.add_result(res, name="static fit")
+    (from_file,) = sections_from_file(files / "static.json")[1]
+    assert sec.source == "static fit" and _table(sec, "Parameters") == _table(from_file, "Parameters")
+    lugre = fk.load_model(files / "lugre.json")
+    assert rep.add_result(lugre)[0].title == "Friction model: LuGre"
+    sim = fk.simulate(lugre, position=30e-6 * np.sin(np.linspace(0, 4 * np.pi, 801)), dt=1e-3)
+    assert rep.add_result(sim)[0].table == sections_from_file(files / "traces.csv")[1][0].table
+    assert rep.add_result(pd.read_parquet(study / "study.parquet"))[0].kind == "study"
+    assert [i["kind"] for i in rep.inputs] == ["identification", "model", "traces", "study"]
+    with pytest.raises(ParameterError, match="a int is not a result the report knows"):
+        rep.add_result(3)
+    with pytest.raises(DataError, match=r"result dict: a JSON object of no kind .* \(keys: x\)"):
+        rep.add_result({"x": 1})
+
+
 # --------------------------------------------------------------------------- reproductions, compensation
 def _zf_doc(sigmoid: float) -> dict:
     """The layout of ``reproduce zhu-fujimoto --json``; Table 3 paper values are seed 001 Table 3 [µm]."""

@@ -37,10 +37,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DataError
+from ..errors import DataError, FrictionKitError, ParameterError
 from .builder import Section, figure_png
 
-__all__ = ["KINDS", "sections_from_file", "zhu_fujimoto_findings"]
+__all__ = ["KINDS", "sections_from_file", "sections_from_result", "zhu_fujimoto_findings"]
 
 #: What :func:`sections_from_file` reads, by kind (the ``kind`` it reports).
 KINDS = ("identification", "model", "reproduce-zhu-fujimoto", "reproduce-sdss", "reproduce-zhang2023",
@@ -124,17 +124,93 @@ def sections_from_file(path: str | os.PathLike) -> tuple[str, list[Section]]:
     return kind, secs
 
 
-def _json_file(p: Path, where: str) -> tuple[str, list[Section]]:
-    from ..identify.result import JSON_FORMAT, read_json_object
-    from ..models.files import MODEL_FORMAT
+def sections_from_result(result: Any, *, name: str | None = None) -> tuple[str, list[Section]]:
+    """``(kind, sections)`` for a result object in memory.
 
-    doc = read_json_object(p, where)
+    Takes an :class:`~frictionkit.identify.IdentificationResult`, a friction law or
+    :class:`~frictionkit.models.ModelFile`, a result with ``to_dict()`` (compensation,
+    reproductions) or its dict, a :class:`~frictionkit.study.StudyResult` /
+    :class:`~frictionkit.fleet.FleetRun` (their ``table``) or a pandas DataFrame (study, fleet,
+    traces), a :class:`~frictionkit.SimulationResult` (its traces).
+
+    Raises
+    ------
+    ParameterError
+        An object of no kind the report knows, named by its type.
+    DataError
+        A document or table of no kind the report reads.
+    """
+    import pandas as pd
+
+    from ..identify import IdentificationResult
+    from ..models.base import law_entry
+    from ..models.files import ModelFile
+
+    label = name or type(result).__name__
+    where = f"result {label}"
+    if isinstance(result, IdentificationResult):
+        return "identification", _named(identification_sections(result, name=label), label)
+    if isinstance(result, ModelFile):
+        return "model", _named(model_sections(result, name=label), label)
+    try:
+        law_entry(result)
+    except (ParameterError, FrictionKitError, TypeError, AttributeError):
+        pass
+    else:
+        return "model", _named(model_sections(ModelFile(model=result), name=label), label)
+    if hasattr(result, "table") and isinstance(getattr(result, "table"), pd.DataFrame):
+        result = result.table
+    if isinstance(result, pd.DataFrame):
+        kind, secs = _table_kind(result, where)
+        return kind, _named(secs, label, kind)
+    if hasattr(result, "states") and hasattr(result, "F") and hasattr(result, "t"):  # a SimulationResult
+        from ..simulate.traces import trace_table
+
+        return "traces", _named(traces_sections(pd.DataFrame(trace_table(result))), label, "traces")
+    doc = result.to_dict() if callable(getattr(result, "to_dict", None)) else result
+    if isinstance(doc, Mapping):
+        kind, secs = _json_doc(doc, where, name=label)
+        return kind, _named(secs, label, kind)
+    raise ParameterError(f"Report.add_result: a {type(result).__name__} is not a result the report knows (an "
+                         "IdentificationResult, a friction law or ModelFile, a result with to_dict(), a study or "
+                         "fleet table, a SimulationResult)")
+
+
+def _named(secs: list[Section], source: str, kind: str = "") -> list[Section]:
+    for s_ in secs:
+        s_.source = s_.source or source
+        s_.kind = s_.kind or kind
+    return secs
+
+
+def _json_file(p: Path, where: str) -> tuple[str, list[Section]]:
+    from ..identify.result import read_json_object
+
+    return _json_doc(read_json_object(p, where), where, name=p.name)
+
+
+def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, list[Section]]:
+    """Dispatch a parsed JSON document (a file's, or a result object's ``to_dict()``)."""
+    from ..identify.result import JSON_FORMAT
+    from ..models.files import MODEL_FORMAT, ModelFile
+
     fmt_ = doc.get("format")
     if fmt_ == JSON_FORMAT:
-        return "identification", identification_sections(p, doc)
+        from ..identify import IdentificationResult
+
+        try:
+            res = IdentificationResult.from_dict(doc)
+        except DataError as exc:
+            raise DataError(f"{where}: {exc}") from None
+        written = doc.get("written_by") if isinstance(doc.get("written_by"), Mapping) else None
+        return "identification", identification_sections(res, name=name, written=written)
     if fmt_ == MODEL_FORMAT or (fmt_ is None and ("law" in doc or "type" in doc)) or (
             isinstance(fmt_, str) and fmt_.startswith("frictionkit.model/")):
-        return "model", model_sections(p)
+        try:
+            mf = ModelFile.from_dict(doc)
+        except (DataError, FrictionKitError) as exc:
+            raise DataError(f"{where}: {' '.join(str(exc).split())}") from None
+        return "model", model_sections(mf, name=name)
     if fmt_ is not None:
         raise DataError(f"{where}: \"format\" is {fmt_!r}, not one frictionkit report reads "
                         f"({JSON_FORMAT!r}, {MODEL_FORMAT!r})")
@@ -152,7 +228,7 @@ def _json_file(p: Path, where: str) -> tuple[str, list[Section]]:
         return "compensation", compensation_sections(doc)
     if isinstance(doc.get("compensators"), Mapping) and "runs" in doc:
         return "study-summary", study_summary_sections(doc)
-    keys = ", ".join(sorted(doc)[:8])
+    keys = ", ".join(sorted(map(str, doc))[:8])
     raise DataError(f"{where}: a JSON object of no kind frictionkit report reads (keys: {keys}); expected an "
                     "identification result, a model file, or the --json of reproduce, compensate or study")
 
@@ -209,14 +285,9 @@ def _flags(res) -> dict[str, list[str]]:
     return out
 
 
-def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
-    """Data overview, parameters with intervals and flags, the fit's plot."""
-    from ..identify import IdentificationResult
-
-    try:
-        res = IdentificationResult.from_dict(doc)
-    except DataError as exc:
-        raise DataError(f"result file '{p}': {exc}") from None
+def identification_sections(res, *, name: str = "result", written: Mapping[str, Any] | None = None) -> list[Section]:
+    """Data overview, parameters with intervals and flags, the fit's plot, of an
+    :class:`~frictionkit.identify.IdentificationResult` (``written``: its file's ``written_by``)."""
     prov = res.provenance
     units = prov.get("units", {}) if isinstance(prov.get("units"), Mapping) else {}
     sec = Section(f"{_KIND_TITLES.get(res.kind, res.kind)}: {res.model_name}")
@@ -244,7 +315,6 @@ def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
             fin = arr[np.isfinite(arr)]
             if fin.size:
                 over.append([labels[key], f"{fmt(fin.min())} … {fmt(fin.max())} ({arr.size} samples)"])
-    written = doc.get("written_by") if isinstance(doc.get("written_by"), Mapping) else {}
     if written:
         over.append(["written by", f"frictionkit {written.get('frictionkit_version', '?')}, {written.get('date', '?')}"])
     sec.tables.append(("Data overview", over))
@@ -270,7 +340,7 @@ def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
         fig = ax.figure
         fig.set_size_inches(8, 4.2)
         fig.tight_layout()
-        sec.figures.append((f"{p.stem}.png", figure_png(fig)))
+        sec.figures.append((f"{Path(name).stem}.png", figure_png(fig)))
     except Exception as exc:  # noqa: BLE001 - a plot must not hide the numbers
         plt.close("all")
         sec.text.append(f"(plot failed: {type(exc).__name__}: {' '.join(str(exc).split())})")
@@ -278,14 +348,14 @@ def identification_sections(p: Path, doc: Mapping[str, Any]) -> list[Section]:
 
 
 # --------------------------------------------------------------------------- model files
-def model_sections(p: Path) -> list[Section]:
-    """Parameters with units, provenance, steady-state map."""
+def model_sections(mf, *, name: str = "model") -> list[Section]:
+    """Parameters with units, provenance, steady-state map and, for a dynamic law, its hysteresis
+    loop, of a :class:`~frictionkit.models.ModelFile`."""
     from ..models.base import law_entry, law_to_dict
-    from ..models.files import ModelFile, _flatten, parameter_units
+    from ..models.files import _flatten, parameter_units
 
-    mf = ModelFile.load(p)  # names the file on failure
-    name = law_entry(mf.model).name
-    sec = Section(f"Friction model: {name}")
+    law_name = law_entry(mf.model).name
+    sec = Section(f"Friction model: {law_name}")
     units = parameter_units(mf.model, mf.units)
     rows = [["parameter", "value", "unit"]]
     for key, val in _flatten(law_to_dict(mf.model)).items():
@@ -306,11 +376,11 @@ def model_sections(p: Path) -> list[Section]:
         x, F, amp = loop
         axs[0, 1].plot(1e6 * x if mf.units["x"] == "m" else x, F, lw=1)
         axs[0, 1].set(xlabel=f"x [{'µm' if mf.units['x'] == 'm' else mf.units['x']}]", ylabel=f"F [{mf.units['F']}]",
-                      title=f"{name}: hysteresis, ±{fmt(amp, 3)} {mf.units['x']} sine, two cycles")
+                      title=f"{law_name}: hysteresis, ±{fmt(amp, 3)} {mf.units['x']} sine, two cycles")
         axs[0, 1].grid(alpha=0.3)
         sec.text.append(f"Hysteresis loop: the law driven along a slow sine of ±{fmt(amp, 3)} {mf.units['x']} "
                         "(5 × its pre-sliding distance, level / stiffness) from the unloaded state.")
-    sec.figures.append((f"{p.stem}_model.png", figure_png(fig)))
+    sec.figures.append((f"{Path(name).stem}_model.png", figure_png(fig)))
     return [sec]
 
 

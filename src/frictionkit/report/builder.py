@@ -1,10 +1,11 @@
 """A reusable report: sections collected from results, rendered as ONE self-contained HTML page.
 
 A :class:`Report` holds :class:`Section` s (a title, paragraphs, tables, figures as PNG
-bytes, links to files beside the page). Sections come from code (the demo builds its own)
-or from result files through the adapters of :mod:`frictionkit.report.adapters`
-(:meth:`Report.add_file`: identification results, model files, reproductions,
-compensation, fleet and study tables, simulated traces).
+bytes, links to files beside the page). Sections come from code (the demo builds its own),
+from result objects (:meth:`Report.add_result`) or from result files
+(:meth:`Report.add_file`) through the adapters of :mod:`frictionkit.report.adapters`
+(identification results, model files and laws, reproductions, compensation, fleet and
+study tables, simulated traces).
 
 The page embeds every figure as a base64 PNG and carries its style inline: no external
 asset, no script, nothing fetched. Every title, paragraph, table cell and link label is
@@ -19,6 +20,7 @@ Examples
 >>> "&lt;2&gt;" in rep.html()
 True
 >>> rep.add_file("fit.json")  # doctest: +SKIP
+>>> rep.add_result(fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3), sigma0=1e5, sigma1=63.2))  # doctest: +SKIP
 >>> rep.write("out/")  # doctest: +SKIP
 PosixPath('out/report.html')
 """
@@ -176,6 +178,17 @@ class Report:
         self.inputs.append({"file": str(path), "kind": kind, "sections": [s.title for s in secs]})
         return secs
 
+    def add_result(self, result: Any, *, name: str | None = None) -> list[Section]:
+        """Append the sections of a result object in memory (see
+        :func:`frictionkit.report.adapters.sections_from_result` for what it takes); ``name``
+        labels the sections' source (default: the object's type)."""
+        from .adapters import sections_from_result
+
+        kind, secs = sections_from_result(result, name=name)
+        self.add(*secs)
+        self.inputs.append({"object": name or type(result).__name__, "kind": kind, "sections": [s.title for s in secs]})
+        return secs
+
     # ------------------------------------------------------------------ rendering
     def html(self, *, footer: str | None = None) -> str:
         """The page as text (UTF-8, no external assets)."""
@@ -244,6 +257,6 @@ class Report:
 
         folder = Path(out)
         target = folder / name
-        check_not_input(target, [*inputs, *(i["file"] for i in self.inputs)], option="report")
+        check_not_input(target, [*inputs, *(i["file"] for i in self.inputs if "file" in i)], option="report")
         folder.mkdir(parents=True, exist_ok=True)
         return atomic_write_text(target, self.html(footer=footer))

@@ -96,3 +96,12 @@ def test_gms_error_that_a_4x_check_would_miss_is_flagged():
     assert err > 0.02, err  # the coarse run is wrong...
     assert res.status == STATUS_TOLERANCE, res.message  # ...and says so
     assert math.isfinite(err)
+
+
+def test_atol_run_whose_positions_agree_but_forces_ring_is_flagged():
+    """atol bounds positions only: 1e-9 kg with atol = 1e-3 m was accepted at 20 sub-steps
+    (positions 10 -> 20 moved 1e-6 m) with status 0 and a peak friction of 193 N for a 2 N drive."""
+    res = run(LUGRE, 1e-9, atol=1e-3)
+    assert float(np.max(np.abs(res.F))) > 3.0  # still wrong (see the module docstring)
+    assert res.status == STATUS_TOLERANCE, res.message
+    assert "Raise substeps" in res.message and "positions only" in res.message

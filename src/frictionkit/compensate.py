@@ -203,6 +203,26 @@ def _emps(names, law, quick, seed, each):
         each(name, t, vr, r - res.q[:, 0], res.status, res.message)
 
 
+def _refuse_file(path: Path) -> None:
+    """A model file in place of a preset: say in one line what compensate would need from it.
+
+    A machine file holds the machine and its controller, not a compensation test: the test
+    motion (reference arrays are inputs, not part of the file), which coordinate's error is
+    scored, and the input the compensation enters by. Until machine files carry those, only
+    the presets run here.
+    """
+    from .models.files import ModelFile
+
+    mf = ModelFile.load(path, kind=None)
+    if mf.kind == "law":
+        raise ParameterError(f"'{path}' is a friction law, not a machine: give it as --model to a preset "
+                             f"({', '.join(PRESETS)})")
+    raise ParameterError(f"machine file '{path}' ({mf.model.name}) carries no compensation test: compensate needs "
+                         "its test motion, the coordinate whose error is scored and the input a compensator "
+                         f"enters by, which machine files do not hold; run a preset ({', '.join(PRESETS)}) or "
+                         f"'frictionkit simulate {path} --input ...' with a FrictionFeedforward block")
+
+
 def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool = False, seed: int = 0,
                progress: Callable[[str], None] | None = None) -> CompensationResult:
     """Run a machine preset with each compensator; the tracking-error table.
@@ -210,6 +230,8 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
     Parameters
     ----------
     preset : str — one of :data:`PRESETS` (see the module docstring for each machine and motion).
+        A machine file in its place is refused in one line naming what it lacks (a test
+        motion, the scored coordinate, the compensation input).
     compensators : sequence of str, optional — default every compensator of the preset
         (:data:`COMPENSATORS`) except ``model`` unless a model is given.
     model : friction law, str or Path, optional — the identified model (a law or a model file)
@@ -230,6 +252,8 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
     (0, True)
     """
     t0 = time.perf_counter()
+    if isinstance(preset, (str, Path)) and str(preset) not in PRESETS and Path(preset).is_file():
+        _refuse_file(Path(preset))
     if preset not in PRESETS:
         raise ParameterError(f"preset {preset!r}: must be one of {', '.join(PRESETS)}")
     allowed = COMPENSATORS[preset]

@@ -29,7 +29,8 @@ and the max within -50 ... +100 ms of each velocity reversal."""
 
 @app.command("compensate", epilog=_EPILOG)
 def compensate(
-    preset: str = typer.Argument(..., help="Machine preset: ballscrew or emps."),
+    preset: str = typer.Argument(..., help="Machine preset: ballscrew or emps (a machine file is refused with "
+                                 "what it lacks)."),
     model: Optional[Path] = typer.Option(None, "--model", help="Identified model file (identify ... --json, "
                                          "fk.save_model) for the 'model' compensator: its static map as "
                                          "feed-forward on the reference velocity, table side [N] at [m/s]."),
@@ -45,6 +46,10 @@ def compensate(
     """Run a machine preset with friction compensators and print the tracking-error table."""
     from ..compensate import COMPENSATORS, PRESETS
 
+    if preset not in PRESETS and Path(preset).is_file():  # a model file: the library says what it lacks
+        from ..compensate import compensate as run
+
+        run(preset)
     chk.choice(preset, "PRESET", PRESETS)
     for c in compensator or []:
         chk.choice(c, "--compensator", COMPENSATORS[preset])

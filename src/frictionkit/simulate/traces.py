@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import DataError
 
-__all__ = ["TRACE_FORMATS", "trace_table", "write_traces"]
+__all__ = ["TRACE_FORMATS", "machine_trace_table", "trace_table", "write_traces"]
 
 #: File formats of :func:`write_traces`, by suffix.
 TRACE_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
@@ -36,6 +36,8 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
     """
     from ..models.files import _axis_units
 
+    if hasattr(result, "dof_names"):  # a MachineResult
+        return machine_trace_table(result)
     u = _axis_units(units)
     out = {"t [s]": result.t, f"x [{u['x']}]": result.x, f"v [{u['v']}]": result.v, f"F [{u['F']}]": result.F}
     states = result.states or {}
@@ -49,6 +51,25 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
         st = np.asarray(states["stick"])
         for i in range(st.shape[1]):
             out[f"stick_{i + 1}"] = st[:, i].astype(np.int8)
+    return out
+
+
+def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
+    """``{column: samples}`` of a :class:`~frictionkit.machines.MachineResult`: ``t [s]``, per
+    degree of freedom ``x.<dof> [m|rad]`` and ``v.<dof> [m/s|rad/s]``, per site ``F.<site>``
+    (N on a linear coordinate, N·m on an angle: labelled ``[N|N·m]`` as the site's coordinate
+    may mix both), per actuator ``u.<actuator>`` (applied command), then every controller
+    signal by its name (units as the machine's blocks define them)."""
+    out = {"t [s]": result.t}
+    for i, d in enumerate(result.machine.dofs):
+        out[f"x.{d.name} [{d.unit}]"] = result.q[:, i]
+        out[f"v.{d.name} [{d.unit}/s]"] = result.v[:, i]
+    for j, name in enumerate(result.site_names):
+        out[f"F.{name} [N|N·m]"] = result.F[:, j]
+    for j, name in enumerate(result.actuator_names):
+        out[f"u.{name}"] = result.u[:, j]
+    for j, name in enumerate(result.signal_names):
+        out.setdefault(name, result.signals[:, j])
     return out
 
 

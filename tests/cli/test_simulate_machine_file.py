@@ -1,0 +1,127 @@
+"""``frictionkit simulate MACHINE.json --input NAME=FILE:COLUMN ...`` and ``compensate MACHINE.json``."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import frictionkit as fk
+from frictionkit.cli import _register, app
+
+_register()
+runner = CliRunner()
+
+
+def _csv(path, header, *cols):
+    np.savetxt(path, np.column_stack(cols), delimiter=",", header=header, comments="", fmt="%.17g")
+    return path
+
+
+def _traces(path):
+    names = path.read_text(encoding="utf-8").splitlines()[0].split(",")
+    return dict(zip(names, np.loadtxt(path, delimiter=",", skiprows=1).T))
+
+
+def _slider() -> fk.Machine:
+    """1 kg on a Coulomb contact of 1 N, pushed by the open-loop force ``u`` [N]."""
+    m = fk.Machine("slider")
+    x = m.dof("x", inertia=1.0)
+    m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0))
+    m.actuator("push", x, command="u")
+    return m
+
+
+@pytest.fixture(scope="module")
+def emps(tmp_path_factory):
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+
+    d = tmp_path_factory.mktemp("emps")
+    m = emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]),
+                     offset=PUBLISHED["offset"], encoder_resolution=5e-8)
+    t = np.arange(1501) * 1e-3
+    qg = 0.1 * np.sin(2 * np.pi * 0.2 * t)
+    return m, fk.save_model(m, d / "emps.json", method="EMPS published"), _csv(d / "ref.csv", "t,qg", t, qg), qg
+
+
+def test_machine_file_runs_as_the_library_does(tmp_path, emps):
+    m, path, ref, qg = emps
+    out, png, js = tmp_path / "tr.csv", tmp_path / "run.png", tmp_path / "run.json"
+    res = runner.invoke(app, ["simulate", str(path), "--input", f"qg={ref}:qg", "--out", str(out),
+                              "--plot", str(png), "--json", str(js)])
+    assert res.exit_code == 0, res.output
+    assert res.stdout.startswith("EMPS: 1501 samples") and f"wrote {out}" in res.stdout
+    lib = fk.simulate_machine(m, dt=1e-3, inputs={"qg": qg})
+    tr = _traces(out)
+    assert list(tr)[:5] == ["t [s]", "x.q [m]", "v.q [m/s]", "F.friction [N|N·m]", "u.motor"]
+    # the file's machine, the file's dt (from the time column) and 17 digits in the CSV: the library's numbers
+    np.testing.assert_allclose(tr["x.q [m]"], lib.q[:, 0], rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(tr["nu"], lib.signal("nu"), rtol=1e-12, atol=1e-12)
+    assert png.stat().st_size > 5000
+    doc = json.loads(js.read_text())
+    assert doc["kind"] == "machine" and doc["status"] == 0 and doc["samples"] == 1501 and doc["dt"] == pytest.approx(1e-3)
+    assert doc["inputs"] == {"qg": f"{ref}:qg"} and doc["dofs"]["q"]["unit"] == "m"
+    assert doc["dofs"]["q"]["final_x"] == pytest.approx(float(lib.q[-1, 0]), rel=1e-12)
+
+
+def test_constant_inputs_dt_and_duration(tmp_path):
+    path = fk.save_model(_slider(), tmp_path / "slider.json")
+    res = runner.invoke(app, ["simulate", str(path), "--input", "u=3", "--dt", "1e-3", "--duration", "0.5",
+                              "--json", "-", "--out", str(tmp_path / "tr.parquet")])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(res.stdout)
+    # Newton by hand: (3 N - 1 N) / 1 kg = 2 m/s², x(0.5 s) = 0.25 m, v = 1 m/s
+    assert doc["samples"] == 501 and doc["dofs"]["x"]["final_x"] == pytest.approx(0.25, rel=1e-3)
+    assert doc["dofs"]["x"]["peak_v"] == pytest.approx(1.0, rel=1e-6)
+    import pandas as pd
+
+    tab = pd.read_parquet(tmp_path / "tr.parquet")
+    assert tab["v.x [m/s]"].iloc[-1] == pytest.approx(1.0, rel=1e-6)
+    # 0.5 N < Fc: it sticks
+    res = runner.invoke(app, ["simulate", str(path), "--input", "u=0.5", "--dt", "1e-3", "--duration", "0.2",
+                              "--json", "-"])
+    assert res.exit_code == 0 and json.loads(res.stdout)["dofs"]["x"]["final_x"] == 0.0
+
+
+@pytest.mark.parametrize("args, msg", [
+    ([], r"reads inputs qg: missing --input for qg"),
+    (["--input", "qg={ref}:qg", "--input", "r=1"], r"missing|r not read by the machine"),
+    (["--input", "qg={ref}:nope"], r"no column for --input qg 'nope'; columns: t, qg"),
+    (["--input", "qg"], r"--input 'qg': expected NAME=FILE:COLUMN or NAME=VALUE"),
+    (["--input", "qg={ref}:qg", "--input", "qg=0"], r"--input: qg given twice"),
+    (["--input", "qg={ref}:qg", "--duration", "1"], r"--duration: the input files give the run length"),
+    (["--input", "qg={ref}:qg", "--dt", "2e-3"], r"--dt 0.002: the input files are sampled at 0.001 s"),
+    (["--input", "qg=0"], r"without input files give --dt and --duration"),
+    (["--input", "qg={ref}:qg", "--mass", "1"], r"--mass: for a friction-law file; machine '.*' reads its inputs"),
+    (["--position", "{ref}"], r"--position: for a friction-law file; .*it needs: qg"),
+    (["--input", "qg={irregular}:qg"], r"time column 't' is not uniformly sampled"),
+])
+def test_bad_machine_runs_say_why(tmp_path, emps, args, msg):
+    _, path, ref, _ = emps
+    irregular = _csv(tmp_path / "irr.csv", "t,qg", np.array([0.0, 1e-3, 3e-3]), np.zeros(3))
+    argv = ["simulate", str(path), *[a.format(ref=ref, irregular=irregular) for a in args]]
+    res = runner.invoke(app, argv)
+    assert res.exit_code == 2, res.output
+    line = res.output.strip()
+    assert "\n" not in line and line.startswith("error: ")
+    assert __import__("re").search(msg, line), line
+
+
+def test_law_files_refuse_machine_options(tmp_path):
+    law = fk.save_model(fk.Dahl(Fc=1.0, sigma0=1e5), tmp_path / "dahl.json")
+    res = runner.invoke(app, ["simulate", str(law), "--input", "u=1", "--dt", "1e-3"])
+    assert res.exit_code == 2 and "--input, --dt: for a machine file; " in res.output and "is a friction law" in res.output
+
+
+def test_compensate_refuses_a_machine_file_saying_what_is_missing(tmp_path):
+    path = fk.save_model(_slider(), tmp_path / "slider.json")
+    res = runner.invoke(app, ["compensate", str(path)])
+    assert res.exit_code == 2
+    line = res.output.strip()
+    assert "\n" not in line and line.startswith(f"error: machine file '{path}' (slider) carries no compensation test")
+    assert "test motion" in line and "coordinate whose error is scored" in line
+    law = fk.save_model(fk.Dahl(Fc=1.0, sigma0=1e5), tmp_path / "dahl.json")
+    res = runner.invoke(app, ["compensate", str(law)])
+    assert res.exit_code == 2 and "is a friction law, not a machine: give it as --model" in res.output

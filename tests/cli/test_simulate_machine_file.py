@@ -125,3 +125,28 @@ def test_compensate_refuses_a_machine_file_saying_what_is_missing(tmp_path):
     law = fk.save_model(fk.Dahl(Fc=1.0, sigma0=1e5), tmp_path / "dahl.json")
     res = runner.invoke(app, ["compensate", str(law)])
     assert res.exit_code == 2 and "is a friction law, not a machine: give it as --model" in res.output
+
+
+def test_readme_machine_files_example_runs_as_written(tmp_path, monkeypatch):
+    import re
+    import shlex
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    start = text.index("**Machine files.**")
+    sec = text[start:text.index("\n### ", start)]
+    py = re.search(r"```python\n(.*?)```", sec, re.S).group(1)
+    sh = re.search(r"```sh\n(.*?)```", sec, re.S).group(1).strip()
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(py, "README.md", "exec"), ns)  # noqa: S102 - the README's own example
+    assert ns["m2"].input_names() == ["qg"] and ns["m2"].to_dict() == ns["m"].to_dict()
+    argv = shlex.split(sh)
+    assert argv[0] == "frictionkit"
+    res = runner.invoke(app, argv[1:])
+    assert res.exit_code == 0, res.output
+    doc = json.loads((tmp_path / "run.json").read_text())
+    assert doc["status"] == 0 and doc["samples"] == 5001
+    cols = (tmp_path / "traces.csv").read_text(encoding="utf-8").splitlines()[0].split(",")
+    assert cols[:4] == ["t [s]", "x.q [m]", "v.q [m/s]", "F.friction [N|N·m]"]  # as the README says
+    assert (tmp_path / "run.png").stat().st_size > 5000

@@ -119,7 +119,7 @@ def test_table_and_plot(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["nope"], "PRESET 'nope': must be one of ballscrew, emps"),
+    (["nope"], "PRESET 'nope': must be one of ballscrew, emps, sdss"),
     (["emps", "--compensator", "sinc"], "--compensator 'sinc': must be one of none, coulomb, model"),
     (["emps", "--compensator", "model"], "compensator 'model' needs a model (--model MODEL.json)"),
     (["emps", "--model", "/nonexistent/fit.json"], "--model '/nonexistent/fit.json': no such file"),

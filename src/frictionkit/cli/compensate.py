@@ -19,24 +19,28 @@ Examples:
   frictionkit compensate ballscrew --quick
   frictionkit compensate emps --model fit.json --compensator none --compensator model --json -
   frictionkit compensate ballscrew --compensator none --compensator sinc --plot errors.png
+  frictionkit compensate sdss --model azimuth_lugre.json --quick
 \b
 Presets and their compensators:
   ballscrew  seed 001 stage, reversal test (25 mm, 1 s cosine): none, coulomb, sinc, sigmoid, model
   emps       EMPS axis, 0.1 m 0.2 Hz sine: none, coulomb (the true friction), model
-Errors are of the true position, r - x [µm]: max and RMS after the first 10 % of the run,
-and the max within -50 ... +100 ms of each velocity reversal."""
+  sdss       SDSS azimuth, sidereal tracking from rest: none, lugre (the true friction), model
+Errors are of the true position, r - x [µm; arcsec on sdss]: max and RMS after the first
+10 % of the run (sdss: the whole run), and the max within -50 ... +100 ms of each velocity
+reversal."""
 
 
 @app.command("compensate", epilog=_EPILOG)
 def compensate(
-    preset: str = typer.Argument(..., help="Machine preset: ballscrew or emps (a machine file is refused with "
-                                 "what it lacks)."),
+    preset: str = typer.Argument(..., help="Machine preset: ballscrew, emps or sdss (a machine file is refused "
+                                 "with what it lacks)."),
     model: Optional[Path] = typer.Option(None, "--model", help="Identified model file (identify ... --json, "
                                          "fk.save_model) for the 'model' compensator: its static map as "
-                                         "feed-forward on the reference velocity, table side [N] at [m/s]."),
+                                         "feed-forward on the reference velocity, table side [N] at [m/s] "
+                                         "(sdss: axis [N·m] at [rad/s])."),
     compensator: Optional[list[str]] = typer.Option(None, "--compensator", help="Compensator (repeatable); "
                                                     "default: every one the preset supports ('model' if --model)."),
-    quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only)."),
+    quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only; emps, sdss: half the run)."),
     seed: int = typer.Option(0, "--seed", help="Sensor-noise seed (the same for every compensator)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write the error traces as a plot (format from the "
                                         "extension: .png, .pdf, .svg ...)."),
@@ -84,14 +88,17 @@ def compensate(
 
 def _table(res) -> None:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
+    label, k = res.shown
+
     def um(x):
-        return "-" if x is None else f"{x * 1e6:.3f}"
+        return "-" if x is None else f"{x * k:.3f}"
 
     s = res.to_dict()
-    tab = Table(title=f"{res.preset}: error r - x [µm] over {s['duration_s']:.2f} s, {len(res.reversals)} reversal(s)",
-                min_width=64)
+    title = f"{res.preset}: error r - x [{label}] over {s['duration_s']:.2f} s, {len(res.reversals)} reversal(s)"
+    tab = Table(title=escape(title), min_width=64)  # escaped: rich reads "[arcsec]" as markup
     for col in ("compensator", "max", "RMS", "at reversals", "status"):
         tab.add_column(col, justify="left" if col in ("compensator", "status") else "right")
     for name, r in res.rows.items():

@@ -297,6 +297,24 @@ def test_zhang2023_findings(tmp_path):
     assert ["same", "6", "ACIM", "+0.0010 (0.0100)", "-0.328 (0.102)"] in _table(sec, "Table 7")
 
 
+@pytest.mark.parametrize("unit, error, label, shown", [
+    ("m", 2.5e-6, "µm", "2.5"),
+    ("rad", 2 * np.pi / 1296000, "arcsec", "1"),  # one arcsecond = 2 pi / (360 * 3600) rad
+])
+def test_compensation_units(tmp_path, unit, error, label, shown):
+    """The layout of ``compensate --json``; errors in SI, shown in µm (linear) or arcsec (rotary)."""
+    row = {"ok": True, "message": "ok", "max_error": error, "rms_error": error, "reversal_error": None}
+    doc = {"preset": "p", "quick": True, "model": None, "duration_s": 1.0, "reversals_s": [], "units": {"error": unit},
+           "compensators": {"none": row, "x": {**row, "ok": False, "message": "diverged"}}, "status": 0,
+           "message": "ok"}
+    (tmp_path / "c.json").write_text(json.dumps(doc))
+    kind, (sec,) = sections_from_file(tmp_path / "c.json")
+    assert kind == "compensation" and sec.table[0][1] == f"max [{label}]"
+    assert sec.table[1:] == [["none", shown, shown, "–", "ok"], ["x", shown, shown, "–", "failed"]]
+    assert "Compensator x failed: diverged" in sec.text
+    assert "<td class='bad'>failed</td>" in Report("t").add(sec).html()
+
+
 def test_robustness_sweep(tmp_path):
     doc = {"runtime_s": 1.0, "variants": [], "holds_fraction": {"t7_diff0_wsim_better": 1.0, "crawling": 0.25},
            "sensitivity": {}, "ranking": ["loop_bandwidth", "ball_preload"], "quick": True, "failed": ["v3"],

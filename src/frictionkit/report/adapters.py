@@ -644,20 +644,32 @@ def robustness_sections(d: Mapping[str, Any]) -> list[Section]:
 
 
 # --------------------------------------------------------------------------- compensation
+#: How a tracking error in SI is shown: unit -> (label, factor).
+_SHOWN = {"m": ("µm", 1e6), "rad": ("arcsec", 648000.0 / math.pi)}
+
+
 def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
-    """The error table [µm] and a bar chart."""
+    """The error table (µm for a linear axis, arcsec for a rotary one) and a bar chart."""
     comp = d["compensators"]
+    unit = (d.get("units") or {}).get("error", "m")
+    label, k = _SHOWN.get(unit, (unit, 1.0))
+
+    def shown(x: Any) -> str:
+        return "–" if x is None else fmt(k * float(x))
+
     sec = Section(f"Compensation on the {d['preset']} preset ({fmt(d.get('duration_s'))} s, "
                   f"{len(d.get('reversals_s') or [])} reversal(s){', quick' if d.get('quick') else ''})")
     w = d.get("reversal_window_s") or [None, None]
-    sec.text.append(f"Error of the true position r − x: max and RMS after the first 10 % of the run, and the max "
+    sec.text.append(f"Error of the true position r − x: max and RMS once the loop has settled, and the max "
                     f"within {fmt(w[0])} … +{fmt(w[1])} s of each reversal of the reference."
                     + (f" Model: {d['model']}." if d.get("model") else "")
                     + f" Status {d.get('status', 0)}: {d.get('message', '')}.")
-    rows = [["compensator", "max [µm]", "RMS [µm]", "at reversals [µm]", "status"]]
+    rows = [["compensator", f"max [{label}]", f"RMS [{label}]", f"at reversals [{label}]", "status"]]
     for name, r in comp.items():
-        rows.append([name, _um(r.get("max_error")), _um(r.get("rms_error")), _um(r.get("reversal_error")),
-                     "ok" if r.get("ok") else f"failed: {r.get('message', '')}"])
+        rows.append([name, shown(r.get("max_error")), shown(r.get("rms_error")), shown(r.get("reversal_error")),
+                     "ok" if r.get("ok") else "failed"])
+        if not r.get("ok"):
+            sec.text.append(f"Compensator {name} failed: {r.get('message', '')}")
     sec.table = rows
     sec.text.append("The --json of compensate keeps the error numbers, not the traces: for the error over time "
                     "use 'frictionkit compensate ... --plot'.")
@@ -665,10 +677,10 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
     fig, ax = plt.subplots(figsize=(7, 3.4), layout="constrained")
     names = list(comp)
     x = np.arange(len(names))
-    for off, key, label in ((-0.2, "max_error", "max"), (0.2, "reversal_error", "at reversals")):
-        ax.bar(x + off, [np.nan if comp[n].get(key) is None else 1e6 * comp[n][key] for n in names], 0.4, label=label)
+    for off, key, what in ((-0.2, "max_error", "max"), (0.2, "reversal_error", "at reversals")):
+        ax.bar(x + off, [np.nan if comp[n].get(key) is None else k * comp[n][key] for n in names], 0.4, label=what)
     ax.set_xticks(x, names)
-    ax.set(ylabel="tracking error [µm]", title=f"{d['preset']}: friction compensators")
+    ax.set(ylabel=f"tracking error [{label}]", title=f"{d['preset']}: friction compensators")
     ax.grid(alpha=0.3, axis="y")
     ax.legend(fontsize=8)
     sec.figures.append((f"compensate_{d['preset']}.png", figure_png(fig)))

@@ -226,7 +226,7 @@ def _paths(node, prefix=()):
 _PATHS = list(_paths(_DOC))[1:]
 
 
-@settings(max_examples=150, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=250, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(data=st.data())
 def test_any_edit_loads_or_fails_in_one_line(tmp_path, data):
     doc = json.loads(json.dumps(_DOC))

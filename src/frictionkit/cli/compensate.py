@@ -40,7 +40,8 @@ def compensate(
                                          "(sdss: axis [N·m] at [rad/s])."),
     compensator: Optional[list[str]] = typer.Option(None, "--compensator", help="Compensator (repeatable); "
                                                     "default: every one the preset supports ('model' if --model)."),
-    quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only; emps, sdss: half the run)."),
+    quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only; "
+                               "emps, sdss: half the run)."),
     seed: int = typer.Option(0, "--seed", help="Sensor-noise seed (the same for every compensator)."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write the error traces as a plot (format from the "
                                         "extension: .png, .pdf, .svg ...)."),

@@ -107,8 +107,9 @@ def simulate(
                     "--velocity-integration": None if velocity_integration == "trapezoidal" else velocity_integration}
         given = [k for k, v in law_only.items() if v]
         if given:
+            need = ", ".join(mf.model.input_names()) or "none"
             raise ParameterError(f"{', '.join(given)}: for a friction-law file; machine '{model}' reads its inputs "
-                                 f"from --input NAME=FILE:COLUMN (it needs: {', '.join(mf.model.input_names()) or 'none'})")
+                                 f"from --input NAME=FILE:COLUMN (it needs: {need})")
         return _run_machine(model, mf, inputs or [], time, dt, duration, substeps, seed, out, plot, json_out)
     law_only = {"--input": inputs, "--dt": dt, "--duration": duration}
     given = [k for k, v in law_only.items() if v]

@@ -380,8 +380,8 @@ class ModelFile:
         if self.kind == "machine":
             m = self.model
             lines = [f"{m!r} ({self.format})", f"  inputs: {', '.join(m.input_names()) or 'none'}"]
-            lines += [f"  dof {d.name}: {d.kind}, inertia {_fmt(d.inertia)} {'kg' if d.kind == 'translational' else 'kg·m²'}"
-                      for d in m.dofs]
+            lines += [f"  dof {d.name}: {d.kind}, inertia {_fmt(d.inertia)} "
+                      f"{'kg' if d.kind == 'translational' else 'kg·m²'}" for d in m.dofs]
             lines += [f"  site {s.name}: {s.role}, {type(s.law).__name__}" for s in m.sites]
             lines += [f"  block {type(b).__name__} -> {', '.join(b.outputs)}" for b in m.blocks]
             lines += [f"  {k}: {self.provenance[k]}" for k in ("method", "created", "frictionkit_version", "data_file",

@@ -24,7 +24,7 @@ Reads:
   fk.save_model (model files, bare law JSON)             parameters with units, provenance, steady state
   reproduce zhu-fujimoto | sdss | zhang2023 --json       findings beside the paper: holds / does not hold
   reproduce zhang2023 --robustness --json                fraction of variants where each finding holds
-  compensate ... --json                                  tracking-error table [µm]
+  compensate ... --json                                  tracking-error table [µm] (arcsec on a rotary axis)
   study --out S.parquet (or study --json)                per-compensator error statistics, box plot
   fleet identify --out R.parquet                         fleet numbers, distributions, flagged axes
   simulate --out traces.csv|.parquet                     time histories, hysteresis loop F(x)

@@ -246,3 +246,19 @@ def test_any_edit_loads_or_fails_in_one_line(tmp_path, data):
         assert "\n" not in str(exc) and str(exc).startswith(f"model file '{p}': ")
     else:
         assert isinstance(m, Machine)
+
+
+def test_a_hand_written_minimal_file_loads_and_runs(tmp_path):
+    """Only the required keys (defaults as in Python: translational, at rest, gain 1, no limit)."""
+    doc = {"format": "frictionkit.model/1", "kind": "machine",
+           "model": {"name": "slider", "dofs": [{"name": "x", "inertia": 2.0}],
+                     "sites": [{"name": "c", "role": "friction", "at": {"x": 1.0},
+                                "law": {"law": "CoulombViscous", "Fc": 1.0}}],
+                     "actuators": [{"name": "u", "at": {"x": 1.0}}]}}
+    p = tmp_path / "slider.json"
+    p.write_text(json.dumps(doc))
+    m = fk.load_model(p)
+    assert m.input_names() == ["u"] and ModelFile.load(p, kind="machine").provenance == {}
+    res = fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(1001, 5.0)})
+    # Newton by hand: (5 N - 1 N) / 2 kg = 2 m/s² for 1 s -> v = 2 m/s, x = 1 m
+    assert res.v[-1, 0] == pytest.approx(2.0, rel=1e-9) and res.q[-1, 0] == pytest.approx(1.0, rel=1e-3)

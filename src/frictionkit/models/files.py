@@ -172,14 +172,16 @@ def _sha256(path: Path) -> str:
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class ModelFile:
-    """A friction law with the unit labels of its numbers and where it came from.
+    """A friction law (or a machine) with the unit labels of its numbers and where it came from.
 
     Parameters
     ----------
-    model : friction law
-        Any registered law (``Stribeck``, ``LuGre``, ``GMS``, ``Directional`` ...).
+    model : friction law or Machine
+        Any registered law (``Stribeck``, ``LuGre``, ``GMS``, ``Directional`` ...), or a
+        :class:`~frictionkit.Machine` (:attr:`kind` ``"machine"``).
     units : mapping
-        Axis unit labels ``{"F", "x", "v"}``; default N, m, m/s.
+        Axis unit labels ``{"F", "x", "v"}``; default N, m, m/s. A machine's are fixed per
+        field (:data:`MACHINE_UNITS`).
     provenance : mapping
         ``frictionkit_version``, ``created`` (ISO 8601, UTC), ``method``,
         ``data_sha256`` / ``data_file`` where known, and anything the source recorded

@@ -21,7 +21,17 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 demo: $(VENV)/.installed-demo
 	$(BIN)/frictionkit demo --out out/demo
 
-test: $(VENV)/.installed-test
+# The report's browser test (tests/cli/test_report.py) opens the page in Debian's chromium.
+# Installed once when missing; if the system cannot install it, that one test is skipped (said so).
+$(VENV)/.installed-browser: | $(BIN)/python
+	@command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || { \
+	  echo "make test: installing Debian's chromium (browser test of the HTML report)"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  { $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq chromium >/dev/null; } \
+	    || echo "make test: WARNING: could not install chromium; the browser test will be skipped"; }
+	touch $@
+
+test: $(VENV)/.installed-test $(VENV)/.installed-browser
 	$(BIN)/python -m pytest -n 2 --dist loadgroup -q
 
 # numbalsoda (the compiled-LSODA peers of benchmarks/peers.py) builds LSODA from Fortran

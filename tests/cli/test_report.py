@@ -154,7 +154,7 @@ def test_page_in_headless_chromium(readme_page, tmp_path):
     """
     chromium = shutil.which("chromium") or shutil.which("chromium-browser")
     if chromium is None:  # pragma: no cover - .ci/run installs it
-        pytest.skip("no chromium")
+        pytest.skip("no chromium (make test installs Debian's chromium; it could not here)")
     probe = ("<script>window.addEventListener('load', () => { const im = [...document.images];"
              "document.body.setAttribute('data-probe', im.filter(i => i.complete && i.naturalWidth > 0).length + '/'"
              " + im.length + '/' + document.querySelectorAll('table').length); });</script></body>")

@@ -672,12 +672,13 @@ def merge_maps(Phi, G0, G1, Gf, Cq, Cm, n_sub, o_rate):
 
 @njit(error_model="numpy")
 def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
-                 Cq, Cm, par, site_po, R, Mx, wA, wB, Fh, Xn, z, Fbar):
+                 Cq, Cm, par, site_po, RT, Mx, wA, wB, Fh, Xn, z, Fbar, V):
     """Advance ``X`` over the whole sample ``k`` in one map if every site keeps sliding one way.
 
     Every site is a flat static law (force ``+Fc+`` / ``-Fc-`` while sliding, viscous term in
     the chain). The site velocities at every sub-step end (rows ``R``) must keep their sign
-    under the held forces: exactly the sub-step scheme's own decision to keep sliding, so the
+    under the held forces (rows ``RT[j, :, i]``, sub-step ``i + 1``; ``V`` scratch of ``n_sub``):
+    exactly the sub-step scheme's own decision to keep sliding, so the
     result is the sub-steps' to round-off. Returns False (``X``, ``Fbar`` untouched) when an
     input is not affine over the sample (a clipped FOH actuator), a site is at rest, or a site
     would stop or turn (the sub-steps then stick it exactly).
@@ -728,13 +729,18 @@ def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_
         else:
             return False  # at rest: the sub-steps decide (stick, or break away inside the sample)
         z[n2 + 2 * nw + j] = Fh[j]
-    for ii in range(n_sub):  # the last sub-step first: a stop or a turn shows there first
-        i = n_sub - 1 if ii == 0 else ii - 1
-        for j in range(ns):
-            v = 0.0
-            for c in range(L):
-                v += R[i, j, c] * z[c]
-            if not v * Fh[j] > 0.0:
+    # every sub-step end's velocity of site j at once (``RT[j, c, i] = R[i, j, c]``): column by
+    # column, each velocity summed in the same order as a row-by-row product (same numbers)
+    for j in range(ns):
+        for i in range(n_sub):
+            V[i] = 0.0
+        for c in range(L):
+            zc = z[c]
+            for i in range(n_sub):
+                V[i] += RT[j, c, i] * zc
+        fj = Fh[j]
+        for i in range(n_sub):
+            if not V[i] * fj > 0.0:
                 return False
     for r in range(n2):
         y = 0.0
@@ -861,6 +867,13 @@ def run(
     Fh = np.zeros(ns)
     Xn = np.zeros(n2)
     zm = np.zeros(n2 + 2 * nw + ns)
+    # the sample-spanning step's velocity rows, site-major and sub-step last (see _merged_step)
+    mg_RT = np.empty((mg_R.shape[1], mg_R.shape[2], mg_R.shape[0]))
+    for i in range(mg_R.shape[0]):
+        for j in range(mg_R.shape[1]):
+            for c in range(mg_R.shape[2]):
+                mg_RT[j, c, i] = mg_R[i, j, c]
+    Vm = np.zeros(mg_R.shape[0])
     for k in range(N):
         kn = k + 1 if k + 1 < N else k
         # the rate of a prescribed motion at t_k (it is piecewise linear, so its rate jumps at
@@ -1013,7 +1026,7 @@ def run(
             break
         # ---- plant: one sample-spanning step when every (flat static) site keeps sliding
         if mg_on and _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
-                                  Cq, Cm, par, site_po, mg_R, mg_M, wA, wB, Fh, Xn, zm, Fbar):
+                                  Cq, Cm, par, site_po, mg_RT, mg_M, wA, wB, Fh, Xn, zm, Fbar, Vm):
             for r in range(n2):
                 if not math.isfinite(X[r]):
                     return STATUS_NONFINITE, k + 1, n_bad

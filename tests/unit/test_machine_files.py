@@ -36,6 +36,23 @@ def _ballscrew(nut):
     return m, dt, {"theta_d": th, "u_f": 0.01 * np.sign(np.cos(2 * np.pi * 4 * t)), "u_ff": np.zeros(n)}
 
 
+def _ballscrew_variant(kind):
+    """The rigid stage (eq. 1) and the elastic one with a GMS-4 at the nut and a LuGre at the guide."""
+    from frictionkit.plants.ballscrew import RigidBallScrew
+    from frictionkit.presets.ballscrew import ballscrew_machine
+    from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
+
+    if kind == "rigid":
+        m = ballscrew_machine(RigidBallScrew(), paper_controller(), paper_sensors())
+    else:
+        gms = fk.GMS(fk.Stribeck(Fc=1270.0, Fs=1400.0, vs=1e-3), k=[5e7, 1e8, 2e8, 4e8], xi=[0.4, 0.3, 0.2, 0.1],
+                     C=20.0)
+        guide = fk.LuGre(fk.Stribeck(Fc=30.0, Fs=40.0, vs=2e-3, sigma2=50.0), sigma0=1e7, sigma1=2e3)
+        m = ballscrew_machine(paper_plant(), paper_controller(), paper_sensors(), nut_law=gms, guide_law=guide)
+    _, dt, ins = _ballscrew("sliding")
+    return m, dt, ins
+
+
 def _emps():
     from frictionkit.presets.emps import PUBLISHED, emps_machine
 
@@ -76,7 +93,8 @@ def _readme():
 CASES = {"ballscrew_sliding": lambda: _ballscrew("sliding"), "ballscrew_flank": lambda: _ballscrew("flank"),
          "ballscrew_hertz": lambda: _ballscrew("hertz"), "emps": _emps, "sdss_azimuth": lambda: _sdss("azimuth"),
          "sdss_altitude": lambda: _sdss("altitude"), "sdss_rotator": lambda: _sdss("rotator"), "tdms": _tdms,
-         "readme": _readme}
+         "readme": _readme, "ballscrew_rigid": lambda: _ballscrew_variant("rigid"),
+         "ballscrew_gms_lugre": lambda: _ballscrew_variant("gms")}
 
 
 @pytest.mark.parametrize("name", list(CASES))

@@ -124,7 +124,7 @@ def main() -> None:
               f"{rate_cpu:8,.0f} /s CPU-time equivalent  failures: {fails}")
 
     print("\nfixed method vs adaptive (LuGre example, 1 kg, this run): max errors over the trace")
-    from frictionkit.kernels.lugre import lugre_force
+    from frictionkit.kernels.lugre import lugre_force_ros2
     from frictionkit.models.pack import pack_lugre
 
     pk = pack_lugre(base)
@@ -132,12 +132,12 @@ def main() -> None:
     adapt = fk.simulate(base, plant=fk.Mass(1.0), force=u, dt=DT)
 
     def fixed_trace(n):
-        # the batch kernel keeps no traces; the scalar kernel with loose tolerances takes exactly one
-        # ROS2 step per (resampled) interval: the same scheme (tests/kernels/test_batch.py)
+        # the batch kernel keeps no traces; the scalar ROS2 kernel with loose tolerances takes exactly
+        # one ROS2 step per (resampled) interval: the same scheme (tests/kernels/test_batch.py)
         nf = (N - 1) * n + 1
         uf = np.interp(np.arange(nf) / n, np.arange(N), u)
         x, v, F, z = (np.empty(nf) for _ in range(4))
-        lugre_force(uf, DT / n, 1.0, pk.static, pk.dyn, 0.0, 0.0, 0.0, 1e300, 1e300, 1e300, 10, x, v, F, z)
+        lugre_force_ros2(uf, DT / n, 1.0, pk.static, pk.dyn, 0.0, 0.0, 0.0, 1e300, 1e300, 1e300, 10, x, v, F, z)
         return x[::n], v[::n], F[::n]
 
     def maxerr(a, b):

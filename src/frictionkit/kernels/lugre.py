@@ -1,11 +1,39 @@
-"""LuGre kernels: force-driven mass (adaptive ROS2 sub-steps) and motion-driven (exact).
+"""LuGre kernels: force-driven mass (spanning exponential steps) and motion-driven (exact).
 
 Force-driven scheme
 -------------------
-State ``(x, v, z)`` plus the input ``w = u(t)``, linear inside each sample
-interval (``w' = du/dt``). Each interval ``[t_k, t_k + dt]`` is covered by
-sub-steps of the two-stage, L-stable Rosenbrock method ROS2 (Verwer, Spee, Blom
-& Hundsdorfer 1999, ``gamma = 1 + 1/sqrt 2``)::
+State ``(x, v, z)``; the input ``u(t)`` is linear between samples. The friction force is
+``F = sigma0 z + sigma1 dz/dt + sigma2 v`` with ``dz/dt = v - sigma0 |v| z / g(v)``, so the
+only nonlinearity of the whole system is ``dz/dt`` (through ``|v|`` and ``g``).
+
+:func:`lugre_force` takes steps that span several samples (issue 15). At the step's start
+the system is linearised, ``(v, z)' = B (v, z) + r + e_v u / m`` with ``B`` the exact
+Jacobian of the side of ``|v|`` the step is on, and ``x' = v``. Pass 1 solves this affine
+model exactly from sample to sample (``phi`` functions of ``B dt``, :mod:`._phi2`; the
+piecewise-linear input enters exactly), writing the samples as it goes and stopping
+before the linearised velocity would change sign. The remainder of ``dz/dt`` along that
+path (zero at the start, second order in the motion) is evaluated at the middle and the
+last sample and modelled as ``g(s) = ca (s/h) + cb (s/h)^2``; pass 2 adds the exact
+solution of the correction ``d' = B d + g(s) w`` (``w = (-sigma1 / m, 1)``: the remainder
+enters ``dz/dt`` and, through ``sigma1``, ``F``) to every sample. This is the exponential
+Rosenbrock idea (Hochbruck, Ostermann & Schweitzer 2009, SIAM J. Numer. Anal. 47) with the
+remainder fitted over the step, and it gives a dense output at every sample for ~20 flops.
+The size of the correction at the step's end is the error of pass 1 and serves as the
+(conservative) error estimate; measured on the stick-slip benchmark, the corrected path's
+local error was 1e-3 ... 1e-2 of it. The pre-sliding oscillation and the stiff bristle
+relaxation while sliding are both inside ``B`` and integrated exactly, so a step is
+limited only by how fast the linearisation changes: on the 10 s stick-slip benchmark
+~990 exponential steps for 40,000 samples (0.17 sub-steps per sample counting the ROS2
+sub-steps at velocity reversals).
+
+Where the velocity reverses inside the next sample (the kink of ``|v|``), or one sample
+fails its tolerance, that sample interval is covered by adaptive ROS2 sub-steps
+(:func:`_interval`, below), the scheme that covered every interval before.
+
+ROS2 sub-steps
+--------------
+Two-stage, L-stable Rosenbrock method ROS2 (Verwer, Spee, Blom & Hundsdorfer 1999,
+``gamma = 1 + 1/sqrt 2``)::
 
     (I - gamma h J) k1 = f(y)
     (I - gamma h J) k2 = f(y + h k1) - 2 k1
@@ -14,10 +42,9 @@ sub-steps of the two-stage, L-stable Rosenbrock method ROS2 (Verwer, Spee, Blom
 ROS2 is second order for any matrix ``J`` (a W-method), so the kink of ``|v|``
 at ``v = 0`` does not need an exact Jacobian. L-stability makes the bristle
 relaxation (rate ``sigma0 |v| / |s(v)|``, up to 1e7 /s when sliding) and a
-pre-sliding spring of 1e8 N/m harmless; the error estimate shrinks the
-sub-step around breakaway and sticking and lets it grow to a whole sample
-interval while sliding or resting. The 4x4 linear systems are solved in
-closed form (rows for ``x`` and ``w`` are trivial).
+pre-sliding spring of 1e8 N/m harmless. The 4x4 linear systems are solved in
+closed form (rows for ``x`` and ``w`` are trivial). :func:`lugre_force_ros2` and the
+batch kernel use these sub-steps in every interval.
 
 Motion-driven scheme
 --------------------
@@ -39,6 +66,7 @@ import math
 import numpy as np
 
 from .._jit import njit, prange
+from ._phi2 import phis
 from ._stribeck import R_S2, g_row, ig_row, ig_slope_row
 from ._stribeck import row as static_row
 
@@ -51,6 +79,17 @@ H_MIN = 1e-7
 
 #: ``0.9 / sqrt(e) >= 5`` for ``e <= (0.9 / 5)^2``.
 E_GROW = (0.9 / 5.0) ** 2
+
+#: Largest balanced norm of ``dt B`` for a spanning step (``_phi2.phis`` then squares at most
+#: 20 times, losing at most ~2^20 eps = 2e-10 relative). Stiffer linearisations -- a bristle
+#: rate ``sigma0 |v| / g`` above 2e9 /s at 4 kHz, reached only by a level floored at
+#: ``G_FLOOR`` -- take ROS2 sub-steps: at 34 squarings (rate 3e13 /s) the friction force
+#: ``sigma0 z + sigma1 dz/dt`` was off by 100 N (tests/kernels/test_vanishing_levels.py).
+EXP_NORM_MAX = 2.0**19
+
+#: Most samples one spanning exponential step covers (the linearisation is refreshed at
+#: least this often; 256 samples = 64 ms at 4 kHz).
+SPAN_MAX = 256
 
 
 @njit(inline="always")
@@ -198,8 +237,12 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
 
 
 @njit
-def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z, v_floor=1.0):
-    """Force-driven run over all samples; fills ``x, v, F, z``. Returns ``(status, k, substeps)``.
+def lugre_force_ros2(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z, v_floor=1.0):
+    """Force-driven run with ROS2 sub-steps in every sample interval (no spanning steps).
+
+    The scheme of :func:`lugre_force` before the spanning exponential steps; kept as the
+    one-step-per-interval reference of ``benchmarks/simulate.py`` (the fixed batch's scheme)
+    and of the kernel tests. Fills ``x, v, F, z``; returns ``(status, k, substeps)``.
 
     ``v_floor`` (<= 1): the velocity tolerance follows the run's largest speed down to
     ``v_floor * atol_v`` (:func:`_atol_run`); 1 keeps ``atol_v`` fixed.
@@ -229,6 +272,217 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
         if st != OK:
             return st, k + 1, total
     return OK, u.size - 1, total
+
+
+@njit
+def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z, v_floor=1.0):
+    """Force-driven run over all samples; fills ``x, v, F, z``. Returns ``(status, k, substeps)``.
+
+    Spanning exponential steps (module docstring) with one ROS2 interval
+    (:func:`_interval`) where a step cannot start (velocity reversal in the next sample)
+    or fails its tolerance over a single sample. ``substeps`` counts exponential step
+    attempts plus ROS2 sub-steps. ``v_floor`` (<= 1): the velocity tolerance follows the
+    run's largest speed down to ``v_floor * atol_v`` (:func:`_atol_run`); 1 keeps
+    ``atol_v`` fixed.
+    """
+    p0 = static_row(static, 0)
+    p1 = static_row(static, 1)
+    d0 = (dyn[0, 0], dyn[0, 1])
+    d1 = (dyn[1, 0], dyn[1, 1])
+    im = 1.0 / m
+    dt2 = dt * dt
+    N = u.size
+    xs, vs_, zs = x0, v0, z0
+    x[0] = xs
+    v[0] = vs_
+    z[0] = zs
+    F[0] = _force(vs_, zs, p0, p1, d0, d1)[1]
+    total = 0
+    vpk = abs(v0)
+    k = 0
+    n_try = 1
+    have = False  # derivatives at (vs_, zs) carried over from the last accepted step
+    zd0 = F0 = dzv = dzz = dFv = dFz = 0.0
+    h_ros = dt  # ROS2 sub-step carried over consecutive ROS2 intervals
+    while k < N - 1:
+        sd = vs_  # the side of |v| the step stays on
+        if sd == 0.0:
+            # at rest: the side the motion starts to (acceleration, else the input's trend)
+            ac = u[k] - _force(0.0, zs, p0, p1, d0, d1)[1]
+            if ac == 0.0:
+                ac = u[k + 1] - u[k]
+            sd = math.copysign(1e-300, ac) if ac != 0.0 else 0.0
+            have = False
+        j = 0
+        if sd != 0.0:
+            if not have:
+                zd0, F0, dzv, dzz, dFv, dFz = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
+            have = False
+            s0, s1 = d0 if sd > 0.0 else d1
+            s2 = p0[R_S2] if sd > 0.0 else p1[R_S2]
+            # linearisation y' = B y + r + e_v u / m on (v, z); x' = v
+            b11 = -dFv * im
+            b12 = -dFz * im
+            b21 = dzv
+            b22 = dzz
+            if dt * (max(abs(b11), abs(b22)) + math.sqrt(abs(b12 * b21))) > EXP_NORM_MAX:
+                sd = 0.0  # too stiff for the phi functions: ROS2 interval (below)
+        if sd != 0.0:
+            E, P1, P2, P3, P4 = phis((b11 * dt, b12 * dt, b21 * dt, b22 * dt))
+            r0 = -F0 * im - (b11 * vs_ + b12 * zs)
+            r1 = zd0 - (b21 * vs_ + b22 * zs)
+            # one sample of the linearised model (input linear between samples)
+            Rv = dt * (P1[0] * r0 + P1[1] * r1)
+            Rz = dt * (P1[2] * r0 + P1[3] * r1)
+            Av = dt * P1[0] * im
+            Az = dt * P1[2] * im
+            Bv = dt * P2[0] * im
+            Bz = dt * P2[2] * im
+            Pxv = dt * P1[0]
+            Pxz = dt * P1[1]
+            Rx = dt2 * (P2[0] * r0 + P2[1] * r1)
+            Ax = dt2 * P2[0] * im
+            Bx = dt2 * P3[0] * im
+            # one sample of the correction, forced along w = (-sigma1 / m, 1) by the remainder
+            # polynomial c0 + c1 (s / dt) + c2 (s / dt)^2
+            wv = -s1 * im
+            W1v = dt * (P1[0] * wv + P1[1])
+            W1z = dt * (P1[2] * wv + P1[3])
+            W2v = dt * (P2[0] * wv + P2[1])
+            W2z = dt * (P2[2] * wv + P2[3])
+            W3v = 2.0 * dt * (P3[0] * wv + P3[1])
+            W3z = 2.0 * dt * (P3[2] * wv + P3[3])
+            X2 = dt2 * (P2[0] * wv + P2[1])
+            X3 = dt2 * (P3[0] * wv + P3[1])
+            X4 = 2.0 * dt2 * (P4[0] * wv + P4[1])
+            # linearised friction force F = cFv v + cFz z + cF0
+            cFv = s1 * b21 + s2
+            cFz = s0 + s1 * b22
+            cF0 = s1 * r1
+            tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+            while True:
+                n = min(n_try, N - 1 - k)
+                xa, va, za = xs, vs_, zs
+                vmax = vpk
+                flip = False
+                j = 0
+                acc = (u[k] - F0) * im  # linearised acceleration at the current sample
+                # pass 1: the linearised model, sample by sample, up to a reversal
+                while j < n:
+                    uk = u[k + j]
+                    du = u[k + j + 1] - uk
+                    xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
+                    vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
+                    zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
+                    if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
+                        flip = True
+                        break
+                    # a reversal and back between two samples of one sign (a contact ringing
+                    # at a few samples per period): |v| turns inside the interval and could
+                    # dip through zero -- up to ~dt |a| / 4 below the nearer end for a parabola
+                    acn = b11 * vn + b12 * zn + r0 + u[k + j + 1] * im
+                    if acc * sd < 0.0 < acn * sd and min(abs(va), abs(vn)) < 0.25 * dt * (abs(acc) + abs(acn)):
+                        flip = True
+                        break
+                    acc = acn
+                    j += 1
+                    x[k + j] = xn
+                    v[k + j] = vn
+                    z[k + j] = zn
+                    xa, va, za = xn, vn, zn
+                    if abs(vn) > vmax:
+                        vmax = abs(vn)
+                total += 1
+                if j == 0:
+                    break
+                # remainder of dz/dt along the linearised path, g(s) = ca (s/h) + cb (s/h)^2
+                ge = _force(va, za, p0, p1, d0, d1)[0] - (b21 * va + b22 * za + r1)
+                if j >= 2:
+                    jm = j // 2
+                    th = jm / j
+                    vm = v[k + jm]
+                    zm = z[k + jm]
+                    gm = _force(vm, zm, p0, p1, d0, d1)[0] - (b21 * vm + b22 * zm + r1)
+                    ca = (gm - th * th * ge) / (th - th * th)
+                else:
+                    ca = 0.0
+                cb = ge - ca
+                # pass 2: add the correction d' = B d + g(s) w, d(0) = 0, sample by sample
+                ij = 1.0 / j
+                c2 = cb * ij * ij
+                ex = 0.0
+                ev = 0.0
+                ez = 0.0
+                ok = True
+                for i in range(j):
+                    c0 = (ca + cb * i * ij) * i * ij
+                    c1 = ca * ij + 2.0 * cb * i * ij * ij
+                    nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
+                    nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
+                    nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
+                    ex, ev, ez = nx, nv, nz
+                    vv = v[k + i + 1] + ev
+                    zz = z[k + i + 1] + ez
+                    if vv * sd <= 0.0:
+                        ok = False  # the corrected path reverses: not this step
+                        break
+                    x[k + i + 1] += ex
+                    v[k + i + 1] = vv
+                    z[k + i + 1] = zz
+                    # linearised F plus sigma1 times the remainder of dz/dt there
+                    th = (i + 1) * ij
+                    F[k + i + 1] = cFv * vv + cFz * zz + cF0 + s1 * (ca + cb * th) * th
+                # the correction is the error of pass 1 (conservative for the corrected path)
+                e = abs(ev) / (tol_v + rtol * abs(va))
+                q = abs(ez) / (atol_z + rtol * abs(za))
+                if q > e:
+                    e = q
+                if not ok or not math.isfinite(e):
+                    e = 1e10
+                if e <= 1.0:
+                    k += j
+                    xs = x[k]
+                    vs_ = v[k]
+                    zs = z[k]
+                    # the next linearisation, at the corrected end (not to first order from the
+                    # uncorrected one: dF/dz = sigma0 - sigma1 sigma0 |v| / g reaches -1e15 N/m
+                    # for a level floored at G_FLOOR, so even a 1e-14 m correction would move F)
+                    zd0, F0, dzv, dzz, dFv, dFz = _point(vs_, zs, p0, p1, d0, d1)
+                    have = True
+                    F[k] = F0
+                    if vmax > vpk:
+                        vpk = vmax
+                    if flip:
+                        n_try = j
+                    else:
+                        # local error O(h^3): growth 0.9 e^(-1/3) clipped to [0.2, 4]
+                        fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0
+                        n_try = max(1, min(SPAN_MAX, int(j * min(4.0, max(0.2, fac)))))
+                    break
+                if j == 1:
+                    j = 0
+                    break
+                fac = 0.9 / e ** (1.0 / 3.0)
+                n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
+        if j > 0:
+            h_ros = dt
+            continue
+        # one ROS2 interval: a reversal inside the next sample, or one sample too nonlinear
+        xs, vs_, zs, Fs_, h_ros, nn, st, vpk = _interval(
+            xs, vs_, zs, min(h_ros, dt), u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub,
+            vpk, v_floor,
+        )
+        have = False
+        total += nn
+        k += 1
+        x[k] = xs
+        v[k] = vs_
+        z[k] = zs
+        F[k] = Fs_
+        n_try = 1
+        if st != OK:
+            return st, k, total
+    return OK, N - 1, total
 
 
 @njit(parallel=True)
@@ -269,6 +523,33 @@ def lugre_force_batch_sse(
                 y = Fe
             d = y - target[k + 1]
             acc += weight[k + 1] * d * d
+        out_sse[j] = acc if st == OK else np.inf
+        out_status[j] = st
+
+
+@njit(parallel=True)
+def lugre_batch_sse(
+    u, dt, m, static, dyn, rtol, atol_v, atol_z, max_sub, target, which, weight, out_sse, out_status, v_floor=1.0
+):
+    """:func:`lugre_force` (spanning steps) for P parameter sets; only the weighted squared error.
+
+    Arguments as :func:`lugre_force_batch_sse`. Each set runs the single-trajectory kernel
+    into its own scratch traces, so a set's result is exactly that of ``simulate``.
+    """
+    P = m.size
+    N = u.size
+    for j in prange(P):
+        x = np.empty(N)
+        v = np.empty(N)
+        F = np.empty(N)
+        z = np.empty(N)
+        st, _, _ = lugre_force(u, dt, m[j], static[j], dyn[j], 0.0, 0.0, 0.0, rtol, atol_v, atol_z, max_sub,
+                               x, v, F, z, v_floor)
+        y = x if which == 0 else (v if which == 1 else F)
+        acc = 0.0
+        for k in range(1, N):
+            d = y[k] - target[k]
+            acc += weight[k] * d * d
         out_sse[j] = acc if st == OK else np.inf
         out_status[j] = st
 

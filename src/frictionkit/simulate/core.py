@@ -41,10 +41,11 @@ FIXED_STEP_LIMIT = 0.5
 class SimOptions:
     """Accuracy and budget of the force-driven integrator.
 
-    The force-driven kernels cover each sample interval with adaptive ROS2
-    sub-steps (see ``frictionkit.kernels.lugre``). Each accepted sub-step keeps
-    its local error below ``atol + rtol·|value|`` for the velocity and the
-    friction states.
+    The force-driven kernels take adaptive steps whose local error estimate stays
+    below ``atol + rtol·|value|`` for the velocity and the friction states: LuGre and
+    Dahl exponential steps spanning several samples, with ROS2 sub-steps inside the
+    sample intervals where the velocity reverses (``frictionkit.kernels.lugre``); GMS
+    sub-steps in every interval (``frictionkit.kernels.gms``).
 
     Parameters
     ----------
@@ -597,7 +598,7 @@ def simulate_batch(
         atol_z = options.atol_F * F_scale / float(dyn[:, :, 0].max())
         atol_v = _atol_v(options, F_scale, float(dyn[:, :, 0].max()), float(m.min()),
                          float((dyn[:, :, 1] + static[:, :, 4]).max()))
-        _lugre.lugre_force_batch_sse(
+        _lugre.lugre_batch_sse(
             u, dt, m, static, dyn, options.rtol, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status, _v_floor(options),
         )

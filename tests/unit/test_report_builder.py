@@ -267,6 +267,18 @@ def test_zhu_fujimoto_verdicts(tmp_path, sigmoid, verdict):
     assert ["Table 3 sinc [µm] (paper 4.24)", "2.40"] in numbers
 
 
+def test_reproduction_format_dispatches(tmp_path):
+    """A document that says what it is (``format`` + ``reproduction``) is read as that, whatever
+    its ``paper`` string; an unknown reproduction name is refused in one line."""
+    doc = dict(_zf_doc(2.2), format="frictionkit.reproduction/1", reproduction="zhu-fujimoto", paper="renamed")
+    (tmp_path / "zf.json").write_text(json.dumps(doc))
+    assert sections_from_file(tmp_path / "zf.json")[0] == "reproduce-zhu-fujimoto"
+    doc["reproduction"] = "seed-999"
+    (tmp_path / "zf.json").write_text(json.dumps(doc))
+    with pytest.raises(DataError, match="a reproduction of 'seed-999'"):
+        sections_from_file(tmp_path / "zf.json")
+
+
 def test_sdss_truth_inside_interval(tmp_path):
     doc = {"paper": "seed 002, Friction Model of the 2.5 m SDSS Telescope", "quick": True, "seed": 0,
            "axes": {"rotator": {"truth": {"Fc_pos": 90.0, "vs_pos": 4e-4},

@@ -20,8 +20,10 @@
 * CSV / Parquet traces of ``simulate --out`` (a ``t [s]`` column) -> time histories and
   the hysteresis loop F(x).
 
-The reproduction, compensation and study outputs carry no ``format`` field of their own;
-they are recognised by their fixed top-level keys (the ``paper`` string, Parquet columns).
+The reproductions and robustness sweeps carry ``"format"`` (``frictionkit.reproduction/1``,
+``frictionkit.robustness/1``) and are dispatched on it; older files without it, and the
+compensation and study outputs (no ``format`` field of their own), are recognised by their fixed
+top-level keys (the ``paper`` string, Parquet columns).
 A file that is none of these, or is broken, raises ONE :class:`~frictionkit.DataError`
 naming the file and why.
 """
@@ -211,10 +213,20 @@ def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, li
         except (DataError, FrictionKitError) as exc:
             raise DataError(f"{where}: {' '.join(str(exc).split())}") from None
         return "model", model_sections(mf, name=name)
+    from ..reproduce import REPRODUCTION_FORMAT, ROBUSTNESS_FORMAT
+
+    readers = {"zhu-fujimoto": zhu_fujimoto_sections, "sdss": sdss_sections, "zhang2023": zhang2023_sections}
+    if fmt_ == REPRODUCTION_FORMAT:
+        which = doc.get("reproduction")
+        if which not in readers:
+            raise DataError(f"{where}: a reproduction of {which!r}; frictionkit report reads {sorted(readers)}")
+        return f"reproduce-{which}", readers[which](doc)
+    if fmt_ == ROBUSTNESS_FORMAT:
+        return "robustness", robustness_sections(doc)
     if fmt_ is not None:
         raise DataError(f"{where}: \"format\" is {fmt_!r}, not one frictionkit report reads "
-                        f"({JSON_FORMAT!r}, {MODEL_FORMAT!r})")
-    paper = doc.get("paper")
+                        f"({JSON_FORMAT!r}, {MODEL_FORMAT!r}, {REPRODUCTION_FORMAT!r}, {ROBUSTNESS_FORMAT!r})")
+    paper = doc.get("paper")   # files written before the reproductions carried a format (2026-11-23)
     if isinstance(paper, str):
         if "seed 001" in paper and "table3" in doc:
             return "reproduce-zhu-fujimoto", zhu_fujimoto_sections(doc)

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..identify.static_map import fit_static_map
+from . import REPRODUCTION_FORMAT
 from ..errors import IdentificationError, ParameterError
 from ..identify.two_step import (MAX_RIPPLE_PERCENT, TwoStepResult, constant_velocity_ripple, fit_two_step,
                                   is_flagged, screen_constant_velocity, velocity_nrmse)
@@ -307,7 +308,8 @@ class SdssReproduction:
                 axes[name]["initial_guess"] = {k: v for k, v in o.fit.initial_guess.items() if k.startswith("sigma")}
                 axes[name]["status"] = o.fit.status
                 axes[name]["message"] = o.fit.message
-        return {"paper": "seed 002, Friction Model of the 2.5 m SDSS Telescope", "quick": self.quick, "seed": self.seed,
+        return {"format": REPRODUCTION_FORMAT, "reproduction": "sdss",
+                "paper": "seed 002, Friction Model of the 2.5 m SDSS Telescope", "quick": self.quick, "seed": self.seed,
                 "axes": axes, "sidereal_tracking_rms_arcsec": self.tracking,
                 "encoder": sdss.Encoder().name, "dt_log_s": DT_LOG}
 

@@ -78,6 +78,7 @@ import numpy as np
 
 from ..data.recording import Recording
 from ..data.segmentation import Segment, steady_state_points
+from . import REPRODUCTION_FORMAT, ROBUSTNESS_FORMAT
 from ..errors import DataError, IdentificationError, ParameterError
 from ..identify.presliding import fit_presliding
 from ..identify import wsim as W
@@ -790,6 +791,7 @@ class Zhang2023Result:
         for k in paper:
             ident[k]["paper_SI"] = paper[k]
         out = {
+            "format": REPRODUCTION_FORMAT, "reproduction": "zhang2023",
             "paper": "Zhang et al., Actuators 2023: TDMS, WSIM vs ACIM, GMS vs LuGre (seed 000)",
             "quick": self.quick, "seed": self.seed, "status": self.status, "message": self.message,
             "table7": self.table7, "table8": self.table8,
@@ -1064,7 +1066,8 @@ def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names
             ch += [abs(m["metrics"][k] - base[k]) / max(abs(base[k]), 1e-12) for k in base]
         sens[n] = float(np.nanmax(ch)) if ch else float("nan")
     ranking = sorted(sens, key=lambda n: -sens[n] if np.isfinite(sens[n]) else 0.0)
-    return W._plain({"runtime_s": time.perf_counter() - t_start, "variants": per, "holds_fraction": holds,
+    return W._plain({"format": ROBUSTNESS_FORMAT, "reproduction": "zhang2023",
+                     "runtime_s": time.perf_counter() - t_start, "variants": per, "holds_fraction": holds,
                      "sensitivity": sens, "ranking": ranking, "quick": quick, "failed": failed,
                      "computed": res.computed, "skipped": res.skipped,
                      "out": None if res.out is None else str(res.out)})

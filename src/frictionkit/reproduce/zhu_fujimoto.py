@@ -120,6 +120,7 @@ from ..control.zero_speed import (
     reversal_lead,
     select_compensators,
 )
+from . import REPRODUCTION_FORMAT
 from ..errors import ParameterError, SimulationError
 from ..plants.ballscrew import ElasticBallScrew
 from ..presets import zhu_fujimoto as zf
@@ -558,6 +559,7 @@ class ReproductionResult:
     def to_dict(self) -> dict:
         t3 = self.table3
         out = {
+            "format": REPRODUCTION_FORMAT, "reproduction": "zhu-fujimoto",
             "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
             "quick": self.quick,
             "seed": self.seed,

@@ -157,3 +157,17 @@ def test_zhu_fujimoto_cli_robustness_options(monkeypatch, tmp_path):
         res = run(app, ["reproduce", "zhu-fujimoto", *bad, "--json", str(tmp_path / "x.json")])
         assert res.exit_code == 2 and word in res.output, (bad, res.output)
     assert len(calls) == n  # refused before any run
+
+
+def test_seed_is_refused_with_robustness(tmp_path):
+    """--robustness runs its own noise seeds: a --seed beside it was silently ignored."""
+    from typer.testing import CliRunner
+
+    from frictionkit.cli import _register, app
+
+    _register()
+    for which in ("zhu-fujimoto", "zhang2023"):
+        res = CliRunner().invoke(app, ["reproduce", which, "--robustness", "--seed", "3", "--json",
+                                       str(tmp_path / "r.json")])
+        assert res.exit_code == 2 and "--seed goes with a single run" in res.output, res.output
+        assert not (tmp_path / "r.json").exists()

@@ -12,6 +12,7 @@ from typing import Optional
 
 import typer
 
+from ..errors import ParameterError
 from . import _common as chk
 from . import app
 
@@ -43,7 +44,8 @@ def _stages(console, name: str, total: int):
 def zhu_fujimoto(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
-    seed: int = typer.Option(0, "--seed", help="Measurement-noise seed (0 to 2**32 - 1)."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Measurement-noise seed (0 to 2**32 - 1; default 0). "
+                                            "Not with --robustness, which runs its own seeds."),
     plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG beside the JSON."),
     nut_model: str = typer.Option("sliding", "--nut-model",
                                   help="Nut model: 'sliding' (Dahl on screw rotation), 'flank' "
@@ -72,7 +74,9 @@ def zhu_fujimoto(
 
     chk.choice(nut_model, "--nut-model", zf_preset.NUT_MODELS)
     chk.choice(stage, "--stage", zf_preset.STAGES)
-    seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
+    if robustness and seed is not None:
+        raise ParameterError("--seed goes with a single run; --robustness runs its own noise seeds (0, 1, 2)")
+    seed = chk.integer(0 if seed is None else seed, "--seed", lo=0, hi=2**32 - 1)
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot and not robustness
                 else {}, make_parents=True)
@@ -167,8 +171,6 @@ def zhu_fujimoto(
 
 def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
     """Check --workers/--scheduler/--out of a reproduction's --robustness; the worker count."""
-    from ..errors import ParameterError
-
     if not robustness:
         if workers is not None or scheduler is not None or out_dir is not None:
             raise ParameterError("--workers, --scheduler and --out go with --robustness")
@@ -253,7 +255,8 @@ def sdss(
 def zhang2023(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer plateaus and base speeds, shorter runs (< 60 s)."),
-    seed: int = typer.Option(0, "--seed", help="Noise seed (0 to 2**32 - 1)."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Noise seed (0 to 2**32 - 1; default 0). "
+                                            "Not with --robustness, which runs its own seeds."),
     plot: bool = typer.Option(True, "--plot/--no-plot",
                               help="Write the six-panel PNG (Fig. 16, Tables 7-8, Figs. 17-20, crawling) beside the JSON."),
     robustness: bool = typer.Option(False, "--robustness",
@@ -273,7 +276,9 @@ def zhang2023(
 
     from ..reproduce import zhang2023 as zr
 
-    seed = chk.integer(seed, "--seed", lo=0, hi=2**32 - 1)
+    if robustness and seed is not None:
+        raise ParameterError("--seed goes with a single run; --robustness runs its own noise seeds (0, 1, 2)")
+    seed = chk.integer(0 if seed is None else seed, "--seed", lo=0, hi=2**32 - 1)
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out},
                 plots={"the plot beside --json": png} if plot and not robustness else {}, make_parents=True)

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _validate as val
 from ..data.recording import Recording
 from ..data.rests import find_rests, motion_segments
 from ..errors import DataError, ParameterError
@@ -106,12 +107,17 @@ def _as_records(data) -> list[Recording]:
 
 
 def _rest_masks(rests, recs: list[Recording], min_rest: int) -> list[np.ndarray]:
+    if val.is_bool(min_rest) or not isinstance(min_rest, (int, np.integer)) or min_rest < 1:
+        # checked whatever rests is (True was taken as 1)
+        raise ParameterError(f"min_rest = {min_rest!r}: must be an integer >= 1 (samples)")
     if isinstance(rests, str):
         if rests != "auto":
             raise ParameterError(f"rests = {rests!r}: must be 'auto', None or boolean masks")
         return [find_rests(r.force(), min_run=min_rest) for r in recs]
     if rests is None:
         return [np.zeros(r.n, bool) for r in recs]
+    if val.is_bool(rests) or np.isscalar(rests):
+        raise ParameterError(f"rests = {rests!r}: must be 'auto', None or boolean masks (one per record)")
     if isinstance(rests, Mapping):
         masks = [rests.get(r.name) for r in recs]
     elif len(recs) == 1 and np.ndim(rests) == 1 and not (len(rests) and np.ndim(rests[0]) == 1):
@@ -125,6 +131,13 @@ def _rest_masks(rests, recs: list[Recording], min_rest: int) -> list[np.ndarray]
         m = np.zeros(r.n, bool) if m is None else np.asarray(m)
         if m.shape != (r.n,):
             raise DataError(f"record '{r.name}': the rest mask has {m.size} samples, the record {r.n}")
+        if m.dtype.kind not in "biuf":
+            raise DataError(f"record '{r.name}': the rest mask holds {m.dtype} values; give booleans or numbers "
+                            "(non-zero = drive disabled)")
+        if m.dtype.kind == "f" and not np.all(np.isfinite(m)):
+            i = int(np.flatnonzero(~np.isfinite(m))[0])
+            raise DataError(f"record '{r.name}': the rest mask is {m[i]} at sample {i}; a mask must be finite "
+                            "(non-zero = drive disabled)")
         out.append(m.astype(bool))
     return out
 
@@ -198,7 +211,7 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
         summary[rec.name] = {"samples": rec.n, "rest_samples": int(rest.sum()), "segments": rec_segs,
                              "dt": dt, "drive": d}
     if not segs:
-        raise DataError("no motion to fit: every sample is at rest (force logged exactly 0 everywhere?)")
+        raise DataError(f"no motion to fit: {no_motion_cause(rests, min_rest)}")
     r0 = recs[0]
     units = {"F": r0.units["F"], "x": r0.units["x"],
              "v": r0.units["v"] if r0.units["v"] != "m/s" or r0.units["x"] == "m" else f"{r0.units['x']}/s"}
@@ -206,6 +219,17 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
     return MotionData(tuple(segs), tuple(r.name for r in recs), units,
                       drives.pop() if len(drives) == 1 else "mixed", integration, summary, prov,
                       _describe_rests(rests, min_rest))
+
+
+def no_motion_cause(rests, min_rest: int) -> str:
+    """Why every sample was taken as a rest, in the words of the ``rests=`` the caller gave."""
+    if isinstance(rests, str):
+        return (f"every sample is at rest (rests='auto': the force is logged exactly 0 over runs of >= "
+                f"{min_rest} samples everywhere, or the runs between them are shorter than 2 samples)")
+    if rests is None:
+        return "every record is shorter than 2 samples"
+    return ("the rest mask marks every sample as at rest (or leaves runs of motion shorter than 2 samples); "
+            "a mask is non-zero where the drive is disabled")
 
 
 def segment_bounds(rest) -> list[tuple[int, int, int]]:

@@ -72,7 +72,7 @@ from ._oe_params import _Template, _unit
 from ._oe_problem import _batch_costs, _bounds_tr, _Problem, _start_points
 from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
 from .initial_guess import initial_guess_lugre
-from .motion_data import _as_records, _describe_rests, _rest_masks, segment_bounds
+from .motion_data import _as_records, _describe_rests, _rest_masks, no_motion_cause, segment_bounds
 from .result import IdentificationResult, parameter_statistics
 from .start_values import FORCE_DRIVE_FREE, output_error_start, static_law
 
@@ -135,8 +135,22 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
         summary[rec.name] = {"samples": rec.n, "rest_samples": int(rest.sum()),
                              "segments": [[int(a), int(b)] for _, a, b in bounds], "dt": dt_k}
     if not segs:
-        raise DataError(f"{owner}: no motion to fit: every sample is at rest (force logged exactly 0 everywhere?)")
+        raise DataError(f"{owner}: no motion to fit: {no_motion_cause(rests, min_rest)}")
+    if not isinstance(rests, str) and rests is not None and not any(np.any(s["y"][s["w"] > 0] != 0) for s in segs):
+        # a mask that is zero only where the axis stood (the inverted sense, or the wrong column) left
+        # nothing but rest samples: the fit ran on them and reported 1e299 % relative error
+        what = "position change" if compare == "x" else "velocity"
+        raise DataError(f"{owner}: no motion to fit: the measured {what} is exactly 0 on every sample the rest "
+                        f"mask leaves ({sum(int((s['w'] > 0).sum()) for s in segs)} samples); a mask is non-zero "
+                        "where the drive is disabled")
     return recs, segs, summary, dt
+
+
+def _relative_percent(resid, y) -> float:
+    """100 |resid| / |y|; NaN when the compared signal is zero on every fitted sample (no scale to relate
+    to: a floor of 1e-300 reported 1e299 %)."""
+    ny = float(np.linalg.norm(y))
+    return float(100.0 * np.linalg.norm(resid) / ny) if ny > 0 else math.nan
 
 
 def fit_output_error(
@@ -383,7 +397,7 @@ def fit_output_error(
             values=theta, stderr=nan, ci95=np.column_stack([nan, nan]), units=units,
             correlation=np.full((len(names), len(names)), np.nan),
             rms=float(np.sqrt(np.mean(resid**2))),
-            relative_error_percent=float(100.0 * np.linalg.norm(resid) / max(np.linalg.norm(y[w > 0]), 1e-300)),
+            relative_error_percent=_relative_percent(resid, y[w > 0]),
             n_obs=n_obs, dof=dof, success=False, message=message, warnings=(f"not identified: {message}",),
             diagnostics={"nfev": run["nfev"] if run else 0, "njev": run["njev"] if run else 0,
                          "status": int(sol.status) if sol is not None else -1,
@@ -424,7 +438,11 @@ def fit_output_error(
             best = (sol, runs[-1])
     sol, run = best
     theta = prob.to_nat(sol.x)
-    if not np.isfinite(sol.cost) or sol.cost >= 0.5 * prob.big**2:
+    # the simulation itself at the optimum (a cost as large as the data's is no failure: a mass of
+    # 1e300 kg that barely moves gave "the simulation fails" although every run succeeded)
+    sim_opt = prob.simulate_nat(theta) if np.isfinite(sol.cost) else None
+    y_opt = None if sim_opt is None else (sim_opt.x if compare == "x" else sim_opt.v)
+    if y_opt is None or not np.all(np.isfinite(y_opt)):
         return failed("the simulation fails at the optimum; check the start values and bounds", theta, sol, run,
                       start_costs)
     converged = sol.status != 0
@@ -481,7 +499,7 @@ def fit_output_error(
         units=units,
         correlation=st["correlation"],
         rms=float(np.sqrt(np.mean(resid**2))),
-        relative_error_percent=float(100.0 * np.linalg.norm(resid) / max(np.linalg.norm(y[w > 0]), 1e-300)),
+        relative_error_percent=_relative_percent(resid, y[w > 0]),
         n_obs=n_obs,
         dof=dof,
         success=bool(converged),
@@ -533,5 +551,5 @@ def evaluate_output_error(model, data, *, plant_mass: float, offset: float = 0.0
     y, yp = np.concatenate(ys), np.concatenate(ps)
     r = yp - y
     return {"rms": float(np.sqrt(np.mean(r**2))),
-            "relative_error_percent": float(100 * np.linalg.norm(r) / max(float(np.linalg.norm(y)), 1e-300)),
+            "relative_error_percent": _relative_percent(r, y),
             "n": int(y.size), "t": np.concatenate(ts), "y": y, "y_pred": yp}

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _validate as val
 from ..errors import DataError, FrictionKitError, ParameterError
 from ..models.gms import GMS
 from ..models.lugre import LuGre
@@ -145,6 +146,16 @@ def _mean_sigma2(law) -> float:
     return float(np.mean(np.asarray(law.static_rows(), float)[:, 4]))
 
 
+def _scalar_starts(owner: str, given: dict) -> dict:
+    """``given`` with its scalar start values (sigma0, sigma1, C) as finite floats: a boolean, a list or
+    NaN is refused naming the key (``True`` became 1 N/m; a list raised a bare TypeError)."""
+    out = dict(given)
+    for name in ("sigma0", "sigma1", "C"):
+        if name in out:
+            out[name] = val.finite(f"{owner}: initial", name, out[name])
+    return out
+
+
 def _stiffness_guess(segments: Sequence[Mapping[str, np.ndarray]], mass: float, sigma2: float,
                      owner: str) -> dict[str, float]:
     """``initial_guess_lugre`` on every segment that has a usable branch; median ``sigma0``."""
@@ -212,6 +223,7 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     if unknown:
         raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
                              f"give {', '.join(_GIVEN[kind])}")
+    given = _scalar_starts(owner, given)
     sigma2 = _mean_sigma2(static)
     info: dict = {}
     if kind == "lugre":
@@ -280,6 +292,7 @@ def motion_error_start(kind: str, static, data, *, given: Mapping[str, Any] | No
     if unknown:
         raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
                              f"give {', '.join(allowed[kind])}")
+    given = _scalar_starts(owner, given)
     law = static_law(static, owner)
     md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,
                                                                 rests=rests, min_rest=min_rest)

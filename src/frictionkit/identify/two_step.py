@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.lugre import LuGre
 from ..models.static import Directional, Stribeck
@@ -209,8 +210,7 @@ def screen_constant_velocity(steady: Mapping, *, max_ripple_percent: float = MAX
     r = np.asarray(steady["ripple_percent"], float)
     if not (v.shape == F.shape == r.shape and v.ndim == 1):
         raise DataError(f"screen_constant_velocity: v, F, ripple_percent have {v.size}, {F.size}, {r.size} entries")
-    if not (np.isfinite(max_ripple_percent) and max_ripple_percent > 0):
-        raise ParameterError(f"screen_constant_velocity: max_ripple_percent = {max_ripple_percent!r}: must be > 0")
+    max_ripple_percent = val.positive("screen_constant_velocity", "max_ripple_percent", max_ripple_percent)
     if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
         raise ParameterError(f"screen_constant_velocity: min_points = {min_points!r}: must be an integer >= 1")
     acc = np.isfinite(r) & (r <= max_ripple_percent)
@@ -454,6 +454,8 @@ def fit_two_step(
         raise ParameterError(f"fit_two_step: inertia = {inertia!r}: must be finite and > 0")
     if order == "static_first" and steady is None:
         raise ParameterError("fit_two_step: order='static_first' needs steady= (the constant-velocity points)")
+    if max_ripple_percent is not None:  # checked even where the screen does not run (a typo is not ignored)
+        max_ripple_percent = val.positive("fit_two_step", "max_ripple_percent", max_ripple_percent)
     if order == "dynamic_first" and above is None:
         raise ParameterError("fit_two_step: order='dynamic_first' needs above= (a torque run above breakaway)")
     shape = _SHAPES[map]

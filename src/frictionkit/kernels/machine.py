@@ -670,7 +670,7 @@ def merge_maps(Phi, G0, G1, Gf, Cq, Cm, n_sub, o_rate):
     return R, M
 
 
-@njit(error_model="numpy")
+@njit(inline="always", error_model="numpy")
 def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
                  Cq, Cm, par, site_po, RT, Mx, wA, wB, Fh, Xn, z, Fbar, V):
     """Advance ``X`` over the whole sample ``k`` in one map if every site keeps sliding one way.

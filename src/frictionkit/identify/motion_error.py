@@ -584,9 +584,22 @@ def _starts(prob: _Problem, p0, lo, hi, starts, seed) -> list[np.ndarray]:
     return pts
 
 
+def _fd_columns(f, sub, h: float = 1e-4) -> np.ndarray:
+    """Forward differences of ``f`` (fallback when an exact Jacobian fails at a point)."""
+    r0 = f(sub)
+    J = np.empty((r0.size, sub.size))
+    for k in range(sub.size):
+        q = sub.copy()
+        hk = h * max(1.0, abs(q[k]))
+        q[k] += hk
+        J[:, k] = (f(q) - r0) / hk
+    return J
+
+
 def _profile_fn(prob: _Problem, p_best, lo, hi, max_nfev):
     """``profile(j, value) -> SSE`` minimised over the other parameters (warm-started outward)."""
     warm: dict[tuple[int, int], np.ndarray] = {}
+    exact = prob.exact and prob.jac_exact(p_best) is not None
 
     def fn(j: int, value: float) -> float:
         pj = math.log(value) if prob.log[j] else value / prob.scale[j]
@@ -607,11 +620,18 @@ def _profile_fn(prob: _Problem, p_best, lo, hi, max_nfev):
             q[others] = sub
             return prob.resid_nat(prob.to_nat(q))
 
+        def jac(sub):  # exact columns of the other parameters (the law has sensitivities: checked below)
+            q = p_best.copy()
+            q[j] = pj
+            q[others] = sub
+            J = prob.jac_exact(q)
+            return J[:, others] if J is not None else _fd_columns(f, sub)
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             sol = least_squares(f, np.clip(start, lo[others], hi[others]), bounds=(lo[others], hi[others]),
                                 method="trf", diff_step=1e-4, max_nfev=max(30, 10 * len(others)),
-                                ftol=1e-8, xtol=1e-8)
+                                ftol=1e-8, xtol=1e-8, jac=jac if exact else "2-point")
         warm[(j, side)] = sol.x
         return 2.0 * float(sol.cost)
 

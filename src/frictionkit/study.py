@@ -197,7 +197,9 @@ class StudySpec:
             for k, allowed in (("nut_model", zf.NUT_MODELS), ("stage", zf.STAGES)):
                 if m[k] not in allowed:
                     raise DataError(f"{where}: [machine] {k} = {m[k]!r}: must be one of {list(allowed)}")
-            if not math.isclose(float(self.reference["dt"]), zf.T_CONTROL, rel_tol=1e-9):
+            dt = self.reference["dt"]
+            if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not math.isclose(dt, zf.T_CONTROL,
+                                                                                               rel_tol=1e-9):
                 raise DataError(f"{where}: [reference] dt = {self.reference['dt']!r}: the ball-screw stage's "
                                 f"controller runs at its control period {zf.T_CONTROL} s (seed 001 §2.2); "
                                 "leave dt out or set it to that")
@@ -221,10 +223,27 @@ class StudySpec:
         for k in ("draws", "seeds"):
             if isinstance(s[k], bool) or not isinstance(s[k], int) or not 1 <= s[k] <= 100_000:
                 raise DataError(f"{where}: [study] {k} = {s[k]!r}: an integer from 1 to 100000")
+        seed = s["seed"]
+        if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32 // 1000:
+            # the runs' noise seeds are seed * 1000 + k (-1, 1.5, True and 2**70 were accepted and failed
+            # in every run, or silently as seed 1)
+            raise DataError(f"{where}: [study] seed = {seed!r}: an integer from 0 to {2**32 // 1000 - 1}")
         comps = s["compensators"]
+        if isinstance(comps, list) and len(set(map(str, comps))) < len(comps):
+            raise DataError(f"{where}: [study] compensators = {comps!r}: each compensator once (the runs are "
+                            "labelled by it)")
         if not isinstance(comps, list) or not comps or any(c not in comps_allowed for c in comps):
             raise DataError(f"{where}: [study] compensators = {comps!r}: a list of {list(comps_allowed)}"
                             + (f" (machine preset {preset!r})" if preset != "custom" else ""))
+        ref = self.reference
+        if ref["frequency"] * ref["dt"] >= 0.5:  # 1e300 Hz failed every run as "Reference.a[0] = inf"
+            raise DataError(f"{where}: [reference] frequency = {ref['frequency']!r} Hz: at or above half the "
+                            f"sample rate (1 / (2 dt) = {0.5 / ref['dt']:.6g} Hz); the sampled reference would alias")
+        if ref["duration"] < 2 * ref["dt"]:  # every run failed on a 1- or 2-sample reference
+            raise DataError(f"{where}: [reference] duration = {ref['duration']!r} s: shorter than two samples "
+                            f"(2 dt = {2 * ref['dt']:.6g} s)")
+        if preset == "ballscrew" and ref["amplitude"] <= 0:  # the cosine reference needs a stroke
+            raise DataError(f"{where}: [reference] amplitude = {ref['amplitude']!r}: must be > 0")
         if self.reference["duration"] / self.reference["dt"] > 2_000_000:
             raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
 

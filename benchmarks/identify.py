@@ -8,8 +8,9 @@ parametrisation (logarithms of sigma0 and vs, the others scaled by their start):
 * frictionkit: :func:`frictionkit.identify.output_error.fit_output_error` (numba kernel;
   exact Jacobians from forward sensitivities, ``kernels/sensitivity.py`` — the contender of
   the targets), beside the same fit with forward-difference Jacobians (threaded nogil
-  simulations) and with the batched Levenberg–Marquardt (``optimiser="lm"``), interleaved
-  round by round, best of ``--repeats``;
+  simulations), interleaved round by round, best of ``--repeats`` (a hand-written batched
+  Levenberg–Marquardt was measured here against trf and removed on 2026-11-23: equal cost,
+  more CPU with either Jacobian);
 * the same ``least_squares`` fit (``trf``, 2-point Jacobian, ``diff_step`` 1e-3) written over
   ``numbalsoda`` (LSODA with a ``numba.cfunc`` right-hand side, the ``[bench]`` extra) at
   rtol 1e-6 / atol 1e-9 and 100x tighter;
@@ -31,7 +32,7 @@ the simulation threads; measured on this 2-core machine the fit's CPU time drops
 ``OPENBLAS_NUM_THREADS=1`` (unless already set) before numpy is imported; the same
 limit applies to the solve_ivp runs. Set it to another value to measure the default.
 
-Run: ``.venv/bin/python benchmarks/identify.py [--rk45-nfev N] [--lsoda-nfev N] [--optimiser trf|lm]``
+Run: ``.venv/bin/python benchmarks/identify.py [--rk45-nfev N] [--lsoda-nfev N]``
 (``--rk45-nfev -1`` runs the RK45 fit uncapped, in a child process stopped after ``--rk45-budget`` s
 of wall time; a stopped run is reported as a measured lower bound, not extrapolated.)
 """
@@ -215,7 +216,6 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rk45-nfev", type=int, default=2,
                     help="cap on RK45 least_squares evaluations (0: skip, -1: uncapped, under --rk45-budget)")
-    ap.add_argument("--optimiser", default="trf", help="fit_output_error optimiser: trf or lm")
     ap.add_argument("--lsoda-nfev", type=int, default=0, help="cap on LSODA evaluations (0: uncapped)")
     ap.add_argument("--repeats", type=int, default=3, help="rounds of the frictionkit fits (best of)")
     ap.add_argument("--no-numbalsoda", dest="numbalsoda", action="store_false",
@@ -241,9 +241,7 @@ def main() -> None:
         return r
 
     # variants (optimiser, Jacobian), interleaved round by round (a loaded machine drifts); best of 3
-    variants = [(args.optimiser, "auto"), (args.optimiser, "fd")]
-    other = "lm" if args.optimiser == "trf" else "trf"
-    variants += [(other, "auto"), (other, "fd")]
+    variants = [("trf", "auto"), ("trf", "fd")]
     walls = {vk: [] for vk in variants}
     cpus = {vk: [] for vk in variants}
     results, traces = {}, {}
@@ -254,8 +252,7 @@ def main() -> None:
             t0 = time.perf_counter()
             oe._Problem.fun = traced
             try:
-                results[vk] = fit_output_error(data, start_model, free=NAMES, plant_mass=1.0, optimiser=vk[0],
-                                               jacobian=vk[1])
+                results[vk] = fit_output_error(data, start_model, free=NAMES, plant_mass=1.0, jacobian=vk[1])
             finally:
                 oe._Problem.fun = fun
             walls[vk].append(time.perf_counter() - t0)
@@ -278,7 +275,7 @@ def main() -> None:
     ours_wall = min(walls[main_vk])
     ours_cpu = min(cpus[main_vk])
     rms_ours = _rms(ours, u, v)
-    print(f"\nfrictionkit fit_output_error ({args.optimiser}, exact Jacobians) is the contender below: "
+    print(f"\nfrictionkit fit_output_error (trf, exact Jacobians) is the contender below: "
           f"{ours_wall:.3f} s wall, {ours_cpu:.3f} s CPU")
     print(f"  final velocity RMS error {rms_ours:.6e} m/s (re-simulated with tight LSODA), "
           f"status {res.diagnostics['status']}: {res.message}")

@@ -81,14 +81,12 @@ def test_lugre_position_round_trip(record, seed):
     assert res.rms < 2e-7  # of the order of the 0.1 µm encoder count (plus half a count of jitter)
 
 
-def test_batched_levenberg_marquardt(record):
+def test_removed_levenberg_marquardt_is_refused_with_the_reason(record):
     t, u, sim = record
     x, v = _measure(sim, 5)
     start = fk.LuGre(LAW, sigma0=5e4, sigma1=120.0)
-    res = fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, optimiser="lm")
-    assert abs(res["sigma0"] / 1e5 - 1) < 0.10
-    assert res.diagnostics["status"] in (2, 3, 4)
-    assert "Levenberg-Marquardt" in res.provenance["procedure"]["optimiser"]
+    with pytest.raises(ParameterError, match="optimiser = 'lm': the hand-written Levenberg"):
+        fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, optimiser="lm")
 
 
 def test_static_map_mass_and_offset(record):

@@ -356,8 +356,7 @@ def fit_motion_error(
         logger's one-sample lag by half a radian of "bristle" deflection.
     fit : FitOptions, optional
         How the search runs (default :data:`.fit_options.MOTION_ERROR_FIT`), the same
-        object as the force-driven fit's; ``optimiser="lm"``, ``step_tol`` and
-        ``workers`` are the force drive's only.
+        object as the force-driven fit's; ``workers`` is the force drive's only.
     **settings
         Single :class:`~.fit_options.FitOptions` fields replacing those of ``fit``:
 
@@ -412,9 +411,7 @@ def fit_motion_error(
     """
     owner = "fit_motion_error"
     cfg = fit_settings(owner, MOTION_ERROR_FIT, fit, settings,
-                       unused={"optimiser": "the motion-driven fit uses least_squares trf",
-                               "step_tol": "a Levenberg-Marquardt setting of the force-driven fit",
-                               "workers": "the motion-driven Jacobian runs in one thread"})
+                       unused={"workers": "the motion-driven Jacobian runs in one thread"})
     starts, refine, seed, profile = cfg.starts, cfg.refine, cfg.seed, cfg.profile
     max_nfev, ftol, xtol, raise_on_failure = cfg.max_nfev, cfg.ftol, cfg.xtol, cfg.raise_on_failure
     md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,

@@ -49,7 +49,7 @@ A fit that does not converge (or cannot pin its parameters) is a result with
 Layout: this module holds the fit itself; the parameters and the model they rebuild are
 in ``_oe_params``, the LuGre sub-breakaway guess in ``initial_guess``, the start model
 and the static map in ``start_values``, residuals, Jacobian, start screening and bounds
-in ``_oe_problem``, the batched Levenberg–Marquardt in ``_lm``, the search settings in
+in ``_oe_problem`` (with the one-BLAS-thread guard), the search settings in
 ``fit_options``. The motion-driven direction (measured motion in, force compared) is
 :mod:`.motion_error`.
 """
@@ -67,9 +67,8 @@ from scipy.optimize import least_squares
 from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..simulate.core import SimOptions
-from ._lm import _blas_limit, _levenberg_marquardt
 from ._oe_params import _Template, _unit
-from ._oe_problem import _batch_costs, _bounds_tr, _Problem, _start_points
+from ._oe_problem import _batch_costs, _blas_limit, _bounds_tr, _Problem, _start_points
 from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
 from .initial_guess import initial_guess_lugre
 from .motion_data import _as_records, _describe_rests, _rest_masks, no_motion_cause, segment_bounds
@@ -245,12 +244,8 @@ def fit_output_error(
         (the CLI shows it as a live status line). Exceptions from it propagate.
     **settings
         Single :class:`~.fit_options.FitOptions` fields replacing those of ``fit``:
-        ``starts``, ``refine``, ``seed``, ``optimiser``, ``max_nfev``, ``ftol``,
-        ``xtol``, ``step_tol``, ``workers``, ``diff_step``, ``raise_on_failure``.
-        ``optimiser="lm"``: Levenberg–Marquardt whose trial steps (three damping values)
-        are judged in one :func:`~frictionkit.simulate_batch` call per iteration
-        (measured: ~190 simulations against ~260 for ``"trf"`` on the 6-parameter LuGre
-        benchmark, but it stalls on the GMS stiffness round trip: 4.7e-7 vs 2.6e-9).
+        ``starts``, ``refine``, ``seed``, ``max_nfev``, ``ftol``, ``xtol``, ``workers``,
+        ``diff_step``, ``jacobian``, ``raise_on_failure``.
         ``diff_step`` 1e-3 is large against the integrator noise yet small against the
         curvature (measured on GMS round trips: 1e-4 stalls in false minima, 1e-2 biases).
 
@@ -372,8 +367,7 @@ def fit_output_error(
                                "rests": _describe_rests(rests, min_rest), "min_rest": int(min_rest),
                                "initial": start_from,
                                "free": list(names),
-                               "optimiser": ("Levenberg-Marquardt, batched trial steps" if cfg.optimiser == "lm"
-                                             else "scipy.optimize.least_squares trf")
+                               "optimiser": "scipy.optimize.least_squares trf"
                                             + (", exact Jacobian (forward sensitivities)" if prob.exact else
                                                ", forward-difference Jacobian (threaded nogil simulations)"),
                                "starts": int(cfg.starts), "refine": refine, "seed": int(cfg.seed),
@@ -426,12 +420,8 @@ def fit_output_error(
         prob.cost_history = []
         with warnings.catch_warnings(), _blas_limit():
             warnings.simplefilter("ignore", RuntimeWarning)
-            if cfg.optimiser == "lm":
-                sol = _levenberg_marquardt(prob, pts[i], lo, hi, w, options, max_iter=cfg.max_nfev, ftol=cfg.ftol,
-                                           step_tol=cfg.step_tol)
-            else:
-                sol = least_squares(prob.fun, pts[i], jac=prob.jac, bounds=(lo, hi), method="trf",
-                                    x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
+            sol = least_squares(prob.fun, pts[i], jac=prob.jac, bounds=(lo, hi), method="trf",
+                                x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
         runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
                      "njev": int(sol.njev or 0), "message": sol.message, "history": list(prob.cost_history)})
         if best is None or sol.cost < best[0].cost:
@@ -447,8 +437,7 @@ def fit_output_error(
                       start_costs)
     converged = sol.status != 0
     message = str(sol.message) if converged else (
-        f"{cfg.optimiser} did not converge within max_nfev = {cfg.max_nfev} "
-        f"{'iterations' if cfg.optimiser == 'lm' else 'evaluations'} "
+        f"least_squares did not converge within max_nfev = {cfg.max_nfev} evaluations "
         f"(cost {run['history'][0]:.4g} -> {sol.cost:.4g}); raise max_nfev or improve the start values")
     if not converged and cfg.raise_on_failure:
         raise IdentificationError(f"{owner}: {message}")

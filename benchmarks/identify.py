@@ -252,7 +252,7 @@ def main() -> None:
             t0 = time.perf_counter()
             oe._Problem.fun = traced
             try:
-                results[vk] = fit_output_error(data, start_model, free=NAMES, plant_mass=1.0, jacobian=vk[1])
+                results[vk] = fit_output_error(data, start_model, free=NAMES, inertia=1.0, jacobian=vk[1])
             finally:
                 oe._Problem.fun = fun
             walls[vk].append(time.perf_counter() - t0)

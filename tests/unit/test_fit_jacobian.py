@@ -34,7 +34,7 @@ def force_fits():
     start = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.6, vs=1.3e-3, delta=2.0, sigma2=0.4), sigma0=5e4, sigma1=100.0)
     free = ("sigma0", "sigma1", "Fs", "vs")
     data = {"t": t, "F": u, "v": v}
-    return {jac: fit_output_error(data, start, free=free, plant_mass=1.0, jacobian=jac) for jac in ("auto", "fd")}
+    return {jac: fit_output_error(data, start, free=free, inertia=1.0, jacobian=jac) for jac in ("auto", "fd")}
 
 
 def test_force_drive_exact_jacobian_is_used_and_ends_at_equal_or_lower_cost(force_fits):

@@ -57,7 +57,7 @@ def test_lugre_velocity_round_trip(record, seed):
     x, v = _measure(sim, seed)
     g = initial_guess_lugre({"t": t[:4000], "x": x[:4000], "F": u[:4000]}, mass=1.0, sigma2=0.4)
     start = fk.LuGre(LAW, sigma0=g["sigma0"], sigma1=g["sigma1"])  # sigma1 critical: 10x too high
-    res = fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, starts=3, seed=seed)
+    res = fit_output_error({"t": t, "F": u, "v": v}, start, inertia=1.0, starts=3, seed=seed)
     assert abs(res["sigma0"] / 1e5 - 1) < 0.10
     assert abs(res["sigma1"] / 63.2 - 1) < 0.5
     se = res.parameter("sigma0")["stderr"]
@@ -75,7 +75,7 @@ def test_lugre_position_round_trip(record, seed):
     t, u, sim = record
     x, _ = _measure(sim, seed, counts=1e-7)
     start = fk.LuGre(LAW, sigma0=4e4, sigma1=150.0)
-    res = fit_output_error({"t": t, "F": u, "x": x + 1e-3}, start, plant_mass=1.0, compare="x")
+    res = fit_output_error({"t": t, "F": u, "x": x + 1e-3}, start, inertia=1.0, compare="x")
     assert abs(res["sigma0"] / 1e5 - 1) < 0.10
     assert abs(res["sigma1"] / 63.2 - 1) < 0.5
     assert res.rms < 2e-7  # of the order of the 0.1 µm encoder count (plus half a count of jitter)
@@ -86,7 +86,7 @@ def test_removed_levenberg_marquardt_is_refused_with_the_reason(record):
     x, v = _measure(sim, 5)
     start = fk.LuGre(LAW, sigma0=5e4, sigma1=120.0)
     with pytest.raises(ParameterError, match="optimiser = 'lm': the hand-written Levenberg"):
-        fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, optimiser="lm")
+        fit_output_error({"t": t, "F": u, "v": v}, start, inertia=1.0, optimiser="lm")
 
 
 def test_static_map_mass_and_offset(record):
@@ -94,7 +94,7 @@ def test_static_map_mass_and_offset(record):
     true = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=63.2)
     sim = fk.simulate(true, plant=fk.Mass(1.2), force=u - 0.1, dt=DT)
     start = fk.LuGre(fk.Stribeck(Fc=0.8, Fs=1.3, vs=1e-3, sigma2=0.5), sigma0=1e5, sigma1=63.2)
-    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, offset=0.0,
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, offset=0.0,
                            free=("Fc", "Fs", "sigma2", "m", "offset"))
     assert res["Fc"] == pytest.approx(1.0, rel=0.02)
     assert res["Fs"] == pytest.approx(1.5, rel=0.02)
@@ -110,7 +110,7 @@ def test_per_direction_static_gives_directional(record):
                     sigma0=1e5, sigma1=63.2)
     sim = fk.simulate(true, plant=fk.Mass(1.0), force=u, dt=DT)
     start = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=63.2)
-    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, free=("Fc_pos", "Fc_neg"))
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, free=("Fc_pos", "Fc_neg"))
     assert isinstance(res.model.static, fk.Directional)
     assert res["Fc_pos"] == pytest.approx(1.0, rel=0.01)
     assert res["Fc_neg"] == pytest.approx(1.2, rel=0.01)
@@ -130,7 +130,7 @@ def test_gms_stiffness_round_trip():
     sim = fk.simulate(gms, plant=fk.Mass(1.0), force=u, dt=DT)
     v = sim.v + 1e-6 * np.random.default_rng(5).standard_normal(t.size)
     start = fk.GMS(LAW, k=[1.4e4, 0.7e5, 1.3e6], xi=[0.5, 0.3, 0.2], C=20.0)
-    res = fit_output_error({"t": t, "F": u, "v": v}, start, plant_mass=1.0, compare="v", free=("k",))
+    res = fit_output_error({"t": t, "F": u, "v": v}, start, inertia=1.0, compare="v", free=("k",))
     assert res.names == ("k1", "k2", "k3")
     assert abs(res.model.presliding_stiffness / 1.11e6 - 1) < 0.10
     assert abs(res["k1"] / 1e4 - 1) < 0.10
@@ -141,33 +141,33 @@ def test_unknown_and_repeated_names(record):
     t, u, sim = record
     data = {"t": t, "F": u, "v": sim.v}
     with pytest.raises(ParameterError, match="unknown parameter 'sigma9'"):
-        fit_output_error(data, TRUE, plant_mass=1.0, free=("sigma9",))
+        fit_output_error(data, TRUE, inertia=1.0, free=("sigma9",))
     with pytest.raises(ParameterError, match="twice"):
-        fit_output_error(data, TRUE, plant_mass=1.0, free=("sigma0", "sigma0"))
+        fit_output_error(data, TRUE, inertia=1.0, free=("sigma0", "sigma0"))
     with pytest.raises(ParameterError, match="both 'Fc' and a per-direction"):
-        fit_output_error(data, TRUE, plant_mass=1.0, free=("Fc", "Fc_pos"))
+        fit_output_error(data, TRUE, inertia=1.0, free=("Fc", "Fc_pos"))
     with pytest.raises(ParameterError, match="must be 'v' or 'x'"):
-        fit_output_error(data, TRUE, plant_mass=1.0, compare="F")
+        fit_output_error(data, TRUE, inertia=1.0, compare="F")
     with pytest.raises(ParameterError, match="must be LuGre or GMS"):
-        fit_output_error(data, LAW, plant_mass=1.0)
+        fit_output_error(data, LAW, inertia=1.0)
 
 
 def test_missing_signal(record):
     t, u, sim = record
     with pytest.raises(DataError, match="needs the signal 'x'"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, compare="x")
+        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, inertia=1.0, compare="x")
 
 
 def test_not_converged_is_a_result_and_an_error_on_request(record):
     t, u, sim = record
     start = fk.LuGre(LAW, sigma0=2e4, sigma1=300.0)
-    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, max_nfev=2)
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, max_nfev=2)
     assert not res.success and res.diagnostics["status"] == 0
     assert "did not converge within max_nfev = 2" in res.message
     assert any(w.startswith("not converged") for w in res.warnings)
     assert isinstance(res.model, fk.LuGre)  # the last point is still a model (plots, a warm start)
     with pytest.raises(IdentificationError, match="did not converge within max_nfev = 2"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, max_nfev=2, raise_on_failure=True)
+        fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, max_nfev=2, raise_on_failure=True)
 
 
 def test_unexcited_parameter_is_unidentifiable():
@@ -176,11 +176,11 @@ def test_unexcited_parameter_is_unidentifiable():
     u = 3.0 * t
     sim = fk.simulate(TRUE, plant=fk.Mass(1.0), force=u, dt=DT)
     assert sim.v.min() >= 0.0
-    res = fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, free=("sigma0", "Fc_neg"))
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, inertia=1.0, free=("sigma0", "Fc_neg"))
     assert not res.success and "unidentifiable" in res.message and "Fc_neg" in res.message
     assert np.isnan(res.stderr).all()
     with pytest.raises(IdentificationError, match="unidentifiable.*Fc_neg"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, plant_mass=1.0, free=("sigma0", "Fc_neg"),
+        fit_output_error({"t": t, "F": u, "v": sim.v}, TRUE, inertia=1.0, free=("sigma0", "Fc_neg"),
                          raise_on_failure=True)
 
 
@@ -194,7 +194,7 @@ def test_progress_callback_reports_every_evaluation(record):
     t, u, sim = record
     x, v = _measure(sim, 6)
     calls = []
-    res = fit_output_error({"t": t, "F": u, "v": v}, fk.LuGre(LAW, sigma0=6e4, sigma1=90.0), plant_mass=1.0,
+    res = fit_output_error({"t": t, "F": u, "v": v}, fk.LuGre(LAW, sigma0=6e4, sigma1=90.0), inertia=1.0,
                            progress=lambda nfev, nsim, cost: calls.append((nfev, nsim, cost)))
     nfev = [c[0] for c in calls]
     # one call per residual evaluation, numbered 1, 2, ...; simulations never decrease
@@ -203,7 +203,7 @@ def test_progress_callback_reports_every_evaluation(record):
     # the reported costs are the fit's own cost history, ending at (or above) its optimum
     assert min(c[2] for c in calls) == pytest.approx(min(res.diagnostics["cost_history"]), rel=1e-12)
     with pytest.raises(ParameterError, match="progress = 3: must be callable"):
-        fit_output_error({"t": t, "F": u, "v": v}, TRUE, plant_mass=1.0, progress=3)
+        fit_output_error({"t": t, "F": u, "v": v}, TRUE, inertia=1.0, progress=3)
 
 
 def test_external_load_is_subtracted_like_friction():
@@ -222,8 +222,8 @@ def test_external_load_is_subtracted_like_friction():
     load = 0.3 * np.sin(2.0 * np.pi * t) + 0.1
     sim = fk.simulate(true, plant=fk.Mass(1.0), force=u - load, dt=dt)
     start = fk.LuGre(true.static, sigma0=3e4, sigma1=100.0)
-    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, external_load=load)
+    res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, external_load=load)
     assert res["sigma0"] == pytest.approx(1e5, rel=1e-3)
     assert res["sigma1"] == pytest.approx(63.2, rel=1e-2)
     with pytest.raises(fk.DataError, match="external_load"):
-        fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0, external_load=load[:-1])
+        fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0, external_load=load[:-1])

@@ -65,7 +65,7 @@ def records():
 
 @pytest.fixture(scope="module")
 def fitted(records):
-    return fit_output_error(records, "lugre", static=LAW, plant_mass=1.0)  # initial="auto": no start values
+    return fit_output_error(records, "lugre", static=LAW, inertia=1.0)  # initial="auto": no start values
 
 
 def test_auto_start_multi_record_fit_recovers_the_truth_within_its_intervals(fitted):
@@ -97,10 +97,10 @@ def test_segments_and_rests(fitted):
 
 def test_without_resets_the_same_data_fit_worse(records, fitted):
     start = fk.LuGre(LAW, sigma0=fitted["sigma0"], sigma1=fitted["sigma1"])
-    ev_reset = evaluate_output_error(TRUE, records, plant_mass=1.0)
-    ev_none = evaluate_output_error(TRUE, records, plant_mass=1.0, rests=None)
+    ev_reset = evaluate_output_error(TRUE, records, inertia=1.0)
+    ev_none = evaluate_output_error(TRUE, records, inertia=1.0, rests=None)
     assert ev_none["rms"] > 3 * ev_reset["rms"]  # the truth explains the data only with resets
-    res = fit_output_error(records, start, plant_mass=1.0, rests=None)
+    res = fit_output_error(records, start, inertia=1.0, rests=None)
     assert res.rms > 2 * fitted.rms
 
 
@@ -108,11 +108,11 @@ def test_a_mask_gives_the_rests(records, fitted):
     a = records["A"]
     mask = np.zeros(a["t"].size, bool)
     mask[N1:N1 + REST] = True
-    ev = evaluate_output_error(fitted.model, {"A": a}, plant_mass=1.0, rests={"A": mask})
-    ev_auto = evaluate_output_error(fitted.model, {"A": a}, plant_mass=1.0)
+    ev = evaluate_output_error(fitted.model, {"A": a}, inertia=1.0, rests={"A": mask})
+    ev_auto = evaluate_output_error(fitted.model, {"A": a}, inertia=1.0)
     assert ev["n"] == ev_auto["n"] and ev["rms"] == pytest.approx(ev_auto["rms"], rel=1e-12)
     with pytest.raises(DataError, match="rest mask has 5 samples"):
-        evaluate_output_error(fitted.model, {"A": a}, plant_mass=1.0, rests={"A": mask[:5]})
+        evaluate_output_error(fitted.model, {"A": a}, inertia=1.0, rests={"A": mask[:5]})
 
 
 def test_validate_and_json_round_trip(records, fitted, tmp_path):
@@ -138,7 +138,7 @@ def test_static_map_from_a_result_or_its_json(records, tmp_path):
     st = fk.identify.fit_static_map(v, F, model="exponential", delta=2.0)
     path = st.save_json(tmp_path / "static.json")
     one = {"A": records["A"]}
-    kw = dict(plant_mass=1.0, initial={"sigma0": 1e5, "sigma1": 63.2}, max_nfev=1)
+    kw = dict(inertia=1.0, initial={"sigma0": 1e5, "sigma1": 63.2}, max_nfev=1)
     by_result = fit_output_error(one, "lugre", static=st, **kw)
     by_path = fit_output_error(one, "lugre", static=str(path), **kw)
     assert by_result.model.static == by_path.model.static
@@ -151,20 +151,20 @@ def test_static_map_from_a_result_or_its_json(records, tmp_path):
 
 def test_given_start_values_are_used_and_the_rest_computed(records):
     one = {"B": records["B"]}
-    res = fit_output_error(one, "lugre", static=LAW, plant_mass=1.0, initial={"sigma0": 7e4}, max_nfev=1)
+    res = fit_output_error(one, "lugre", static=LAW, inertia=1.0, initial={"sigma0": 7e4}, max_nfev=1)
     # sigma1 from critical damping of the linearised oscillator: 2 sqrt(sigma0 m) - sigma2
     assert res.diagnostics["initial"]["sigma1"] == pytest.approx(2 * np.sqrt(7e4) - 0.4)
     assert res.provenance["procedure"]["initial"] == "auto, some given"
 
 
 def test_gms_start_from_the_data(records):
-    res = fit_output_error({"A": records["A"]}, "gms", static=LAW, plant_mass=1.0, elements=2, max_nfev=1)
+    res = fit_output_error({"A": records["A"]}, "gms", static=LAW, inertia=1.0, elements=2, max_nfev=1)
     k = np.asarray(res.model.k) if not res.success else np.asarray(res.diagnostics["initial"]["k_total"])
     ini = res.diagnostics["initial"]
     assert abs(ini["k_total"] / 1e5 - 1) < 0.10  # the sub-breakaway slope is the total stiffness
     assert res.names == ("k1", "k2") and k.size >= 1
     with pytest.raises(ParameterError, match="initial gives k without xi"):
-        fit_output_error(records, "gms", static=LAW, plant_mass=1.0, initial={"k": [1e5]})
+        fit_output_error(records, "gms", static=LAW, inertia=1.0, initial={"k": [1e5]})
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
@@ -182,7 +182,7 @@ def test_gms_start_from_the_data(records):
     ({"model0": TRUE, "rests": "sometimes"}, ParameterError, "rests = 'sometimes'"),
 ])
 def test_bad_input_is_one_named_error(records, kwargs, error, match):
-    kw = {"plant_mass": 1.0, **kwargs}
+    kw = {"inertia": 1.0, **kwargs}
     with pytest.raises(error, match=match):
         fit_output_error({"B": records["B"]}, **kw)
 
@@ -190,9 +190,9 @@ def test_bad_input_is_one_named_error(records, kwargs, error, match):
 def test_no_motion_and_no_branch_are_data_errors():
     t = np.arange(200) * DT
     with pytest.raises(DataError, match="no motion to fit"):
-        fit_output_error({"t": t, "F": np.zeros(200), "v": np.zeros(200)}, TRUE, plant_mass=1.0)
+        fit_output_error({"t": t, "F": np.zeros(200), "v": np.zeros(200)}, TRUE, inertia=1.0)
     with pytest.raises(DataError, match="initial='auto' found no pre-sliding branch"):
-        fit_output_error({"t": t, "F": np.ones(200), "v": np.zeros(200)}, "lugre", static=LAW, plant_mass=1.0)
+        fit_output_error({"t": t, "F": np.ones(200), "v": np.zeros(200)}, "lugre", static=LAW, inertia=1.0)
 
 
 def test_fit_options_are_one_validated_object():
@@ -215,12 +215,12 @@ def test_fit_options_are_one_validated_object():
 def test_fit_object_and_keywords_agree_and_raising_is_on_request(records):
     one = {"B": records["B"]}
     start = fk.LuGre(LAW, sigma0=3e4, sigma1=100.0)
-    a = fit_output_error(one, start, plant_mass=1.0, max_nfev=2)
-    b = fit_output_error(one, start, plant_mass=1.0, fit=OUTPUT_ERROR_FIT.replace(max_nfev=2))
+    a = fit_output_error(one, start, inertia=1.0, max_nfev=2)
+    b = fit_output_error(one, start, inertia=1.0, fit=OUTPUT_ERROR_FIT.replace(max_nfev=2))
     assert not a.success and a.diagnostics["status"] == 0 and "max_nfev = 2" in a.message
     np.testing.assert_array_equal(a.values, b.values)
     with pytest.raises(IdentificationError, match="did not converge"):
-        fit_output_error(one, start, plant_mass=1.0, fit=FitOptions(max_nfev=2, raise_on_failure=True))
+        fit_output_error(one, start, inertia=1.0, fit=FitOptions(max_nfev=2, raise_on_failure=True))
 
 
 def test_motion_start_model_keeps_given_values_and_computes_the_rest():

@@ -439,7 +439,7 @@ def _output_error_force(data, law, *, model, names, mass, offset, compare, rest,
         given.update({n: v for n, v in (("k", kk), ("xi", xx), ("C", C)) if v is not None})
     with Console(stderr=True).status("output-error fit: starting") as status:
         return fit_output_error(
-            data, model, static=law, initial=given or "auto", free=names or None, plant_mass=mass, offset=offset,
+            data, model, static=law, initial=given or "auto", free=names or None, inertia=mass, offset=offset,
             compare=compare, rests=rest, min_rest=min_rest, elements=elements, starts=starts or 1,
             progress=lambda nfev, nsim, cost: status.update(
                 f"output-error fit: evaluation {nfev}, {nsim} simulations, cost {cost:.6g}"),

@@ -159,7 +159,7 @@ def fit_output_error(
     static=None,
     initial="auto",
     free: Sequence[str] | None = None,
-    plant_mass: float,
+    inertia: float,
     offset: float = 0.0,
     external_load=None,
     compare: str = "v",
@@ -206,8 +206,9 @@ def fit_output_error(
         ``sigma0``, ``sigma1`` (LuGre); ``k1..kM``, ``xi1..xiM``, ``C``, or
         ``k``/``xi`` for all elements (GMS); ``Fc``, ``Fs``, ``vs``, ``delta``,
         ``sigma2`` (both directions) or with ``_pos``/``_neg``; ``m``; ``offset``.
-    plant_mass : float
-        Moving mass [kg] (start value when ``"m"`` is free).
+    inertia : float
+        The plant's inertia: moving mass [kg], or [kg·m²] for a rotary axis (the package's one
+        word for a generalised mass; start value when ``"m"`` is free).
     offset : float
         Constant force [N] (start value when ``"offset"`` is free).
     external_load : array_like, or a list of them
@@ -281,7 +282,7 @@ def fit_output_error(
     >>> dt = 1e-3; t = np.arange(3001) * dt; u = 2.0 * np.sin(np.pi * t)
     >>> sim = fk.simulate(true, plant=fk.Mass(1.0), force=u, dt=dt)
     >>> start = fk.LuGre(true.static, sigma0=3e4, sigma1=100.0)
-    >>> res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, plant_mass=1.0)
+    >>> res = fit_output_error({"t": t, "F": u, "v": sim.v}, start, inertia=1.0)
     >>> round(res["sigma0"] / 1e5, 2), res.success           # within 1 % of the truth
     (1.0, True)
     """
@@ -292,7 +293,7 @@ def fit_output_error(
         raise ParameterError(f"{owner}: starts = 'auto' is the motion-driven start grid; give an integer >= 1")
     if compare not in ("v", "x"):
         raise ParameterError(f"{owner}: compare = {compare!r}: must be 'v' or 'x'")
-    plant_mass = val.positive(owner, "plant_mass", plant_mass)
+    inertia = val.positive(owner, "inertia", inertia)
     offset = val.finite(owner, "offset", offset)
     if progress is not None and not callable(progress):
         raise ParameterError(f"{owner}: progress = {progress!r}: must be callable(nfev, simulations, cost) or None")
@@ -311,7 +312,7 @@ def fit_output_error(
         law = static_law(static, owner)
         model0, computed = output_error_start(
             kind, law, [{"t": s["t"], "F": s["u"], "x": s["x"], "v": s["v"]} for s in segs],
-            plant_mass=plant_mass, given=initial if isinstance(initial, Mapping) else None, elements=elements,
+            inertia=inertia, given=initial if isinstance(initial, Mapping) else None, elements=elements,
             owner=owner)
     else:
         if static is not None:
@@ -320,7 +321,7 @@ def fit_output_error(
         if initial != "auto":
             raise ParameterError(f"{owner}: initial = {initial!r} with a {type(model0).__name__} given: its values "
                                  "are the start; give model0='lugre'/'gms' to compute some of them")
-    tmpl = _Template.of(model0, plant_mass, offset)
+    tmpl = _Template.of(model0, inertia, offset)
     names = tmpl.expand(free if free is not None else FORCE_DRIVE_FREE[tmpl.kind])
 
     shift, ts, last = {}, [], None  # records one after the other on the time axis
@@ -381,7 +382,7 @@ def fit_output_error(
             model, m_fit, off_fit = tmpl.build(names, theta)
             sim = prob.simulate_nat(theta)
         except ParameterError:
-            model, sim, (m_fit, off_fit) = None, None, (plant_mass, offset)
+            model, sim, (m_fit, off_fit) = None, None, (inertia, offset)
         y_pred = None if sim is None else (sim.x if compare == "x" else sim.v)
         ok = y_pred is not None and bool(np.all(np.isfinite(y_pred)))
         resid = (y_pred - y)[w > 0] if ok else np.full(n_obs, np.nan)
@@ -506,7 +507,7 @@ def fit_output_error(
     )
 
 
-def evaluate_output_error(model, data, *, plant_mass: float, offset: float = 0.0, compare: str = "v",
+def evaluate_output_error(model, data, *, inertia: float, offset: float = 0.0, compare: str = "v",
                           rests="auto", min_rest: int = 3, external_load=None,
                           options: SimOptions | None = None) -> dict:
     """Error of a force-driven model on records: each run between rests simulated from rest.
@@ -525,14 +526,14 @@ def evaluate_output_error(model, data, *, plant_mass: float, offset: float = 0.0
     owner = "evaluate_output_error"
     if compare not in ("v", "x"):
         raise ParameterError(f"{owner}: compare = {compare!r}: must be 'v' or 'x'")
-    plant_mass = val.positive(owner, "plant_mass", plant_mass)
+    inertia = val.positive(owner, "inertia", inertia)
     _, segs, _, dt = _force_segments(owner, data, compare, external_load, None, rests, min_rest)
     options = options or OUTPUT_ERROR_OPTIONS
     ys, ps, ts = [], [], []
     for s in segs:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            sim = simulate(model, plant=Mass(plant_mass), force=s["u"] - offset, dt=dt, options=options)
+            sim = simulate(model, plant=Mass(inertia), force=s["u"] - offset, dt=dt, options=options)
         k = s["w"] > 0
         ys.append(s["y"][k])
         ps.append((sim.x if compare == "x" else sim.v)[k])

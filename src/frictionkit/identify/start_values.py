@@ -178,7 +178,7 @@ def _stiffness_guess(segments: Sequence[Mapping[str, np.ndarray]], mass: float, 
             "branches": int(sum(g["branches"] for g in got))}
 
 
-def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.ndarray]], *, plant_mass: float,
+def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.ndarray]], *, inertia: float,
                        given: Mapping[str, Any] | None = None, elements: int = 3,
                        owner: str = "fit_output_error") -> tuple[Any, dict]:
     """Start model of a force-driven fit: the given values, the rest from the data.
@@ -191,7 +191,7 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     segments : sequence of mappings
         The runs the fit simulates, each with ``t`` [s], force ``F`` and position ``x``
         (or velocity ``v``, then integrated by the trapezoidal rule).
-    plant_mass : float
+    inertia : float
         Moving mass [kg] (inertia correction and damping guess).
     given : mapping, optional
         Start values the caller fixes: LuGre ``sigma0``, ``sigma1``; GMS ``k``, ``xi``
@@ -228,11 +228,11 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     info: dict = {}
     if kind == "lugre":
         if "sigma0" not in given:
-            info = _stiffness_guess(segments, plant_mass, sigma2, owner)
+            info = _stiffness_guess(segments, inertia, sigma2, owner)
             sigma0 = info["sigma0"]
         else:
             sigma0 = float(given["sigma0"])
-        sigma1 = float(given["sigma1"]) if "sigma1" in given else max(2.0 * math.sqrt(max(sigma0, 0.0) * plant_mass)
+        sigma1 = float(given["sigma1"]) if "sigma1" in given else max(2.0 * math.sqrt(max(sigma0, 0.0) * inertia)
                                                                        - sigma2, 0.0)
         if "sigma1" not in given:
             info["sigma1"] = sigma1
@@ -246,7 +246,7 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     M = int(elements)
     if M < 1:
         raise ParameterError(f"{owner}: elements = {elements!r}: must be >= 1")
-    info = _stiffness_guess(segments, plant_mass, sigma2, owner)
+    info = _stiffness_guess(segments, inertia, sigma2, owner)
     share = 10.0 ** (-0.5 * np.arange(M))
     k = info["sigma0"] * share / share.sum()
     info = {"k_total": info["sigma0"], "branches": info["branches"]}

@@ -483,7 +483,7 @@ def fit_two_step(
             recs.append({"t": r[0], "F": r[1], "v": r[2]})
             loads.append(r[3])
         res = fit_output_error(recs if len(recs) > 1 else tri_rec, start, free=("sigma0", "sigma1"),
-                               plant_mass=inertia, external_load=loads if len(recs) > 1 else tri[3],
+                               inertia=inertia, external_load=loads if len(recs) > 1 else tri[3],
                                starts=starts, raise_on_failure=True)
         steps.append((label, res))
         return res, g
@@ -516,7 +516,7 @@ def fit_two_step(
             free = ("sigma0", "sigma1") + tuple(f"{p}_{s}" for s in ("pos", "neg") for p in _STATIC)
             start = LuGre(first.model.static, sigma0=first["sigma0"], sigma1=first["sigma1"])
             static_res = fit_output_error({"t": ab[0], "F": ab[1], "v": ab[2]}, start, free=free,
-                                          plant_mass=inertia, external_load=ab[3], starts=starts,
+                                          inertia=inertia, external_load=ab[3], starts=starts,
                                           bounds=_static_bounds(start.static, ab), max_nfev=max_nfev,
                                           raise_on_failure=True)
             steps.append(("static map by output error (above breakaway)", static_res))

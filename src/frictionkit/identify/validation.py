@@ -139,7 +139,7 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
               "min_rest": int(proc.get("min_rest", 3))}  # files written before rests existed: none
         kw.update(how)  # a rest mask of this record, or min_rest
         ev = evaluate_output_error(result.model, recs[0] if len(recs) == 1 else {r.name: r for r in recs},
-                                   plant_mass=float(result.diagnostics["mass"]),
+                                   inertia=float(result.diagnostics["mass"]),
                                    offset=float(result.diagnostics.get("offset", 0.0)),
                                    compare=proc.get("compare", "v"), options=opts, **kw)
         out.update({"rms": ev["rms"], "relative_error_percent": ev["relative_error_percent"], "n": ev["n"]})

@@ -32,7 +32,7 @@ def runs():
 def test_joint_fit_recovers_truth_and_restarts_each_record_from_rest(runs):
     sine, tri = runs
     start = fk.LuGre(TRUE.static, sigma0=3e4, sigma1=100.0)
-    res = fit_output_error([sine, tri], start, plant_mass=1.0)
+    res = fit_output_error([sine, tri], start, inertia=1.0)
     assert res["sigma0"] == pytest.approx(1e5, rel=1e-3)
     assert res["sigma1"] == pytest.approx(63.2, rel=1e-2)
     # every sample but the first of each record counts
@@ -48,6 +48,6 @@ def test_joint_fit_checks_its_records(runs):
     start = fk.LuGre(TRUE.static, sigma0=3e4, sigma1=100.0)
     coarse = {"t": sine["t"][::2], "F": sine["F"][::2], "v": sine["v"][::2]}
     with pytest.raises(DataError, match="sampled every"):
-        fit_output_error([tri, coarse], start, plant_mass=1.0)
+        fit_output_error([tri, coarse], start, inertia=1.0)
     with pytest.raises(DataError, match="2 recordings but 1 external_load"):
-        fit_output_error([sine, tri], start, plant_mass=1.0, external_load=[np.zeros(sine["t"].size)])
+        fit_output_error([sine, tri], start, inertia=1.0, external_load=[np.zeros(sine["t"].size)])

@@ -1,8 +1,8 @@
 """Vectorised batch kernel: force-driven LuGre over many parameter sets, fixed ROS2 sub-steps.
 
-``lugre_force_batch_sse`` in :mod:`frictionkit.kernels.lugre` runs the adaptive
-scalar integrator once per parameter set; each set takes its own sub-steps and
-branches, so nothing vectorises. Here all parameter sets advance *together*,
+``lugre_batch_sse`` in :mod:`frictionkit.kernels.lugre` runs the adaptive
+scalar integrator once per parameter set (``lugre_force_batch_sse`` its ROS2-only
+form); each set takes its own steps and branches, so nothing vectorises. Here all parameter sets advance *together*,
 one sample at a time, with the loop over parameter sets innermost:
 
 * the same two-stage ROS2 equations as ``lugre._interval``, but with ``n_sub``

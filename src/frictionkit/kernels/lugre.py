@@ -489,10 +489,13 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
 def lugre_force_batch_sse(
     u, dt, m, static, dyn, rtol, atol_v, atol_z, max_sub, target, which, weight, out_sse, out_status, v_floor=1.0
 ):
-    """Simulate P parameter sets on one input; return only the weighted squared error.
+    """ROS2 sub-steps in every interval (:func:`_interval`) for P parameter sets; weighted SSE.
 
     ``static (P, 2, 6)``, ``dyn (P, 2, 2)``, ``m (P,)``. ``which`` selects the compared
     signal: 0 position, 1 velocity, 2 friction force. ``weight (N,)`` masks samples.
+    ``simulate_batch`` runs :func:`lugre_batch_sse` (spanning steps); this is the
+    one-step-per-interval scheme of the fixed batch (``kernels.batch``) with error control,
+    its twin in tests/kernels/test_batch.py.
     """
     P = m.size
     for j in prange(P):

@@ -5,8 +5,8 @@ Run:  .venv/bin/python benchmarks/machines.py [--quick] [--json OUT]
 
 Workloads (each timed end to end — machine packing, exact discretisation and the compiled
 loop — best of ``--repeat`` runs after one warm-up run; real-time factor = simulated time /
-wall time; ``rt_cpu`` in the details = simulated time / process CPU time, the steadier number
-on a shared machine):
+wall time; ``rt_cpu`` in the details = simulated time / CPU time of the simulating thread, the
+steadier number on a shared machine):
 
 * ``ballscrew_dahl``: the seed 001 elastic stage (``presets/ballscrew.py``) in closed loop at
   0.5 ms, 10 sub-steps, paper controller (PTC + dual PID + DOB) and sensors, sinc
@@ -59,17 +59,19 @@ from frictionkit.reproduce.zhu_fujimoto import (_classify, paper_compensator, pa
 
 
 def best_of(fn, repeat):
-    """``(wall, cpu, result)``: the least wall time and the least process CPU time (all threads)
-    of ``repeat`` runs after one warm-up run. On a shared machine the wall time includes the
-    time other jobs held the cores; the CPU time does not (it is the steadier number there)."""
+    """``(wall, cpu, result)``: the least wall time and the least CPU time of the calling thread
+    (the one running the compiled loop; BLAS worker threads spinning after scipy's small matrix
+    calls are not counted) of ``repeat`` runs after one warm-up run. On a shared machine the wall
+    time includes the time other jobs held the cores; the CPU time does not (it is the steadier
+    number there)."""
     fn()  # warm-up (compile / caches)
     best, best_cpu, out = math.inf, math.inf, None
     for _ in range(repeat):
-        c0 = time.process_time()
+        c0 = time.thread_time()
         t0 = time.perf_counter()
         out = fn()
         best = min(best, time.perf_counter() - t0)
-        best_cpu = min(best_cpu, time.process_time() - c0)
+        best_cpu = min(best_cpu, time.thread_time() - c0)
     return best, best_cpu, out
 
 
@@ -292,8 +294,8 @@ t_import = time.perf_counter() - t0
 ref = cosine_reference(duration=0.01)
 which = sys.argv[1]
 f = lambda: simulate_stage(paper_plant(), paper_controller(), ref, sensors=paper_sensors())
-c0 = time.process_time(); t0 = time.perf_counter(); f(); t1 = time.perf_counter(); c1 = time.process_time()
-f(); t2 = time.perf_counter(); c2 = time.process_time()
+c0 = time.thread_time(); t0 = time.perf_counter(); f(); t1 = time.perf_counter(); c1 = time.thread_time()
+f(); t2 = time.perf_counter(); c2 = time.thread_time()
 extra = float("nan")
 if which == "core":
     sys.path.insert(0, sys.argv[2])
@@ -347,7 +349,7 @@ def main() -> None:
 
     print(f"machine: {os.cpu_count()} cores, shared with other jobs; load average {load0[0]:.2f} at start, "
           f"{load1[0]:.2f} at end — the factors below are lower bounds of a quiet machine's; 'rt x (CPU)' divides "
-          "by the process CPU time instead of the wall time (steadier under load; still inflated by cache "
+          "by the simulating thread's CPU time instead of the wall time (steadier under load; still inflated by cache "
           "contention)")
     print(f"\n{'workload':58s} {'real-time x':>12s} {'wall [s]':>9s} {'rt x (CPU)':>11s}  notes")
     for nm in ("sliding", "flank", "hertz"):

@@ -38,6 +38,11 @@ opposes it. Site laws (parameters from :mod:`frictionkit.models.pack`, row 0 for
   row) until that force reaches ``+Fs`` or ``-Fs``; a site slipping in direction ``d`` carries
   ``F = s(s') + sigma2 s'`` on ``d``'s row until ``s'`` comes to zero, where it sticks again
   if the holding force it then needs lies inside ``[-Fs-, Fs+]`` (Karnopp's model, exact).
+  While it sticks the state may stand still, so the solver's step is unbounded: the holding
+  force is also checked at every sample, and an interval where it left the band unseen is
+  integrated again alone (inputs are linear inside a sample, so its event is found). A force
+  that only reaches a level and rests there holds (``STICK_ROUNDOFF``). Slipping slower than
+  ``SLOW_ZONE vs`` (steep part of the Stribeck curve) the step is capped (``SLOW_STEPS``).
 * Compliances and loads (:class:`HertzContact`, :class:`PiecewiseLinearSpring`,
   :class:`SineLoad`) — memoryless: ``F = law.force(s) - law.linear_stiffness * s`` (the
   linear part is already in ``K``).
@@ -80,6 +85,16 @@ _METHODS = ("LSODA", "Radau", "BDF", "RK45", "DOP853", "RK23")
 
 #: Default cap on the number of GMS switching events in one run.
 MAX_EVENTS = 200_000
+
+#: Relative round-off allowance on a static site's levels: a holding force within it of a level holds.
+STICK_ROUNDOFF = 1e-12
+
+#: A slipping static site slower than ``SLOW_ZONE vs`` is in the steep part of its Stribeck
+#: curve; the solver's step is then capped so that it crosses that zone in at least
+#: ``SLOW_STEPS`` steps (an unbounded step can jump the whole rise of the level toward ``Fs``:
+#: DOP853, and LSODA inside the twin, put a stop 0.24 ms late that way).
+SLOW_ZONE = 4.0
+SLOW_STEPS = 20
 
 #: Consecutive (near) zero-length pieces tolerated before giving up (chattering).
 _MAX_STALLS = 64
@@ -182,6 +197,12 @@ class _StaticSite:
     def Fs(self, d: int, s: float) -> float:
         """Static level of direction ``d`` (+1/-1) at schedule ``s`` (signed)."""
         return self.level(0 if d > 0 else 1, 0.0, s)
+
+    def bump_speed(self, d: int) -> float | None:
+        """``SLOW_ZONE vs`` of direction ``d``: below it the level rises steeply toward ``Fs``
+        (None when ``Fs = Fc``, no rise)."""
+        Fc0, Fc1, Fs0, Fs1, vs = self.rows[0 if d > 0 else 1, :5]
+        return None if (Fc0 == Fs0 and Fc1 == Fs1) else SLOW_ZONE * vs
 
     def slip_force(self, sv: float, d: int, s: float) -> float:
         """``d L_d(|v|, s) + sigma2 v - eps v |v|`` on the row of the direction of slip ``d``."""
@@ -378,11 +399,17 @@ class _Twin:
         return float(c @ y[:n] + cm @ p)
 
     def static_limits(self, t, y, seg) -> tuple[float, float]:
-        """``(Fs+, Fs-)`` of the static site at ``(t, y)`` (signed; schedule read from the state)."""
+        """``(Fs+, Fs-)`` of the static site at ``(t, y)`` (signed; schedule read from the state),
+        each widened by ``STICK_ROUNDOFF (|Fs+| + |Fs-|)``: Karnopp's site sticks while the
+        holding force lies in ``[-Fs-, Fs+]``, so one that reaches a level and stays there (or
+        sits on it up to round-off) holds; only one that goes past it slips. Without the
+        allowance the slip event fired on a force resting at ``Fs`` and the twin chattered."""
         ta, pa, rate = seg
         s = self.schedule_value(y, pa + rate * (t - ta), rate)
         site = self.sites[self.static]
-        return site.Fs(1, s), site.Fs(-1, s)
+        pos, neg = site.Fs(1, s), site.Fs(-1, s)
+        tol = STICK_ROUNDOFF * (abs(pos) + abs(neg))
+        return pos + tol, neg + tol
 
     def accel(self, t, y, mode, seg, dy=None):
         """Accelerations and site forces at ``(t, y)``. A sticking static site holds its
@@ -542,6 +569,7 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
     bounds = [0, *change.tolist(), N - 1]
 
     prev_rate = None  # motion rates of the previous piece
+    bound_next = False  # the next piece ends at the next sample (a crossing of +-Fs was stepped over)
     for ka, kb in zip(bounds[:-1], bounds[1:]):
         ta, tb = t[ka], t[kb]
         # the motions are exactly linear over the piece: through the samples at its ends
@@ -575,14 +603,36 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
             def fun(tt, yy, mode=dict(mode), seg=seg):
                 return tw.rhs(tt, yy, mode, seg)
 
-            k_last = int(np.searchsorted(t, tb, side="right"))
-            sol = solve_ivp(fun, (t0, tb), y, method=method, t_eval=t[filled:k_last], events=events or None,
-                            rtol=rtol, atol=atol_v, max_step=max_step)
+            # A sticking static site holds its DOFs still: the state may stand still while the
+            # holding force follows the inputs, so the solver's steps grow without bound and can
+            # step over a crossing of +-Fs and back (solve_ivp sees an event only as a sign change
+            # between step ends). So the holding force is checked at every sample of a sticking
+            # piece; at the first sample where it lies outside [-Fs-, Fs+] the samples before it
+            # are kept and the interval that holds the crossing is integrated alone (its inputs
+            # are linear, so its event is found).
+            sticking = tw.static is not None and mode[tw.static] == 0
+            t_end = tb
+            if bound_next:
+                t_end = min(tb, float(t[int(np.searchsorted(t, t0 + 1e-9 * dt, side="right"))]))
+            k_last = int(np.searchsorted(t, t_end, side="right"))
+            sol = solve_ivp(fun, (t0, t_end), y, method=method, t_eval=t[filled:k_last], events=events or None,
+                            rtol=rtol, atol=atol_v, max_step=min(max_step, _slow_cap(tw, mode, seg, t0, y)))
             nfev += int(sol.nfev)
             n_pieces += 1
             if sol.status == -1:
                 raise SimulationError(f"{owner}: solve_ivp ({method}) failed after t = {t0:.6g} s: {sol.message}")
             m_new = len(sol.t)
+            if sticking and m_new and not bound_next:
+                miss = _first_outside_band(tw, mode, seg, sol.t, np.asarray(sol.y))
+                if miss is not None:
+                    if miss:
+                        out[filled:filled + miss] = np.asarray(sol.y)[:, :miss].T
+                        static_mode[filled:filled + miss] = 0
+                        filled += miss
+                        t0, y = float(t[filled - 1]), out[filled - 1].copy()
+                    bound_next = True
+                    continue
+            bound_next = False
             if m_new:
                 out[filled:filled + m_new] = np.asarray(sol.y).T
                 if tw.static is not None:
@@ -590,6 +640,9 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
                 filled += m_new
             if sol.status == 0:
                 y = np.asarray(sol.y)[:, -1].copy() if m_new else y
+                if t_end < tb:
+                    t0 = t_end
+                    continue
                 break
             # a terminal event ended the piece
             t_ev = [te[-1] if te.size else -math.inf for te in sol.t_events]
@@ -612,6 +665,7 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
                 elif kind == "slip":
                     mode[j] = i
                     log.append((t_e, "slip", j, i))
+                # kind "slow": the restart caps the step (_slow_cap); nothing switches
             for kind, j, i in fired:
                 if kind not in ("breakaway", "reversal"):
                     continue
@@ -711,7 +765,47 @@ def _events(tw: _Twin, mode: dict, seg, ta: float, ya: np.ndarray, go: dict):
             ev_stop.direction = -1
             events.append(ev_stop)
             kinds.append(("stop", j, 0))
+            vb = tw.sites[j].bump_speed(d)
+            if vb is not None:  # it enters the slow zone (at vb), or leaves it (at 2 vb): a new piece
+                inside = d * float(tw.Cq[j] @ ya[n:2 * n] + tw.Cm[j] @ seg[2]) < 1.5 * vb
+                edge = 2.0 * vb if inside else vb
+
+                def ev_slow(tt, yy, d=d, edge=edge):
+                    return d * float(tw.Cq[j] @ yy[n:2 * n] + tw.Cm[j] @ seg[2]) - edge
+
+                ev_slow.terminal = True
+                ev_slow.direction = 1 if inside else -1
+                events.append(ev_slow)
+                kinds.append(("slow", j, 0))
     return events, kinds
+
+
+def _slow_cap(tw: _Twin, mode: dict, seg, t0: float, y: np.ndarray) -> float:
+    """Largest step of a piece: a static site slipping below ``SLOW_ZONE vs`` at ``t0`` crosses
+    that zone in no fewer than ``SLOW_STEPS`` steps at its acceleration there (inf otherwise)."""
+    j = tw.static
+    if j is None or mode[j] == 0:
+        return math.inf
+    d = mode[j]
+    vb = tw.sites[j].bump_speed(d)
+    if vb is None:
+        return math.inf
+    sv, sa = tw.site_motion(t0, y, mode, seg)
+    if d * sv[j] >= 1.5 * vb or sa[j] == 0.0:  # outside (the zone is left at 2 vb, entered at vb)
+        return math.inf
+    return vb / abs(sa[j]) / SLOW_STEPS
+
+
+def _first_outside_band(tw: _Twin, mode: dict, seg, ts, ys) -> int | None:
+    """Index of the first output sample of a sticking piece whose holding force lies outside
+    ``[-Fs-, Fs+]`` (None if none does)."""
+    j = tw.static
+    for i in range(len(ts)):
+        F_hold = tw.accel(ts[i], ys[:, i], mode, seg)[1][j]
+        Fs_pos, Fs_neg = tw.static_limits(ts[i], ys[:, i], seg)
+        if F_hold > Fs_pos or F_hold < -Fs_neg:
+            return i
+    return None
 
 
 def _static_start(tw: _Twin, mode: dict, seg, t0: float, y: np.ndarray, log: list, prev_rate) -> np.ndarray:

@@ -128,7 +128,7 @@ def two_shaft_machine(dt=250e-6):
     m.spring(m1, th_s, k=k_c, c=c_c, name="coupling1")
     m.spring(m2, th_n, k=k_c, c=c_c, name="coupling2")
     table = R0 * (th_s + th_n)
-    m.mass(table, M_t)
+    m.inertia(table, M_t)
     # GMS-3 sites, linear-equivalent forces [N] on R * angle (Tables 3-6; k in N/µm)
     m.friction("screw_shaft", R0 * th_s, law=_gms3(87.4, 113.5, 0.2439e-3, 1.0, 0.6033,
                                                    [26.804, 2.312, 0.922], [0.565, 0.139, 0.0835], 250.0))

@@ -91,7 +91,7 @@ def test_transmission_mass_matrix_of_the_differential_feed():
     m = Machine("tdms")
     th1 = m.dof("screw", inertia=J1, kind="rotational")
     th2 = m.dof("nut", inertia=J2, kind="rotational")
-    m.mass(R * (th1 + th2), mt)
+    m.inertia(R * (th1 + th2), mt)
     expected = np.array([[J1 + mt * R**2, mt * R**2], [mt * R**2, J2 + mt * R**2]])
     np.testing.assert_allclose(m.mass_matrix(), expected, rtol=1e-15)
 

@@ -129,7 +129,7 @@ def _hand_machine() -> Machine:
     th = m.dof("motor", inertia=2e-4, kind="rotational", x0=0.1)
     x = m.dof("table", inertia=20.0, v0=-1e-3)
     far = m.motion("far_end")
-    m.mass(0.002 * th, 1.5)
+    m.inertia(0.002 * th, 1.5)
     m.spring(0.002 * th, x, k=1e8, c=2e3, name="screw")
     m.spring(x, far, k=50.0, name="pull")
     m.compliance("hd", th, law=fk.machines.PiecewiseLinearSpring(stiffness=(1e4, 3e4), breaks=(1e-3,)), c=0.5)
@@ -280,3 +280,17 @@ def test_a_hand_written_minimal_file_loads_and_runs(tmp_path):
     res = fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(1001, 5.0)})
     # Newton by hand: (5 N - 1 N) / 2 kg = 2 m/s² for 1 s -> v = 2 m/s, x = 1 m
     assert res.v[-1, 0] == pytest.approx(2.0, rel=1e-9) and res.q[-1, 0] == pytest.approx(1.0, rel=1e-3)
+
+
+def test_attached_inertia_and_the_earlier_masses_key():
+    """``Machine.inertia(at, j)`` round-trips as ``"inertias"``; a file written before the
+    rename (``"masses"`` / ``"mass"``) loads to the same mass matrix."""
+    m = fk.Machine("table on a screw")
+    th = m.dof("screw", inertia=1e-4, kind="rotational")
+    m.inertia(0.002 * th, 1.5)                      # 1.5 kg at R = 2 mm/rad: 1.5 * 0.002**2 kg·m²
+    assert m.mass_matrix()[0, 0] == pytest.approx(1e-4 + 1.5 * 0.002 ** 2, rel=1e-12)
+    d = m.to_dict()
+    assert [e["inertia"] for e in d["inertias"]] == [1.5]
+    old = dict(d)
+    old["masses"] = [{"at": e["at"], "mass": e["inertia"]} for e in old.pop("inertias")]
+    assert np.array_equal(fk.Machine.from_dict(old).mass_matrix(), m.mass_matrix())

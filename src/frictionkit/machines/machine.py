@@ -110,7 +110,7 @@ class Machine:
             raise ParameterError(f"Machine name = {name!r}: must be a string")
         self.name = name
         self.dofs: list[Dof] = []
-        self.masses: list[tuple[Coord, float]] = []
+        self.inertias: list[tuple[Coord, float]] = []
         self.springs: list[Spring] = []
         self.sites: list[Site] = []
         self.actuators: list[Actuator] = []
@@ -179,10 +179,11 @@ class Machine:
         self._motion_names.append(name)
         return Coord(self, {}, {len(self._motion_names) - 1: 1.0})
 
-    def mass(self, at: Coord, mass: float) -> None:
-        """Attach a rigid inertia at a point, e.g. a worktable at ``R * (theta1 + theta2)``."""
-        at = self._coord("mass", at)
-        self.masses.append((at, val.positive("Machine.mass", "mass", mass)))
+    def inertia(self, at: Coord, inertia: float) -> None:
+        """Attach a rigid inertia at a point, e.g. a worktable of ``inertia`` kg at ``R * (theta1 + theta2)``
+        (kg on a translational coordinate, kg·m² on a rotational one, as :meth:`dof`'s ``inertia``)."""
+        at = self._coord("inertia", at)
+        self.inertias.append((at, val.positive("Machine.inertia", "inertia", inertia)))
 
     def spring(self, a: Coord, b: Coord | None = None, *, k: float = 0.0, c: float = 0.0,
                name: str | None = None) -> None:
@@ -335,7 +336,7 @@ class Machine:
             "name": self.name,
             "dofs": [{"name": d.name, "kind": d.kind, "inertia": d.inertia, "x0": d.x0, "v0": d.v0} for d in self.dofs],
             "motions": list(self._motion_names),
-            "masses": [{"at": at.to_dict(), "mass": mass} for at, mass in self.masses],
+            "inertias": [{"at": at.to_dict(), "inertia": j} for at, j in self.inertias],
             "springs": [{"name": s.name, "at": s.at.to_dict(), "k": s.k, "c": s.c} for s in self.springs],
             "sites": [site(s) for s in self.sites],
             "actuators": [{"name": a.name, "at": a.at.to_dict(), "gain": a.gain,
@@ -373,8 +374,8 @@ class Machine:
                 raise DataError(f"machine.{key}: a JSON {type(v).__name__}, expected a list")
             return v
 
-        top = obj(data, "machine", ("name", "dofs"), ("motions", "masses", "springs", "sites", "actuators",
-                                                       "sensors", "blocks"))
+        top = obj(data, "machine", ("name", "dofs"), ("motions", "inertias", "masses", "springs", "sites",
+                                                       "actuators", "sensors", "blocks"))
         m = cls(top["name"])
 
         def coord(d, where: str) -> Coord:
@@ -399,10 +400,14 @@ class Machine:
                   v0=d.get("v0", 0.0))
         for name in seq(top, "motions"):
             m.motion(name)
-        for i, d in enumerate(seq(top, "masses")):
+        for i, d in enumerate(seq(top, "inertias")):
+            w = f"machine.inertias[{i}]"
+            d = obj(d, w, ("at", "inertia"))
+            m.inertia(coord(d["at"], w), d["inertia"])
+        for i, d in enumerate(seq(top, "masses")):  # files of 2026-11-23 before Machine.mass became .inertia
             w = f"machine.masses[{i}]"
             d = obj(d, w, ("at", "mass"))
-            m.mass(coord(d["at"], w), d["mass"])
+            m.inertia(coord(d["at"], w), d["mass"])
         for i, d in enumerate(seq(top, "springs")):
             w = f"machine.springs[{i}]"
             d = obj(d, w, ("at",), ("name", "k", "c"))
@@ -458,9 +463,9 @@ class Machine:
 
     def mass_matrix(self) -> np.ndarray:
         Mm = np.diag([d.inertia for d in self.dofs]).astype(float)
-        for at, mass in self.masses:
+        for at, j in self.inertias:
             c, _ = self.row(at)
-            Mm += mass * np.outer(c, c)
+            Mm += j * np.outer(c, c)
         return Mm
 
     def __repr__(self) -> str:

@@ -33,7 +33,7 @@ entry labels them, it does not convert them.
 Machine files
 -------------
 A :class:`~frictionkit.Machine` saves to the same format with ``"kind": "machine"``:
-``"model"`` is :meth:`Machine.to_dict` (degrees of freedom, masses, springs, sites with
+``"model"`` is :meth:`Machine.to_dict` (degrees of freedom, inertias, springs, sites with
 their laws in the registry's JSON form, actuators, sensors and the controller blocks with
 their settings — PID gains, state-space matrices, saturations, feed-forward laws), ``"inputs"``
 lists the input arrays a run needs (:meth:`Machine.input_names`; the arrays themselves —
@@ -87,7 +87,7 @@ MACHINE_UNITS = {
     "time": "s (inputs and signals are sampled at the run's dt; blocks are discrete at dt)",
     "dofs.inertia": "kg (translational) or kg·m² (rotational)",
     "dofs.x0": "m or rad", "dofs.v0": "m/s or rad/s",
-    "masses.mass": "kg (moving with its coordinate u: F(u)·s²/u)",
+    "inertias.inertia": "kg or kg·m² (moving with its coordinate u: F(u)·s²/u)",
     "springs.k": "F(u)/u (N/m, N·m/rad)", "springs.c": "F(u)·s/u (N·s/m, N·m·s/rad)",
     "sites.law": "friction law in F(u) at velocity u/s (see each law's parameter units)",
     "sites.law.HertzContact": "preload N, stiffness N/m",

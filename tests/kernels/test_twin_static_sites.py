@@ -2,11 +2,16 @@
 Directional), against an independent fine-step integration written here.
 
 Found by a robustness run: on 1 kg at a static Stribeck site pushed by ``2 sin(4 pi t)`` N the
-twin stayed stuck at the first reversal (v = 0 at 0.4 s where the mass slides back at
--0.067 m/s). Cause: while the site sticks the state stands still (``v = 0``, ``q`` constant),
-so the solver's step grew without bound and stepped over the instant the holding force
-crossed ``-Fs`` (``solve_ivp`` sees an event only as a sign change between step ends). The
-twin now ends a sticking piece at the next sample.
+twin (rtol 1e-9) stayed stuck at the first reversal (v = 0 at 0.4 s where the mass slides back
+at -0.067 m/s). Cause: while the site sticks the state stands still (``v = 0``, ``q``
+constant), so the solver's step grew without bound and stepped over the whole interval where
+the holding force lay beyond ``-Fs`` (``solve_ivp`` sees an event only as a sign change between
+step ends). Two more found here: a force that ramps to exactly ``Fs`` and rests there made the
+twin chatter (the slip event fired on a zero it never crossed), and a slipping site stopping
+through the steep part of its Stribeck curve was stopped 0.24 ms late by LSODA/DOP853 (one
+step jumped the rise; ``case_rests_on_fs``, 7.4e-5 m/s). Fixes in the twin: the holding force
+checked at every sample of a sticking piece (an interval where it left the band is integrated
+alone), a round-off allowance on the levels, a step cap below ``4 vs``.
 
 The reference (:func:`_karnopp`) is explicit: symplectic Euler at ``H`` with Karnopp's exact
 stick rule — a sticking site carries the force ``c M^-1 f / (c M^-1 c^T)`` that keeps its
@@ -17,7 +22,8 @@ are interpolated linearly between samples, as the twin reads them. It shares no 
 frictionkit. It is first order in ``H`` (measured 2026-11-23 at 2e-5, 1e-5, 5e-6, 2.5e-6 s:
 its distance to the twin halves with ``H``, 1.6e-5 m/s and 1.7e-6 m at 1e-5 s), so the
 states are compared with its Richardson extrapolation ``2 R(H) - R(2H)``: measured, the twin
-is within 2.3e-6 m/s and 2.5e-7 m of it (Directional case; 1e-7 m/s, 4e-9 m in the others),
+is within 2.3e-6 m/s and 2.5e-7 m of it (Directional case, the extrapolation's own residue: with
+H = 5e-6 it is 4.8e-7 m/s; 1e-7 m/s and 4e-9 m in the others),
 and the switching instants of ``R(H)`` within 1.5 ``H`` of the twin's. Bounds: 1e-5 m/s,
 1e-6 m, 3 ``H``. The bug was off by 6.7e-2 m/s.
 """

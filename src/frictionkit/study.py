@@ -432,7 +432,49 @@ class StudyResult:
     elapsed: float
     other_version: int = 0  # runs recomputed because their part came from another frictionkit version
 
-    def summary(self) -> dict[str, Any]:
+    @property
+    def status(self) -> int:
+        """0: every run ok; 1: some failed; 2: all failed (or none ran)."""
+        ok = self.table["ok"].astype(bool) if len(self.table) else []
+        n_bad = int(len(ok) - sum(ok))
+        return 0 if len(ok) and not n_bad else (2 if n_bad == len(ok) else 1)
+
+    @property
+    def message(self) -> str:
+        n = int(len(self.table))
+        bad = n - int(self.table["ok"].astype(bool).sum()) if n else 0
+        return "ok" if n and not bad else (f"{bad} of {n} run(s) failed" if n else "no runs")
+
+    def summary(self) -> str:
+        """Per compensator: the median and 95th percentile of the max tracking error [µm]."""
+        d = self.to_dict()
+        lines = [f"study: {self.runs} run(s), {self.computed} simulated, {self.skipped} done before; "
+                 f"status {self.status} ({self.message}); {self.out}"]
+        for comp, c in d["compensators"].items():
+            med, p95 = c["max_error_median_m"], c["max_error_p95_m"]
+            lines.append(f"  {comp:<10} max error median {1e6 * med:.3f} µm, 95th percentile {1e6 * p95:.3f} µm "
+                         f"({c['runs']} runs, {c['failed']} failed)" if med is not None else
+                         f"  {comp:<10} every run failed")
+        return "\n".join(lines)
+
+    def plot(self, ax=None):
+        """Max tracking error [µm] of every run, one box per compensator; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        df = self.table[self.table["ok"].astype(bool)] if len(self.table) else self.table
+        comps = list(dict.fromkeys(df["compensator"])) if len(df) else []
+        data = [1e6 * df.loc[df["compensator"] == c, "max_error"].to_numpy(float) for c in comps]
+        if data:
+            ax.boxplot(data, labels=comps)
+            for i, y in enumerate(data, start=1):
+                ax.plot(np.full(y.size, i), y, ".", color="0.3", ms=3)
+        ax.set_ylabel("max tracking error [µm]")
+        ax.set_title(f"study: {self.runs} run(s)")
+        return ax
+
+    def to_dict(self) -> dict[str, Any]:
         """Per compensator: runs, failures, median and 95th percentile of the max and RMS tracking error [m]."""
         df = self.table
         per = {}
@@ -590,7 +632,13 @@ class TaskRun:
         return "ok" if not f else f"{len(f)} of {self.tasks} task(s) failed: {', '.join(f[:5])}" + (
             " ..." if len(f) > 5 else "")
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> str:
+        d = self.to_dict()
+        return (f"{self.tasks} task(s): {self.computed} computed, {self.skipped} done before, "
+                f"{len(self.failed)} failed; {d['task_seconds_total']:.3g} s of tasks (largest "
+                f"{d['task_seconds_max']:.3g} s), {d['elapsed_s']:.3g} s wall; status {self.status} ({self.message})")
+
+    def to_dict(self) -> dict[str, Any]:
         """Counts, the failed labels and the task seconds (total and largest)."""
         sec = self.table["task_seconds"] if len(self.table) else []
         return {"out": None if self.out is None else str(self.out), "tasks": self.tasks, "computed": self.computed,
@@ -764,7 +812,7 @@ def run_study(spec: StudySpec | str | Path, *, out: str | Path, scheduler=None, 
     --------
     >>> from frictionkit.study import run_study
     >>> res = run_study("study.toml", out="study.parquet", workers=2)  # doctest: +SKIP
-    >>> res.summary()["compensators"]["static"]["max_error_p95_m"]  # doctest: +SKIP
+    >>> res.to_dict()["compensators"]["static"]["max_error_p95_m"]  # doctest: +SKIP
     """
     t_start = time.perf_counter()
     if not isinstance(spec, StudySpec):

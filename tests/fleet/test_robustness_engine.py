@@ -52,7 +52,7 @@ def test_engine_rows_failures_and_checks(tmp_path):
     assert list(t["task"]) == ["a", "b"] and list(t["ok"]) == [True, False]
     assert t.loc[0, "x"] == 1.5 and json.loads(t.loc[0, "nested"]) == {"k": [1, 2]}
     assert t.loc[1, "error"].startswith("TypeError")
-    assert res.status == 1 and "b" in res.message and res.summary()["failed"] == ["b"]
+    assert res.status == 1 and "b" in res.message and res.to_dict()["failed"] == ["b"]
     # a changed argument changes the tag: recomputed, not reused
     again = run_tasks([Task(label="a", func=dict, kwargs={"x": 2.5}), tasks[1]], out=tmp_path / "t.parquet",
                       workers=0, progress=False)
@@ -114,7 +114,7 @@ def test_a_part_from_another_frictionkit_version_is_recomputed_and_said(tmp_path
     with pytest.warns(UserWarning, match=r"2 result\(s\) .* another frictionkit version \(0\.0\.1, unversioned"):
         again = run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)
     assert (again.computed, again.skipped, again.other_version) == (2, 0, 2)
-    assert again.summary()["other_version"] == 2
+    assert again.to_dict()["other_version"] == 2
     third = run_tasks(tasks, out=tmp_path / "t.parquet", workers=0, progress=False)  # now current: reused
     assert (third.computed, third.skipped, third.other_version) == (0, 2, 0)
 

@@ -40,7 +40,7 @@ def test_study_dask_equals_single_process_and_resumes(cluster, tmp_path):
     # the same draws for every compensator; the nominal static map as feed-forward helps
     t = a.table.pivot(index="draw", columns="compensator", values=["Fc", "max_error"])
     assert (t["Fc"]["none"] == t["Fc"]["static"]).all()
-    s = a.summary()["compensators"]
+    s = a.to_dict()["compensators"]
     assert s["static"]["max_error_median_m"] < s["none"]["max_error_median_m"]
     parts = sorted((tmp_path / "a.parquet.parts").glob("*.parquet"))
     parts[0].unlink()

@@ -102,7 +102,7 @@ def simulate(
         task = bar.add_task("simulate", total=axes * days)
         fleet = simulate_fleet(out, axes=axes, days=days, seed=seed, formats=formats, drifting=drifting,
                                broken=broken, progress=lambda done, total: bar.update(task, completed=done))
-    doc = fleet.summary()
+    doc = fleet.to_dict()
     text = (f"wrote {doc['files']} log file(s) of {doc['axes']} axes x {doc['days']} days to {out} "
             f"({len(doc['drifting_axes'])} drifting, {len(doc['broken'])} broken: see broken.txt); "
             f"configuration {fleet.config}")
@@ -148,7 +148,7 @@ def identify(
 
     run = identify_fleet(dataset, out=out, config=cfg, scheduler=scheduler, workers=workers,
                          progress=progress, monitor=monitor, batch=batch)
-    doc = run.summary()
+    doc = run.to_dict()
     lines = [f"{run.tasks} log file(s): {run.computed} identified, {run.skipped} done before (skipped); "
              f"{run.ok} ok, {run.errors} with an error"]
     errs = run.table.loc[~run.table["ok"].astype(bool), ["axis", "period", "error"]]
@@ -297,7 +297,7 @@ def study_cmd(
         raise ParameterError(f"--out '{out}': the results are Parquet; use a .parquet file name")
     _json_option(json_out, [spec, out])
     res = run_study(st, out=out, scheduler=scheduler, workers=workers, progress=progress)
-    doc = res.summary()
+    doc = res.to_dict()
     lines = [f"{res.runs} run(s): {res.computed} simulated, {res.skipped} done before (skipped)"]
     for comp, s in doc["compensators"].items():
         med = s["max_error_median_m"]

@@ -208,7 +208,7 @@ def sdss(
 
         result = sdss_rep.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)
-        summary = result.summary()
+        summary = result.to_dict()
         json_out.parent.mkdir(parents=True, exist_ok=True)
         if plot is not None:
             bar.update(task, description="plot")

@@ -93,7 +93,48 @@ class FleetRun:
     task_seconds: float
     monitored: bool = False
 
-    def summary(self) -> dict[str, Any]:
+    @property
+    def status(self) -> int:
+        """0: every log identified; 1: some rows carry an error; 2: every row does (or none ran)."""
+        return 0 if self.tasks and not self.errors else (2 if not self.ok else 1)
+
+    @property
+    def message(self) -> str:
+        return "ok" if self.status == 0 else f"{self.errors} of {self.ok + self.errors} row(s) with an error"
+
+    def summary(self) -> str:
+        d = self.to_dict()
+        text = (f"fleet identify: {self.tasks} log file(s), {self.computed} identified, {self.skipped} done before; "
+                f"{self.ok} ok, {self.errors} with an error; status {self.status} ({self.message}); {self.out}")
+        if "flagged_axes" in d:
+            text += f"\n  drift flagged on {len(d['flagged_axes'])} axis/axes: {', '.join(d['flagged_axes'][:10])}"
+        return text
+
+    def plot(self, ax=None):
+        """Identified Coulomb level (mean of both directions) of each axis over its periods; axes
+        flagged by the drift monitor drawn in red. Returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(7, 3.5))
+        df = self.table
+        if len(df) and {"Fc_pos", "Fc_neg"} <= set(df.columns):
+            ok = df[df["ok"].astype(bool)]
+            flag = ok["drift_flag"].fillna(False).astype(bool) if "drift_flag" in ok else None
+            for axis, g in ok.groupby("axis", sort=True):
+                g = g.sort_values("period")
+                red = flag is not None and bool(flag.loc[g.index].any())
+                ax.plot(g["period"].astype(str), 0.5 * (g["Fc_pos"] + g["Fc_neg"]), ".-",
+                        color="C3" if red else "0.6", lw=1.2 if red else 0.6, label=str(axis) if red else None)
+            if flag is not None and flag.any():
+                ax.legend(title="drift flagged", fontsize=7)
+        ax.set_xlabel("period")
+        ax.set_ylabel("Fc (mean of both directions)")
+        ax.set_title(f"fleet: {self.tasks} log file(s)")
+        ax.tick_params(axis="x", labelrotation=60, labelsize=7)
+        return ax
+
+    def to_dict(self) -> dict[str, Any]:
         """Plain-data summary (the ``--json`` of ``frictionkit fleet identify``)."""
         out = {"out": str(self.out), "rows": int(len(self.table)), "tasks": self.tasks, "computed": self.computed,
                "skipped": self.skipped, "failed_tasks": self.failed_tasks, "ok": self.ok, "errors": self.errors,

@@ -124,7 +124,12 @@ class SimulatedFleet:
     truth_days: Any = field(repr=False)
     config: Path
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        d = self.to_dict()
+        return (f"simulated fleet: {d['files']} log file(s) of {d['axes']} axes x {d['days']} days in {d['root']} "
+                f"({len(d['drifting_axes'])} drifting, {len(d['broken'])} broken); configuration {d['config']}")
+
+    def to_dict(self) -> dict:
         tr = self.truth
         return {"root": str(self.root), "axes": int(len(tr)), "files": len(self.files),
                 "days": int(self.truth_days["period"].nunique()),

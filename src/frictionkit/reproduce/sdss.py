@@ -277,7 +277,8 @@ def sidereal_tracking(axis=None, model: LuGre | None = None, *, duration: float 
 # --------------------------------------------------------------------------- the whole reproduction
 @dataclass(frozen=True, eq=False)
 class SdssReproduction:
-    """All three axes, the tracking extension, and the JSON summary of issue 10."""
+    """All three axes and the tracking extension; :meth:`to_dict` is the JSON document of issue 10,
+    :meth:`summary` its text (each identified parameter against the truth, with its interval)."""
 
     axes: dict
     tracking: dict
@@ -286,7 +287,23 @@ class SdssReproduction:
     status: int = 0
     message: str = "ok"
 
-    def summary(self) -> dict:
+    def summary(self) -> str:
+        lines = [f"SDSS telescope axes (seed 002){', quick' if self.quick else ''}, seed {self.seed}: "
+                 f"status {self.status} ({self.message})"]
+        for name, o in self.axes.items():
+            lines.append(f"  {name}:")
+            for k, p in o.identified.items():
+                true = o.truth.get(k)
+                lo, hi = p["ci95"]
+                rel = "" if not true else f" ({100 * (p['value'] / true - 1):+.2f} % of the truth {true:.4g}" + (
+                    ", inside the 95 % interval)" if lo <= true <= hi else ", OUTSIDE the 95 % interval)")
+                lines.append(f"    {k:<10} {p['value']:.5g} [{lo:.5g}, {hi:.5g}]{rel}")
+        if self.tracking:
+            lines.append("  sidereal tracking RMS [arcsec]: "
+                         + ", ".join(f"{k} {v:.3g}" for k, v in self.tracking.items()))
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict:
         axes = {}
         for name, o in self.axes.items():
             ident = {k: {"value": p["value"], "ci95": list(p["ci95"])} for k, p in o.identified.items()}
@@ -414,5 +431,5 @@ def coverage(*, seeds=range(20), quick: bool = False, joint: bool = True, worker
     n = sum(a["n"] for a in axes.values())
     return {"seeds": len(seeds), "quick": bool(quick), "joint": bool(joint), "max_ripple_percent": max_ripple_percent,
             "hits": hits, "n": n, "percent": 100.0 * hits / max(n, 1),
-            "axes": axes, "misses": misses, "failed": failed, "engine": res.summary(),
+            "axes": axes, "misses": misses, "failed": failed, "engine": res.to_dict(),
             "elapsed_s": time.perf_counter() - t0}

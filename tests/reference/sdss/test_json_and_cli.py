@@ -14,7 +14,9 @@ from frictionkit.reproduce import sdss as rep
 def test_summary_layout(azimuth, altitude, rotator):
     r = rep.SdssReproduction(axes={"azimuth": azimuth, "altitude": altitude, "rotator": rotator},
                              tracking={"no_compensation": 0.1, "lugre_feedforward": 0.05}, quick=True, seed=0)
-    doc = json.loads(json.dumps(r.summary()))
+    doc = json.loads(json.dumps(r.to_dict()))
+    text = r.summary()
+    assert all(f"  {axis}:" in text for axis in doc["axes"]) and "sidereal tracking" in text
     assert set(doc["axes"]) == {"azimuth", "altitude", "rotator"}
     assert set(doc["sidereal_tracking_rms_arcsec"]) == {"no_compensation", "lugre_feedforward"}
     for name, ax in doc["axes"].items():

@@ -208,3 +208,18 @@ def test_robustness_out_under_a_file_is_refused_before_the_sweep(runner, tmp_pat
     assert res.exit_code == 2
     assert one_error_line(res) == f"error: --out '{f / 'sub'}': '{f}' is a file, not a folder"
     assert f.read_text() == "keep" and not (tmp_path / "r.json").exists()
+
+
+# --------------------------------------------------------------------------- loaders: --group / --where
+@pytest.mark.parametrize("option", [["--group", "rec"], ["--where", "rec=1"]])
+def test_a_repeated_group_or_where_column_is_refused(runner, tmp_path, option):
+    """A header 'rec,t,x,v,u,rec': --group rec / --where rec=1 used the first 'rec' silently (the
+    signal columns were already refused)."""
+    path = tmp_path / "dup.csv"
+    t = np.arange(50) * DT
+    path.write_text("rec,t,x,v,u,rec\n" + "".join(f"1,{a!r},0,0,1,2\n" for a in t), encoding="utf-8")
+    res = runner.invoke(app, ["identify", "output-error", str(path), "--time", "t", "--position", "x", "--velocity",
+                              "v", "--force", "u", "--Fc", "1", "--mass", "1", *option])
+    assert res.exit_code == 2
+    assert "column 'rec' (given for " in one_error_line(res) and "appears 2 times in the header (columns 1, 6)" \
+        in one_error_line(res)

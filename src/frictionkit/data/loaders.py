@@ -278,14 +278,19 @@ def read_table(path: str | Path, *, delimiter: str | None = None) -> dict[str, n
 
 
 # --------------------------------------------------------------------------- mapping
-def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
-    if col not in table:
-        avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")
-        raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: {avail}")
+def _unique(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> None:
+    """Refuse a selected column whose name the header repeats (the first one was used silently)."""
     dup = getattr(table, "duplicates", {}).get(col)
     if dup:
         raise DataError(f"file '{p}': column '{col}' (given for {role}) appears {len(dup)} times in the header "
                         f"(columns {', '.join(str(i + 1) for i in dup)}); rename them so the choice is unambiguous")
+
+
+def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
+    if col not in table:
+        avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: {avail}")
+    _unique(table, p, role, col)
     arr = np.asarray(table[col])
     if arr.dtype.kind == "b" or (arr.dtype.kind == "O" and any(isinstance(x, (bool, np.bool_)) for x in arr.ravel()[:1000])):
         raise DataError(f"file '{p}': column '{col}' (given for {role}) holds true/false values, not numbers; "
@@ -312,6 +317,7 @@ def _select_rows(
     for col, want in where.items():
         if col not in table:
             raise DataError(f"file '{p}': column '{col}' (given in where) not found; available columns: {', '.join(table)}")
+        _unique(table, p, "where", col)
         vals = np.asarray(table[col])
         if mask is not None and vals.shape != mask.shape:
             raise DataError(f"file '{p}': column '{col}' (given in where) has {vals.size} rows, the other "
@@ -529,6 +535,7 @@ def load_groups(
     for k in keys:
         if k not in table:
             raise DataError(f"file '{p}': column '{k}' (given for group) not found; available columns: {', '.join(table)}")
+        _unique(table, p, "group", k)
     n = len(next(iter(table.values())))
     idx = np.arange(n) if sel is None else np.flatnonzero(sel)
     labels = ["/".join(str(table[k][i]) for k in keys) for i in idx]

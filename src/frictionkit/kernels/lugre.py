@@ -67,7 +67,7 @@ import numpy as np
 
 from .._jit import njit, prange
 from ._phi2 import phis
-from ._stribeck import R_S2, g_row, ig_row, ig_slope_row
+from ._stribeck import R_DF, R_S2, g_row, ig_row, ig_slope_row
 from ._stribeck import row as static_row
 
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -133,6 +133,15 @@ def _point(v, z, p0, p1, d0, d1):
         s1 * dzd_dv + p[R_S2],
         s0 - s1 * a,
     )
+
+
+@njit(inline="always")
+def _flat(p):
+    """A row with ``Fs = Fc`` (Dahl) gets ``v_cut = 0``: ``g = Fc`` without evaluating
+    ``(Fs - Fc) exp(...) = 0`` (the same values; ``g_row`` returns ``Fs = Fc`` at rest)."""
+    if p[R_DF] == 0.0:
+        return (p[0], p[1], p[2], p[3], p[4], p[5], 0.0, p[7], p[8])
+    return p
 
 
 @njit(inline="always")
@@ -285,8 +294,8 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
     run's largest speed down to ``v_floor * atol_v`` (:func:`_atol_run`); 1 keeps
     ``atol_v`` fixed.
     """
-    p0 = static_row(static, 0)
-    p1 = static_row(static, 1)
+    p0 = _flat(static_row(static, 0))
+    p1 = _flat(static_row(static, 1))
     d0 = (dyn[0, 0], dyn[0, 1])
     d1 = (dyn[1, 0], dyn[1, 1])
     im = 1.0 / m

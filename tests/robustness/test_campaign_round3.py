@@ -223,3 +223,18 @@ def test_a_repeated_group_or_where_column_is_refused(runner, tmp_path, option):
     assert res.exit_code == 2
     assert "column 'rec' (given for " in one_error_line(res) and "appears 2 times in the header (columns 1, 6)" \
         in one_error_line(res)
+
+
+def test_presliding_rests_that_cut_the_motion_too_finely_are_named():
+    """Force logged 0 at every third sample with min_rest=1: every run between rests is 2-3 samples
+    long; the error said "the position does not move" of a 100 µm stroke."""
+    from frictionkit.identify import fit_presliding
+
+    x = np.r_[np.linspace(0, 50e-6, 301), np.linspace(50e-6, -50e-6, 601)[1:]]
+    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).F
+    F[::3] = 0.0
+    rec = {"t": np.arange(x.size) * DT, "x": x, "F": F}
+    with pytest.raises(DataError, match=r"no pre-sliding branch of 4 samples in any of the \d+ runs between rests "
+                                        r"\(longest 3 samples\).*raise min_rest \(now 1\)"):
+        fit_presliding(rec, elements=3, static=LAW, min_rest=1)
+    fit_presliding(rec, elements=3, static=LAW, rests=None)  # the same record without the cut fits

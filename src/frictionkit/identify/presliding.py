@@ -264,6 +264,13 @@ def fit_presliding(
             break
     if pick is None:
         name = md.records[0]
+        if branch != "reversal" and len(segs) > 1 and any(np.ptp(sg.x) > 0 for sg in segs):
+            # the position moves, but the rests cut it into runs too short for a branch (min_rest=1 on a
+            # force logged 0 at every third sample was reported as "the position does not move")
+            longest = max(sg.x.size for sg in segs)
+            raise DataError(f"{owner}: no pre-sliding branch of {want} samples in any of the {len(segs)} runs between "
+                            f"rests (longest {longest} samples); the rests cut the motion too finely: raise "
+                            f"min_rest (now {min_rest}) or give rests=None / a mask")
         raise DataError(f"recording '{name}': the position does not move; no pre-sliding branch"
                         if branch != "reversal" else f"recording '{name}': no branch after a velocity reversal")
     seg = segs[pick]

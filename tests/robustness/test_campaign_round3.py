@@ -238,3 +238,11 @@ def test_presliding_rests_that_cut_the_motion_too_finely_are_named():
                                         r"\(longest 3 samples\).*raise min_rest \(now 1\)"):
         fit_presliding(rec, elements=3, static=LAW, min_rest=1)
     fit_presliding(rec, elements=3, static=LAW, rests=None)  # the same record without the cut fits
+
+
+def test_a_force_of_zero_everywhere_is_refused_not_called_unidentifiable(records):
+    """u = 0 on every fitted sample (a rest mask kept the cut off): exit 0 with "sigma0 unidentifiable"."""
+    recs = [dict(r, F=np.zeros(r["t"].size)) for r in records]
+    masks = [np.zeros(r["t"].size, bool) for r in records]
+    with pytest.raises(DataError, match="the applied force is exactly 0 on every sample to fit"):
+        fit_output_error(recs, "lugre", static=LAW, inertia=1.0, initial=START, free=["sigma0"], rests=masks)

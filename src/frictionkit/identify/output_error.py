@@ -66,7 +66,7 @@ from scipy.optimize import least_squares
 
 from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
-from ..simulate.core import SimOptions
+from ..simulation.core import SimOptions
 from ._oe_params import _Template, _unit
 from ._oe_problem import _batch_costs, _blas_limit, _bounds_tr, _Problem, _start_points
 from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
@@ -135,6 +135,9 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
                              "segments": [[int(a), int(b)] for _, a, b in bounds], "dt": dt_k}
     if not segs:
         raise DataError(f"{owner}: no motion to fit: {no_motion_cause(rests, min_rest)}")
+    if not any(np.any(s["u"] != 0) for s in segs):  # from rest, a zero force moves nothing: sigma0 "unidentifiable"
+        raise DataError(f"{owner}: the applied force is exactly 0 on every sample to fit; nothing drives the mass "
+                        "(the wrong --force column, or a rest mask that marks the motion as rest?)")
     if not isinstance(rests, str) and rests is not None and not any(np.any(s["y"][s["w"] > 0] != 0) for s in segs):
         # a mask that is zero only where the axis stood (the inverted sense, or the wrong column) left
         # nothing but rest samples: the fit ran on them and reported 1e299 % relative error
@@ -521,7 +524,7 @@ def evaluate_output_error(model, data, *, inertia: float, offset: float = 0.0, c
         ``rms``, ``relative_error_percent``, ``n`` (fitted samples), ``t``, ``y``, ``y_pred``.
     """
     from ..plants.mass import Mass
-    from ..simulate.core import simulate
+    from ..simulation.core import simulate
 
     owner = "evaluate_output_error"
     if compare not in ("v", "x"):

@@ -246,3 +246,25 @@ def test_a_force_of_zero_everywhere_is_refused_not_called_unidentifiable(records
     masks = [np.zeros(r["t"].size, bool) for r in records]
     with pytest.raises(DataError, match="the applied force is exactly 0 on every sample to fit"):
         fit_output_error(recs, "lugre", static=LAW, inertia=1.0, initial=START, free=["sigma0"], rests=masks)
+
+
+@pytest.mark.parametrize("rows, expect", [
+    ("0,1,\n1,2,\n", {"t": [0.0, 1.0], "x": [1.0, 2.0]}),  # a trailing delimiter: read without the shift
+    ("0,1,7\n1,2,8\n", "header names 2 column(s) but the data rows have 3 fields"),
+    ("0,1,\n1,2,8\n", "header names 2 column(s) but the data rows have 3 fields"),
+])
+def test_rows_with_more_fields_than_the_header_never_shift_the_columns(tmp_path, rows, expect):
+    """Header 't,x' over rows '0,1,<extra>': pandas took the first field as the index and every name
+    moved one column right — 't' read x, 'x' read the extra field (NaN) — silently."""
+    from frictionkit.data import read_table
+
+    path = tmp_path / "f.csv"
+    path.write_text("t,x\n" + rows, encoding="utf-8")
+    if isinstance(expect, str):
+        with pytest.raises(DataError, match=expect):
+            read_table(path)
+        return
+    got = read_table(path)
+    assert list(got) == ["t", "x"]
+    for k, v in expect.items():
+        np.testing.assert_array_equal(got[k], v)

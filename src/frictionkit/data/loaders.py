@@ -107,6 +107,35 @@ def _duplicates(names: Sequence[str]) -> dict[str, list[int]]:
     return {n: ix for n, ix in pos.items() if len(ix) > 1}
 
 
+def _more_fields_than_names(p: Path, delimiter: str) -> bool:
+    """True when the first data row has more fields than the header (pandas' index of 0, 1, 2 ... then
+    looks like its own row numbers)."""
+    import csv
+
+    if len(delimiter) != 1:
+        return False
+    with p.open("r", errors="replace", newline="") as fh:
+        rows = csv.reader(fh, delimiter=delimiter)
+        try:
+            head, first = next(rows), next(rows)
+        except (StopIteration, csv.Error):
+            return False
+    return len(first) > len(head)
+
+
+def _csv_unshifted(p: Path, delimiter: str):
+    """The table of a CSV whose rows have more fields than its header names, or a DataError."""
+    import pandas as pd
+
+    raw = pd.read_csv(p, sep=delimiter, header=None, skiprows=1, dtype=str, keep_default_na=False)
+    names = pd.read_csv(p, sep=delimiter, nrows=0).columns
+    extra = raw.iloc[:, len(names):]
+    if extra.shape[1] == 0 or (extra != "").to_numpy().any():
+        raise DataError(f"file '{p}': the header names {len(names)} column(s) but the data rows have "
+                        f"{raw.shape[1]} fields; every column needs a name")
+    return pd.read_csv(p, sep=delimiter, index_col=False)
+
+
 def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
     import csv
 
@@ -121,6 +150,11 @@ def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
         df = pd.read_csv(p, sep=delimiter)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise DataError(f"file '{p}': cannot be parsed as CSV ({str(exc).splitlines()[0]})") from None
+    if not isinstance(df.index, pd.RangeIndex) or _more_fields_than_names(p, delimiter):
+        # rows with more fields than the header has names: pandas took the first field(s) as an index and
+        # shifted every name one column to the right ('t' read the positions), silently. A trailing
+        # delimiter on every row (empty last field) is read without the shift; real extra values are refused
+        df = _csv_unshifted(p, delimiter)
     try:  # pandas renames a repeated header name 'F' to 'F.1': find repeats in the raw header
         header = next(csv.reader([head], delimiter=delimiter)) if len(delimiter) == 1 else []
     except csv.Error:

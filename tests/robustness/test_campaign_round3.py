@@ -250,8 +250,8 @@ def test_a_force_of_zero_everywhere_is_refused_not_called_unidentifiable(records
 
 @pytest.mark.parametrize("rows, expect", [
     ("0,1,\n1,2,\n", {"t": [0.0, 1.0], "x": [1.0, 2.0]}),  # a trailing delimiter: read without the shift
-    ("0,1,7\n1,2,8\n", "header names 2 column(s) but the data rows have 3 fields"),
-    ("0,1,\n1,2,8\n", "header names 2 column(s) but the data rows have 3 fields"),
+    ("0,1,7\n1,2,8\n", r"header names 2 column\(s\) but the data rows have 3 fields"),
+    ("0,1,\n1,2,8\n", r"header names 2 column\(s\) but the data rows have 3 fields"),
 ])
 def test_rows_with_more_fields_than_the_header_never_shift_the_columns(tmp_path, rows, expect):
     """Header 't,x' over rows '0,1,<extra>': pandas took the first field as the index and every name

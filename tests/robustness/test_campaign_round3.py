@@ -268,3 +268,13 @@ def test_rows_with_more_fields_than_the_header_never_shift_the_columns(tmp_path,
     assert list(got) == ["t", "x"]
     for k, v in expect.items():
         np.testing.assert_array_equal(got[k], v)
+
+
+def test_irregular_sampling_names_the_step(records):
+    """A dropped row: "irregular sampling; call Recording.resample() first" with no place."""
+    r = records[0]
+    keep = np.arange(r["t"].size) != 100
+    rec = {k: v[keep] for k, v in r.items()}
+    with pytest.warns(fk.data.recording.IrregularSamplingWarning), pytest.raises(
+            DataError, match=r"the step at t = 0\.099 s \(sample 99\) is 0\.002 s against a median of 0\.001 s"):
+        fit_output_error(rec, "lugre", static=LAW, inertia=1.0, initial=START)

@@ -19,7 +19,7 @@ from .. import _validate as val
 from ..data.recording import Recording
 from ..data.rests import find_rests, motion_segments
 from ..errors import DataError, ParameterError
-from ..simulate.core import simulate
+from ..simulation.core import simulate
 
 __all__ = ["INTEGRATIONS", "MotionData", "evaluate_motion", "motion_data"]
 
@@ -184,7 +184,7 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
     for rec, rest in zip(recs, masks):
         rec.require("F")
         if not rec.is_regular:
-            raise DataError(f"recording '{rec.name}': irregular sampling; call Recording.resample() first")
+            raise irregular(rec)
         d = drive if drive != "auto" else ("position" if rec.x is not None else "velocity")
         if d == "position" and rec.x is None or d == "velocity" and rec.v is None:
             raise DataError(f"recording '{rec.name}': drive = {d!r} needs the {d} signal; "
@@ -219,6 +219,17 @@ def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="
     return MotionData(tuple(segs), tuple(r.name for r in recs), units,
                       drives.pop() if len(drives) == 1 else "mixed", integration, summary, prov,
                       _describe_rests(rests, min_rest))
+
+
+def irregular(rec: Recording) -> DataError:
+    """The error for an irregularly sampled record, naming its worst step (a dropped or repeated row
+    in a file was reported as "call Recording.resample() first" with no place)."""
+    d = np.diff(rec.t)
+    m = float(np.median(d))
+    i = int(np.argmax(np.abs(d - m)))
+    return DataError(f"recording '{rec.name}': irregular sampling: the step at t = {rec.t[i]:.6g} s (sample {i}) is "
+                     f"{d[i]:.6g} s against a median of {m:.6g} s (a missing or repeated row?); resample it first "
+                     "(Recording.resample)")
 
 
 def no_motion_cause(rests, min_rest: int) -> str:

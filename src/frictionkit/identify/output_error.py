@@ -71,7 +71,7 @@ from ._oe_params import _Template, _unit
 from ._oe_problem import _batch_costs, _blas_limit, _bounds_tr, _Problem, _start_points
 from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
 from .initial_guess import initial_guess_lugre
-from .motion_data import _as_records, _describe_rests, _rest_masks, no_motion_cause, segment_bounds
+from .motion_data import _as_records, _describe_rests, _rest_masks, irregular, no_motion_cause, segment_bounds
 from .result import IdentificationResult, parameter_statistics
 from .start_values import FORCE_DRIVE_FREE, output_error_start, static_law
 
@@ -102,7 +102,7 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
     dt = None
     for k, (rec, load, rest) in enumerate(zip(recs, loads, masks)):
         if not rec.is_regular:
-            raise DataError(f"recording '{rec.name}': irregular sampling; call Recording.resample() first")
+            raise irregular(rec)
         u = np.asarray(rec.force(), dtype=float)
         if load is not None:
             load = val.signal("external_load", load)

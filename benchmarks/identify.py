@@ -15,7 +15,7 @@ parametrisation (logarithms of sigma0 and vs, the others scaled by their start):
   ``numbalsoda`` (LSODA with a ``numba.cfunc`` right-hand side, the ``[bench]`` extra) at
   rtol 1e-6 / atol 1e-9 and 100x tighter;
 * seed 002 §3.1: :func:`scipy.optimize.least_squares` (``trf``, 2-point Jacobian)
-  whose residual calls :func:`frictionkit.simulate.reference.reference_force_driven`
+  whose residual calls :func:`frictionkit.simulation.reference.reference_force_driven`
   (``solve_ivp``) — with ``RK45`` (seed 002's "Runge-Kutta routine") and with ``LSODA``.
 
 The issue-11 targets (>= 50x vs scipy LSODA, >= 5x vs numbalsoda, equal or better final
@@ -54,8 +54,8 @@ from scipy.optimize import least_squares  # noqa: E402
 import frictionkit as fk  # noqa: E402
 import frictionkit.identify.output_error as oe  # noqa: E402
 from frictionkit.identify.output_error import fit_output_error  # noqa: E402
-from frictionkit.simulate.inputs import stick_slip_force  # noqa: E402
-from frictionkit.simulate.reference import reference_force_driven  # noqa: E402
+from frictionkit.simulation.inputs import stick_slip_force  # noqa: E402
+from frictionkit.simulation.reference import reference_force_driven  # noqa: E402
 
 DT = 4e-4
 NAMES = ("sigma0", "sigma1", "Fc", "Fs", "vs", "sigma2")

@@ -39,8 +39,8 @@ import time
 import numpy as np
 
 import frictionkit as fk
-from frictionkit.simulate.inputs import example_gms, example_lugre, stick_slip_force
-from frictionkit.simulate.reference import reference_force_driven
+from frictionkit.simulation.inputs import example_gms, example_lugre, stick_slip_force
+from frictionkit.simulation.reference import reference_force_driven
 
 try:
     import numba as nb

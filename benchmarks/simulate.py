@@ -3,7 +3,7 @@
 Run:  .venv/bin/python benchmarks/simulate.py [--quick]
 
 Workload: the 10 s stick–slip run (1 kg, 2 N at 0.5 Hz against Fs = 1.5 N) sampled
-at 4 kHz (dt = 250 µs), for LuGre, GMS-4 and GMS-16 (``frictionkit.simulate.inputs``).
+at 4 kHz (dt = 250 µs), for LuGre, GMS-4 and GMS-16 (``frictionkit.simulation.inputs``).
 
 For each model it prints
 * the kernel's ns per sample step, real-time factor and its errors (max |Δx|,
@@ -26,8 +26,8 @@ import time
 import numpy as np
 
 import frictionkit as fk
-from frictionkit.simulate.inputs import example_gms, example_lugre, stick_slip_force
-from frictionkit.simulate.reference import reference_force_driven
+from frictionkit.simulation.inputs import example_gms, example_lugre, stick_slip_force
+from frictionkit.simulation.reference import reference_force_driven
 
 DT = 2.5e-4
 

@@ -5,9 +5,9 @@
 >>> gms = fk.GMS(law, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
 
 Sub-packages: ``frictionkit.control`` (controllers, compensators, zero-speed
-analysis), ``frictionkit.simulate.reference`` (solve_ivp twins),
-``frictionkit.reproduce`` (paper reproductions). Note that ``fk.simulate`` is the
-function; import the sub-package's modules as ``from frictionkit.simulate.reference import ...``.
+analysis), ``frictionkit.simulation.reference`` (solve_ivp twins),
+``frictionkit.reproduce`` (paper reproductions). ``fk.simulate`` is the function; the
+sub-package that holds it is ``frictionkit.simulation`` (one name each).
 """
 
 from .errors import DataError, FrictionKitError, IdentificationError, ParameterError, SimulationError
@@ -46,7 +46,7 @@ from .identify import (
 )
 from .plants import ElasticBallScrew, Mass, RigidBallScrew, RigidBody
 from .machines import Machine, MachineResult, simulate_machine
-from .simulate import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
+from .simulation import BatchResult, SimOptions, SimulationResult, simulate, simulate_batch
 from .models.files import ModelFile, load_model, save_model
 
 __version__ = "0.1.0"

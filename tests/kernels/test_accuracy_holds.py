@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import frictionkit as fk
-from frictionkit.simulate.reference import reference_force_driven
+from frictionkit.simulation.reference import reference_force_driven
 
 # the module-scoped fixtures below are costly: keep this module on one xdist worker so they are
 # built once (`make test` runs --dist loadgroup; see tests/conftest.py for pytest 9)

@@ -20,7 +20,7 @@ from frictionkit.errors import ParameterError
 from frictionkit.kernels import batch as kb
 from frictionkit.kernels import lugre as kl
 from frictionkit.models.pack import pack_lugre
-from frictionkit.simulate.inputs import stick_slip_force
+from frictionkit.simulation.inputs import stick_slip_force
 
 DT = 2.5e-4
 LOOSE = 1e300

@@ -19,7 +19,7 @@ import frictionkit as fk
 from frictionkit.kernels import lugre as kl
 from frictionkit.kernels._phi2 import phis_array
 from frictionkit.models.pack import pack_lugre
-from frictionkit.simulate.inputs import example_lugre, stick_slip_force
+from frictionkit.simulation.inputs import example_lugre, stick_slip_force
 
 DT = 2.5e-4
 

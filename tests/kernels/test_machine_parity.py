@@ -33,7 +33,7 @@ import frictionkit as fk
 from frictionkit.errors import ParameterError
 from frictionkit.machines import PID, HertzContact, Machine, PiecewiseLinearSpring, SineLoad, simulate_machine
 from frictionkit.machines.reference import reference_machine
-from frictionkit.simulate.inputs import example_gms
+from frictionkit.simulation.inputs import example_gms
 
 PAPER = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)  # Canudas et al. 1995 / README example
 
@@ -293,7 +293,7 @@ def test_one_dof_defaults_take_the_fast_path_and_agree_with_the_twin():
 # --------------------------------------------------------------------------- the twin itself
 def test_twin_matches_the_single_mass_twin():
     """Two independent solve_ivp twins (this one and simulate.reference) on the GMS slider."""
-    from frictionkit.simulate.reference import reference_force_driven
+    from frictionkit.simulation.reference import reference_force_driven
 
     m, dt, inputs = gms_slider()
     u = inputs["u"][: int(round(0.4 / dt)) + 1]  # 13 breakaways and reversals

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import frictionkit as fk
-from frictionkit.simulate.inputs import example_gms, example_lugre, reversal_position, stick_slip_force
-from frictionkit.simulate.reference import reference_force_driven, reference_motion_driven
+from frictionkit.simulation.inputs import example_gms, example_lugre, reversal_position, stick_slip_force
+from frictionkit.simulation.reference import reference_force_driven, reference_motion_driven
 
 DT = 2.5e-4
 FS = 1.5

@@ -18,9 +18,9 @@ import pytest
 
 import frictionkit as fk
 from frictionkit.identify import _jacobian as jc
-from frictionkit.simulate.core import SimOptions
-from frictionkit.simulate.inputs import stick_slip_force
-from frictionkit.simulate.reference import reference_force_driven
+from frictionkit.simulation.core import SimOptions
+from frictionkit.simulation.inputs import stick_slip_force
+from frictionkit.simulation.reference import reference_force_driven
 
 FIELDS = ("sigma0", "sigma1", "Fc", "Fs", "vs", "sigma2", "delta")
 

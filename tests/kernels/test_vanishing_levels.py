@@ -21,7 +21,7 @@ import pytest
 
 import frictionkit as fk
 from frictionkit.kernels import _stribeck as S
-from frictionkit.simulate.reference import reference_force_driven, reference_motion_driven
+from frictionkit.simulation.reference import reference_force_driven, reference_motion_driven
 
 DT = 2.5e-4
 FS = 1.5

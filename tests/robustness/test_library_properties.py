@@ -221,7 +221,7 @@ def lugre_or_gms(draw):
 def test_simulate_agrees_with_the_twin_or_says_it_failed(case):
     from importlib import import_module
 
-    reference_force_driven = import_module("frictionkit.simulate.reference").reference_force_driven
+    reference_force_driven = import_module("frictionkit.simulation.reference").reference_force_driven
     model, m, amp, freq = case
     u = amp * np.sin(2 * np.pi * freq * np.arange(N) * DT)
     with warnings.catch_warnings():
@@ -246,7 +246,7 @@ def test_gms_breakaway_after_a_reversal_inside_one_substep_is_located():
     Radau, DOP853) agree to 1e-15 m."""
     from importlib import import_module
 
-    reference_force_driven = import_module("frictionkit.simulate.reference").reference_force_driven
+    reference_force_driven = import_module("frictionkit.simulation.reference").reference_force_driven
     law = fk.Stribeck(Fc=1.0, Fs=1.098667154517215, vs=0.05518509236015709)  # drawn by hypothesis
     gms = fk.GMS(law, k=[1000.0, 175145.92429616, 746740.0], xi=[0.4691914, 0.37440991, 0.1563987], C=1.0)
     u = 0.5 * np.sin(2 * np.pi * 5.0 * np.arange(N) * DT)  # N on 0.5 kg: the whole stays below breakaway
@@ -265,7 +265,7 @@ def test_gms_swing_inside_one_substep_does_not_hide_breakaways():
     dt = 0.5 ms. Now sub-steps near a switch are capped at 1/8 of the contact period."""
     from importlib import import_module
 
-    reference_force_driven = import_module("frictionkit.simulate.reference").reference_force_driven
+    reference_force_driven = import_module("frictionkit.simulation.reference").reference_force_driven
     law = fk.Stribeck(Fc=5.009027312833026, Fs=7.513540969249538, vs=0.07523076774846967,
                       sigma2=2.3947309866523843)  # drawn by hypothesis
     gms = fk.GMS(law, k=[224545.8362241, 358046.87450928, 619412.89662187],

@@ -58,7 +58,7 @@ def test_status_3_is_in_the_kernel_contract():
 @pytest.mark.parametrize("m", [1e-7, 1e-5])
 def test_small_mass_matches_the_solve_ivp_twin(m):
     """Before the atol_v cap the LuGre on 1e-7 kg ended 1.1e-2 m (1 %) away from the twin."""
-    from frictionkit.simulate.reference import reference_force_driven
+    from frictionkit.simulation.reference import reference_force_driven
 
     u = 2.0 * np.sin(np.pi * np.arange(1201) * DT)
     ref = reference_force_driven(LUGRE, m, u, DT, rtol=1e-8, atol=1e-11)
@@ -134,7 +134,7 @@ def test_reference_failure_before_first_output_is_a_simulation_error(monkeypatch
     to raise AttributeError ('list' object has no attribute 'size') on the failure path."""
     from scipy.integrate._ivp.ivp import OdeResult
 
-    ref = importlib.import_module("frictionkit.simulate.reference")  # fk.simulate is the function
+    ref = importlib.import_module("frictionkit.simulation.reference")  # fk.simulate is the function
 
     def failing(*args, **kwargs):
         return OdeResult(t=[], y=np.empty((3, 0)), status=-1, nfev=1,
@@ -151,7 +151,7 @@ def test_fixed_batch_method_flags_steps_too_coarse_for_the_mass():
     0.8) and 0.14 % on 30 g (0.27); sets beyond FIXED_STEP_LIMIT = 0.5 now carry status 4."""
     from importlib import import_module
 
-    FIXED_STEP_LIMIT = import_module("frictionkit.simulate.core").FIXED_STEP_LIMIT
+    FIXED_STEP_LIMIT = import_module("frictionkit.simulation.core").FIXED_STEP_LIMIT
     assert FIXED_STEP_LIMIT == 0.5
     u = 2.0 * np.sin(np.pi * np.arange(1201) * DT)
     res = fk.simulate_batch([LUGRE] * 3, masses=[1.0, 0.03, 0.01], force=u, dt=DT, target=np.zeros(u.size),

@@ -17,7 +17,7 @@ import pytest
 
 import frictionkit as fk
 from frictionkit.machines.simulate import COUPLING_CHECK, STATUS_TOLERANCE, site_coupling
-from frictionkit.simulate.inputs import example_gms
+from frictionkit.simulation.inputs import example_gms
 
 DT = 1e-3
 T = np.arange(501) * DT

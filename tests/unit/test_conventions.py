@@ -100,7 +100,7 @@ def test_summaries_are_text_on_real_results():
     """Built results (not only annotations): summary() is a str that mentions the status."""
     from frictionkit.models import LuGre, Stribeck
     from frictionkit.plants import Mass
-    from frictionkit.simulate import simulate_batch
+    from frictionkit.simulation import simulate_batch
 
     law = LuGre(Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=300.0)
     t = np.arange(200) * 1e-3

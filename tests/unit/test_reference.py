@@ -19,7 +19,7 @@ from scipy.optimize import brentq
 
 import frictionkit as fk
 from frictionkit.errors import DataError, ParameterError, SimulationError
-from frictionkit.simulate.reference import reference_force_driven, reference_motion_driven
+from frictionkit.simulation.reference import reference_force_driven, reference_motion_driven
 
 LAW = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
 LAW_L = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4, shape="lorentzian")

@@ -136,7 +136,7 @@ def files(tmp_path_factory):
     # model file and traces of a position-driven LuGre run (a hysteresis loop)
     lugre = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=63.2)
     fk.save_model(lugre, d / "lugre.json", method="test <model>")
-    from frictionkit.simulate.traces import write_traces
+    from frictionkit.simulation.traces import write_traces
 
     sim = fk.simulate(lugre, position=30e-6 * np.sin(np.linspace(0, 4 * np.pi, 801)), dt=1e-3)
     write_traces(sim, d / "traces.csv")

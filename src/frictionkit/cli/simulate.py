@@ -4,7 +4,7 @@
 Thin: the model file is read by :meth:`frictionkit.models.files.ModelFile.load` (a model
 file, an identification result or a bare law JSON), the signal by
 :func:`frictionkit.data.load_recording`, the run is :func:`frictionkit.simulate`, the
-traces are written by :func:`frictionkit.simulate.traces.write_traces` and the plot by
+traces are written by :func:`frictionkit.simulation.traces.write_traces` and the plot by
 the result's ``.plot()``. A machine file (``fk.save_model(machine, ...)``) runs with
 :func:`frictionkit.simulate_machine` on the input arrays given by ``--input``; the input files
 are read by :func:`frictionkit.data.read_table`.
@@ -129,7 +129,7 @@ def simulate(
     elif mass is not None:
         raise ParameterError(f"--mass is for a force-driven run; a --{kind} run has no plant")
     if out is not None:
-        from ..simulate.traces import TRACE_FORMATS
+        from ..simulation.traces import TRACE_FORMATS
 
         if out.suffix.lower() not in TRACE_FORMATS:
             raise ParameterError(f"--out '{out}': unknown suffix {out.suffix!r}; use one of {', '.join(TRACE_FORMATS)}")
@@ -171,7 +171,7 @@ def simulate(
         res = fk.simulate(mf.model, dt=rec.dt, **kw)
 
     if out is not None:
-        from ..simulate.traces import write_traces
+        from ..simulation.traces import write_traces
 
         write_traces(res, out, units=mf.units)
     if plot is not None:
@@ -281,7 +281,7 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
     chk.integer(substeps, "--substeps", lo=1, hi=10_000)
     chk.integer(seed, "--seed", lo=0)
     if out is not None:
-        from ..simulate.traces import TRACE_FORMATS
+        from ..simulation.traces import TRACE_FORMATS
 
         if out.suffix.lower() not in TRACE_FORMATS:
             raise ParameterError(f"--out '{out}': unknown suffix {out.suffix!r}; use one of {', '.join(TRACE_FORMATS)}")
@@ -302,7 +302,7 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
                                      "kernels)"):
         res = fk.simulate_machine(machine, dt=h, inputs=arrays, n_samples=n, substeps=substeps, seed=seed)
     if out is not None:
-        from ..simulate.traces import write_traces
+        from ..simulation.traces import write_traces
 
         write_traces(res, out)
     if plot is not None:

@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..kernels import sensitivity as _ks
 from ..models.pack import kind_of, pack_lugre
-from ..simulate.core import SimOptions, _atol_v, _f_scale
+from ..simulation.core import SimOptions, _atol_v, _f_scale
 
 
 def supports(model) -> bool:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..plants.mass import Mass
-from ..simulate.core import simulate, simulate_batch
+from ..simulation.core import simulate, simulate_batch
 from . import _jacobian
 from ._oe_params import _NONNEG, _is_log
 

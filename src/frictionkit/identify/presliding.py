@@ -31,7 +31,7 @@ from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.gms import GMS
 from ..models.static import CoulombViscous
-from ..simulate.core import simulate
+from ..simulation.core import simulate
 from .motion_data import MotionData, motion_data
 from .result import IdentificationResult, parameter_statistics
 

@@ -83,7 +83,7 @@ def _run_arrays(run, what: str):
 
 def simulate_run(model, run: Mapping, inertia: float):
     """The model's velocity on a torque run: ``J dω/dt = F − load − T_f`` from rest [rad/s]."""
-    from ..simulate.core import simulate
+    from ..simulation.core import simulate
 
     t, u, _, load = _run_arrays(run, "run")
     return simulate(model, plant=Mass(inertia), force=u - load, dt=float(np.median(np.diff(t)))).v

@@ -131,7 +131,7 @@ def validate(result: IdentificationResult, data, *, name: str | None = None, **h
                     "static_relative_error_percent": ev["static_relative_error_percent"],
                     "training_static_rms": float(result.diagnostics.get("static_rms", np.nan))})
     elif kind == "output_error":
-        from ..simulate.core import SimOptions
+        from ..simulation.core import SimOptions
         from .output_error import evaluate_output_error
 
         opts = SimOptions(**{k: proc[k] for k in ("rtol", "atol_v", "atol_F") if proc.get(k) is not None})

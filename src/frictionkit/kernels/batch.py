@@ -43,7 +43,7 @@ one sample at a time, with the loop over parameter sets innermost:
   with status 1 and ``sse = inf``.
 
 Accuracy: the scheme is second order with an L-stable stage, so stiff bristle
-dynamics are damped, not resolved. See ``frictionkit.simulate.core.simulate_batch``
+dynamics are damped, not resolved. See ``frictionkit.simulation.core.simulate_batch``
 for the measured error against the adaptive kernel.
 """
 

@@ -31,7 +31,7 @@ opposes it. Site laws (parameters from :mod:`frictionkit.models.pack`, row 0 for
   until ``s'`` reverses, when every element of the site sticks again.
   ``F = sum F_i + sigma2 s'``. Breakaway and reversal are terminal ``solve_ivp`` events;
   the integration restarts after each with the new stick/slip flags (as in
-  :func:`frictionkit.simulate.reference.reference_force_driven`).
+  :func:`frictionkit.simulation.reference.reference_force_driven`).
 * Static laws (``Stribeck``, ``CoulombViscous`` and their ``Directional``; one static site per
   machine) — stick and slip as events: a sticking site does not move and carries the force
   that holds it still (``F = c M^-1 f / (c M^-1 c^T)``, ``f`` every other force, ``c`` its

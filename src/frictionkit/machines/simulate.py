@@ -369,7 +369,7 @@ def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failu
             or act.command not in inputs or len(inputs) != 1):
         return None
     from ..plants.mass import Mass
-    from ..simulate.core import simulate
+    from ..simulation.core import simulate
 
     u = np.clip(inputs[act.command], -act.limit, act.limit)
     d = machine.dofs[0]

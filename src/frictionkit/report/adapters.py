@@ -166,7 +166,7 @@ def sections_from_result(result: Any, *, name: str | None = None) -> tuple[str, 
         kind, secs = _table_kind(result, where)
         return kind, _named(secs, label, kind)
     if hasattr(result, "states") and hasattr(result, "F") and hasattr(result, "t"):  # a SimulationResult
-        from ..simulate.traces import trace_table
+        from ..simulation.traces import trace_table
 
         return "traces", _named(traces_sections(pd.DataFrame(trace_table(result))), label, "traces")
     doc = result.to_dict() if callable(getattr(result, "to_dict", None)) else result
@@ -430,7 +430,7 @@ def _hysteresis_run(law) -> tuple[np.ndarray, np.ndarray, float] | None:
     period = 2 * np.pi * amp / vmax
     t = np.linspace(0.0, 2 * period, 4001)
     try:
-        from ..simulate import simulate
+        from ..simulation import simulate
 
         res = simulate(law, position=amp * np.sin(2 * np.pi * t / period), dt=float(t[1] - t[0]))
     except Exception:  # noqa: BLE001 - the loop is an extra; the parameters are the section

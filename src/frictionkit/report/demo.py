@@ -18,8 +18,8 @@ import numpy as np
 
 from .. import models as _m
 from ..plants import Mass
-from ..simulate import simulate
-from ..simulate.inputs import example_gms, example_law, example_lugre, reversal_position, stick_slip_force
+from ..simulation import simulate
+from ..simulation.inputs import example_gms, example_law, example_lugre, reversal_position, stick_slip_force
 from .builder import Report, Section, figure_png
 
 DT = 2.5e-4
@@ -82,7 +82,7 @@ def section_laws(out: Path) -> _Section:
     axs[0, 1].set(xlabel="time [s]", ylabel="F [N]", title="Friction force in the stick–slip run")
     axs[1, 0].set(xlabel="x [µm]", ylabel="F [N]", title="Reversal run: ±30 µm sinusoid (hysteresis)")
     # non-local memory: minor loop inside a major loop
-    from ..simulate.inputs import nested_loop_position
+    from ..simulation.inputs import nested_loop_position
 
     xn = nested_loop_position(major=20e-6, minor=8e-6, dt=1e-3, speed=1e-5)
     for name in ("LuGre", "GMS-3"):
@@ -103,7 +103,7 @@ def section_laws(out: Path) -> _Section:
 
 
 def section_parity() -> _Section:
-    from ..simulate.reference import reference_force_driven
+    from ..simulation.reference import reference_force_driven
 
     sec = _Section("Accuracy against scipy solve_ivp (2 s stick–slip run, dt = 250 µs)")
     u = stick_slip_force(duration=2.0, dt=DT)

@@ -86,7 +86,7 @@ from ..models.gms import GMS, GMSWeightWarning
 from ..models.lugre import LuGre
 from ..models.static import Directional
 from ..presets import zhang2023 as Z
-from ..simulate.core import simulate
+from ..simulation.core import simulate
 from ..units import MM, UM
 
 R = Z.R

@@ -28,7 +28,7 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
     Examples
     --------
     >>> import numpy as np, frictionkit as fk
-    >>> from frictionkit.simulate.traces import trace_table
+    >>> from frictionkit.simulation.traces import trace_table
     >>> law = fk.Dahl(Fc=1.0, sigma0=1e5)
     >>> res = fk.simulate(law, position=1e-5 * np.sin(np.linspace(0, 6, 61)), dt=1e-3)
     >>> list(trace_table(res))

@@ -258,7 +258,7 @@ def reference_force_driven(
     Examples
     --------
     >>> import numpy as np, frictionkit as fk
-    >>> from frictionkit.simulate.reference import reference_force_driven
+    >>> from frictionkit.simulation.reference import reference_force_driven
     >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
     >>> out = reference_force_driven(fk.LuGre(law, sigma0=1e5, sigma1=63.2), 1.0,
     ...                              np.full(201, 0.5), 1e-3)
@@ -561,7 +561,7 @@ def reference_motion_driven(
     Examples
     --------
     >>> import numpy as np, frictionkit as fk
-    >>> from frictionkit.simulate.reference import reference_motion_driven
+    >>> from frictionkit.simulation.reference import reference_motion_driven
     >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
     >>> gms = fk.GMS(law, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
     >>> out = reference_motion_driven(gms, np.array([0.0, 1e-7]), 1e-3)

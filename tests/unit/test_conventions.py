@@ -183,3 +183,14 @@ def test_unit_factors_defined_once():
 def test_unknown_keywords_raise(call):
     with pytest.raises(TypeError, match="bogus"):
         call()
+
+
+def test_one_name_each_for_the_function_and_its_package():
+    """``fk.simulate`` is the function; its package is ``frictionkit.simulation`` (before, ``import
+    frictionkit.simulate as m`` gave the function because the package had the function's name)."""
+    import types
+
+    import frictionkit.simulation as pkg
+
+    assert isinstance(pkg, types.ModuleType) and callable(fk.simulate) and pkg.simulate is fk.simulate
+    assert not (SRC / "simulate").exists()

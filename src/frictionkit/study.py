@@ -118,6 +118,10 @@ import numpy as np
 from .errors import DataError, ParameterError
 
 COMPENSATORS = ("none", "coulomb", "static")
+#: Runs one study may hold (draws x seeds x compensators). Assumption: a run is >= 0.1 s of CPU, so
+#: 1,000,000 runs are over a day on a 2-core machine — more is a typo, and the run list itself
+#: (one dict per run, ~1 kB) must fit in memory.
+MAX_RUNS = 1_000_000
 #: Machines a study can be built on: the generic axis, or a preset.
 PRESETS = ("custom", "emps", "ballscrew")
 #: Compensators of each machine (the ball-screw stage's are those of ``frictionkit compensate ballscrew``).
@@ -235,6 +239,10 @@ class StudySpec:
         if not isinstance(comps, list) or not comps or any(c not in comps_allowed for c in comps):
             raise DataError(f"{where}: [study] compensators = {comps!r}: a list of {list(comps_allowed)}"
                             + (f" (machine preset {preset!r})" if preset != "custom" else ""))
+        total = s["draws"] * s["seeds"] * len(comps)
+        if total > MAX_RUNS:  # draws = seeds = 100000 listed 1e10 runs in memory: the process was killed
+            raise DataError(f"{where}: [study] draws x seeds x compensators = {total:,} runs; at most "
+                            f"{MAX_RUNS:,} per study (split it)")
         ref = self.reference
         if ref["frequency"] * ref["dt"] >= 0.5:  # 1e300 Hz failed every run as "Reference.a[0] = inf"
             raise DataError(f"{where}: [reference] frequency = {ref['frequency']!r} Hz: at or above half the "

@@ -167,6 +167,13 @@ def test_ballscrew_study_spec_refuses_in_one_line(section, key, value, match):
         StudySpec(**parts)
 
 
+def test_a_study_too_large_to_list_is_refused_before_listing_it():
+    """draws = seeds = 100000 (each within its own limit): 4e10 runs listed in memory; the process was
+    killed by the kernel's OOM killer."""
+    with pytest.raises(DataError, match=r"draws x seeds x compensators = 40,000,000,000 runs; at most 1,000,000"):
+        StudySpec(machine={"preset": "ballscrew"}, study={"draws": 100000, "seeds": 100000})
+
+
 _ANY = st.one_of(st.floats(allow_nan=True), st.integers(-5, 10**6), st.booleans(), st.none(),
                  st.sampled_from(["", "x", "sliding", "fig2", [], ["none"], {}]))
 
@@ -193,8 +200,11 @@ def test_any_study_spec_edit_builds_or_fails_with_data_error(preset, section, ke
     assert ref["frequency"] * ref["dt"] < 0.5 and ref["duration"] >= 2 * ref["dt"]
     s = spec.study["seed"]
     assert not isinstance(s, bool) and isinstance(s, int) and s >= 0
-    labels = [r["run"] for r in spec.runs()[:50]]
-    assert len(labels) == len(set(labels))
+    total = spec.study["draws"] * spec.study["seeds"] * len(spec.study["compensators"])
+    assert total <= 1_000_000  # 100000 x 100000 draws x seeds listed 1e10 runs: the process was killed
+    if total <= 2000:
+        labels = [r["run"] for r in spec.runs()]
+        assert len(labels) == len(set(labels)) == total
 
 
 # --------------------------------------------------------------------------- reproduce --robustness --out

@@ -288,3 +288,17 @@ def test_irregular_sampling_names_the_step(records):
     with pytest.warns(fk.data.recording.IrregularSamplingWarning), pytest.raises(
             DataError, match=r"the step at t = 0\.099 s \(sample 99\) is 0\.002 s against a median of 0\.001 s"):
         fit_output_error(rec, "lugre", static=LAW, inertia=1.0, initial=START)
+
+
+def test_study_json_and_out_naming_one_file_say_so(runner, tmp_path):
+    """--out S.parquet --json S.parquet: "--json ... is the input file" (the results file is an output)."""
+    import frictionkit.cli as _cli
+
+    _cli._register()
+    spec = tmp_path / "s.toml"
+    spec.write_text('[machine]\npreset = "ballscrew"\n[study]\ndraws = 1\ncompensators = ["none"]\n', encoding="utf-8")
+    out = tmp_path / "s.parquet"
+    res = runner.invoke(app, ["study", str(spec), "--out", str(out), "--json", str(out), "--workers", "0"])
+    assert res.exit_code == 2
+    assert one_error_line(res) == f"error: --json '{out}' and --out '{out}' name the same file"
+    assert not out.exists()

@@ -62,8 +62,12 @@ def _summary(doc: dict, json_out: Optional[str], text: str) -> None:
         typer.echo(f"wrote {json_out}")
 
 
-def _json_option(json_out: Optional[str], inputs: list) -> None:
+def _json_option(json_out: Optional[str], inputs: list, out: Optional[Path] = None) -> None:
     if json_out is not None and json_out != "-":
+        from ..errors import ParameterError
+
+        if out is not None and Path(json_out).resolve() == out.resolve():  # was "--json ... is the input file"
+            raise ParameterError(f"--json '{json_out}' and --out '{out}' name the same file")
         chk.outputs(inputs, files={"--json": Path(json_out)}, make_parents=False)
 
 
@@ -144,7 +148,7 @@ def identify(
     chk.outputs([config], files={"--out": out}, make_parents=True)
     if out.suffix.lower() not in (".parquet", ".pq"):
         raise ParameterError(f"--out '{out}': the results are Parquet; use a .parquet file name")
-    _json_option(json_out, [out, config])
+    _json_option(json_out, [config], out)
 
     run = identify_fleet(dataset, out=out, config=cfg, scheduler=scheduler, workers=workers,
                          progress=progress, monitor=monitor, batch=batch)
@@ -217,7 +221,7 @@ def monitor_cmd(
     target = out or results
     if out is not None:
         chk.outputs([results], files={"--out": out}, make_parents=True)
-    _json_option(json_out, [results, out])
+    _json_option(json_out, [results], out)
     try:
         df = pd.read_parquet(results)
     except Exception as exc:  # pyarrow raises several unrelated types
@@ -256,7 +260,7 @@ def report_cmd(
     chk.outputs([results], files={"--out": out}, make_parents=True)
     if out.suffix.lower() not in (".html", ".htm"):
         raise DataError(f"--out '{out}': the report is HTML; use a .html file name")
-    _json_option(json_out, [results, out])
+    _json_option(json_out, [results], out)
     try:
         df = pd.read_parquet(results)
     except Exception as exc:  # pyarrow raises several unrelated types
@@ -295,7 +299,7 @@ def study_cmd(
     chk.outputs([spec], files={"--out": out}, make_parents=True)
     if out.suffix.lower() not in (".parquet", ".pq"):
         raise ParameterError(f"--out '{out}': the results are Parquet; use a .parquet file name")
-    _json_option(json_out, [spec, out])
+    _json_option(json_out, [spec], out)
     res = run_study(st, out=out, scheduler=scheduler, workers=workers, progress=progress)
     doc = res.to_dict()
     lines = [f"{res.runs} run(s): {res.computed} simulated, {res.skipped} done before (skipped)"]

@@ -178,12 +178,12 @@ def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
     from .fleet import dask_options
 
     workers = dask_options(workers, scheduler)
+    if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
+        raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
     if out_dir is not None:
         from .._io import check_output_dir
 
-        check_output_dir(out_dir, option="--out", inputs=[json_out])  # writable, not a file, before the sweep
-    if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
-        raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
+        check_output_dir(out_dir, option="--out")  # writable, not a file, before the sweep
     return workers
 
 

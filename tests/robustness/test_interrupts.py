@@ -20,8 +20,8 @@ import pytest
 pytestmark = pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 
 #: Seconds between the command's start and the interrupt: past the argument parsing and the
-#: output checks, well inside the computation (zhu-fujimoto --quick runs ~80 s here, the fleet
-#: below ~60 s).
+#: output checks, well inside the computation (zhu-fujimoto --quick runs ~15 s on an idle
+#: machine, ~80 s on a loaded one; the fleet below runs for minutes).
 INTO_THE_RUN = 2.0
 
 
@@ -67,7 +67,10 @@ def test_ctrl_c_during_reproduce(tmp_path):
 
 def test_ctrl_c_during_fleet_simulate(tmp_path):
     fleet, summary = tmp_path / "fleet", tmp_path / "fleet.json"
-    rc, _, err = interrupt(["fleet", "simulate", "--axes", "4", "--days", "20", "--out", str(fleet),
+    # 2,000 axis-days: minutes of work even on a fast idle machine (4 x 20 finished inside the 2 s
+    # on a quiet one, so the interrupt landed after the outputs were written); killed at 2 s it
+    # writes ~100 axis-days (~1.3 MB each)
+    rc, _, err = interrupt(["fleet", "simulate", "--axes", "40", "--days", "50", "--out", str(fleet),
                             "--json", str(summary)])
     _check_one_line(rc, err)
     assert not summary.exists()

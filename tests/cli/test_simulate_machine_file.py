@@ -89,7 +89,7 @@ def test_constant_inputs_dt_and_duration(tmp_path):
 @pytest.mark.parametrize("args, msg", [
     ([], r"reads inputs qg: missing --input for qg"),
     (["--input", "qg={ref}:qg", "--input", "r=1"], r"missing|r not read by the machine"),
-    (["--input", "qg={ref}:nope"], r"no column for --input qg 'nope'; columns: t, qg"),
+    (["--input", "qg={ref}:nope"], r"column 'nope' \(given for --input qg\) not found; available columns: t, qg"),
     (["--input", "qg"], r"--input 'qg': expected NAME=FILE:COLUMN or NAME=VALUE"),
     (["--input", "qg={ref}:qg", "--input", "qg=0"], r"--input: qg given twice"),
     (["--input", "qg={ref}:qg", "--duration", "1"], r"--duration: the input files give the run length"),
@@ -182,3 +182,23 @@ def test_compensate_sdss_sidereal_tracking(tmp_path):
     lin = fk.save_model(law, tmp_path / "lin.json")
     with pytest.raises(fk.DataError, match=r"act on the axis \(force \[N·m\], velocity \[rad/s\]\)"):
         compensate("sdss", ["model"], model=lin, quick=True)
+
+
+@pytest.mark.parametrize("content, args, message", [
+    ("t,u\n0,true\n0.001,false\n0.002,true\n", [], "holds true/false values"),
+    ("t,u,u\n0,1,2\n0.001,1,2\n0.002,1,2\n", [], "'u'"),
+    ("t,u\n0,1\n0.001,nan\n0.002,1\n", [], "not finite at row 1"),
+    (None, ["--input", "u=1", "--dt", "1e-3", "--duration", "1e300"], "--duration 1e+300 / --dt 0.001"),
+    (None, ["--input", "u=1", "--dt", "1e-300", "--duration", "1"], "at most 1e+08"),
+])
+def test_bad_input_columns_and_run_lengths_are_named(tmp_path, content, args, message):
+    """Issue 13 round 3: a true/false or repeated input column was read as 1/0 or the first
+    copy (exit 0); --duration/--dt that make 1e303 samples ended in numpy's 'Maximum allowed
+    dimension exceeded'."""
+    path = fk.save_model(_slider(), tmp_path / "slider.json")
+    if content is not None:
+        (tmp_path / "in.csv").write_text(content)
+        args = ["--input", f"u={tmp_path / 'in.csv'}:u"]
+    res = runner.invoke(app, ["simulate", str(path), *args])
+    assert res.exit_code == 2 and message in res.output, res.output
+    assert len([ln for ln in res.output.splitlines() if ln.strip()]) == 1, res.output

@@ -215,11 +215,17 @@ def _input_spec(spec: str):
     return name, Path(path), col
 
 
+#: Largest machine run from --duration/--dt [samples]: its traces (several float64 per DOF,
+#: site and signal) must fit in memory; 1e8 samples of one DOF are already ~4 GB.
+MAX_SAMPLES = 1e8
+
+
 def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], duration: Optional[float]):
     """The input arrays, ``dt`` and sample count of a machine run from parsed ``--input`` specs."""
     import numpy as np
 
     from ..data import read_table
+    from ..data.loaders import _column
     from ..errors import DataError, ParameterError
 
     names = [p[0] for p in parsed]
@@ -235,10 +241,8 @@ def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], dura
             tables[path] = read_table(path)
         tab = tables[path]
         tcol = time or next(iter(tab))
-        for c, what in ((tcol, "time column (--time)"), (col, f"column for --input {name}")):
-            if c not in tab:
-                raise DataError(f"'{path}': no {what} {c!r}; columns: {', '.join(list(tab)[:12])}")
-        t = np.asarray(tab[tcol], dtype=float)
+        # the loaders' column check: missing, repeated, true/false or non-numeric columns named
+        t = _column(tab, Path(path), "the time (--time)", tcol)
         steps = np.diff(t)
         if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
             raise DataError(f"'{path}': time column {tcol!r} is not uniformly sampled; a machine runs on one grid "
@@ -249,7 +253,10 @@ def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], dura
         elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
             raise DataError(f"--input {name}: '{path}' has {t.size} samples at {h:.6g} s, '{grid[2]}' {grid[0]} at "
                             f"{grid[1]:.6g} s; all inputs share one grid")
-        arrays[name] = np.asarray(tab[col], dtype=float)
+        arrays[name] = _column(tab, Path(path), f"--input {name}", col)
+        if not np.all(np.isfinite(arrays[name])):
+            bad = int(np.flatnonzero(~np.isfinite(arrays[name]))[0])
+            raise DataError(f"file '{path}': column '{col}' (given for --input {name}) is not finite at row {bad}")
     if grid is not None:
         if duration is not None:
             raise ParameterError("--duration: the input files give the run length; drop it or the files")
@@ -260,7 +267,11 @@ def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], dura
         if dt is None or duration is None:
             raise ParameterError("without input files give --dt and --duration (the run's sample period and length)")
         h = chk.positive(dt, "--dt")
-        n = int(round(chk.positive(duration, "--duration") / h)) + 1
+        steps = chk.positive(duration, "--duration") / h
+        if not steps <= MAX_SAMPLES:
+            raise ParameterError(f"--duration {duration:g} / --dt {h:g} = {steps:.3g} samples; at most "
+                                 f"{MAX_SAMPLES:.0e} (a longer run does not fit in memory: split it)")
+        n = int(round(steps)) + 1
         if n < 2:
             raise ParameterError(f"--duration {duration:g}: shorter than one sample (--dt {h:g})")
     for name, value in consts.items():

@@ -89,6 +89,22 @@ def test_bad_input_is_one_line(tmp_path, make, message):
     assert not (tmp_path / "out" / "report.html").exists()
 
 
+def test_machine_file_and_empty_out_are_refused_with_the_reason(tmp_path, monkeypatch):
+    """Issue 13 round 3: a machine model file read as 'malformed content (ParameterError ...)';
+    ``-o ''`` wrote report.html into the working folder (typer turns '' into '.')."""
+    import frictionkit as fk
+
+    m = fk.Machine("slider")
+    m.friction("contact", m.dof("x", inertia=1.0), law=fk.CoulombViscous(Fc=1.0))
+    path = fk.save_model(m, tmp_path / "machine.json")
+    res = runner.invoke(app, ["report", str(path), "-o", str(tmp_path / "out")])
+    assert res.exit_code == 2 and "a machine model file" in res.stderr and "frictionkit simulate" in res.stderr
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(app, ["report", str(path), "-o", ""])
+    assert res.exit_code == 2 and "-o/--out ''" in res.stderr, res.stderr
+    assert not (tmp_path / "report.html").exists()
+
+
 def test_refuses_to_overwrite_an_input(inputs, tmp_path):
     page = tmp_path / "report.html"
     shutil.copy(inputs / "fit.json", page)  # an identification result that happens to be called report.html

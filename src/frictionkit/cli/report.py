@@ -34,7 +34,7 @@ Writes DIR/report.html (figures embedded, no external files), never over an inpu
 @app.command("report", epilog=_EPILOG)
 def report(
     results: list[Path] = typer.Argument(..., help="Result files (JSON, Parquet, trace CSV), in page order."),
-    out: Path = typer.Option(..., "-o", "--out", help="Folder for report.html (created if missing)."),
+    out: str = typer.Option(..., "-o", "--out", help="Folder for report.html (created if missing)."),
     title: str = typer.Option("frictionkit report", "--title", help="Title of the page."),
     json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary to a file (- for stdout, "
                                            "instead of the text)."),
@@ -44,6 +44,9 @@ def report(
     from ..errors import DataError, ParameterError
     from ..report import Report
 
+    if not out.strip():  # typer would turn '' into '.', the working folder
+        raise ParameterError("-o/--out '': give a folder for report.html")
+    out = Path(out)
     if not title.strip() or "\n" in title:
         raise ParameterError(f"--title {title!r}: must be a non-empty one-line text")
     for r in results:

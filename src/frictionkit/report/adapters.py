@@ -206,6 +206,11 @@ def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, li
             raise DataError(f"{where}: {exc}") from None
         written = doc.get("written_by") if isinstance(doc.get("written_by"), Mapping) else None
         return "identification", identification_sections(res, name=name, written=written)
+    if doc.get("kind") == "machine" and (fmt_ == MODEL_FORMAT or (isinstance(fmt_, str) and
+                                                                   fmt_.startswith("frictionkit.model/"))):
+        raise DataError(f"{where}: a machine model file; the report reads friction-law model files and "
+                        "results — simulate the machine (frictionkit simulate MACHINE.json --input ... --out "
+                        "traces.csv) and report the traces")
     if fmt_ == MODEL_FORMAT or (fmt_ is None and ("law" in doc or "type" in doc)) or (
             isinstance(fmt_, str) and fmt_.startswith("frictionkit.model/")):
         try:

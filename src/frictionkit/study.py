@@ -440,17 +440,20 @@ class StudyResult:
     elapsed: float
     other_version: int = 0  # runs recomputed because their part came from another frictionkit version
 
+    def _failed(self) -> tuple[int, int]:
+        """(runs in the table, runs that failed)."""
+        n = int(len(self.table))
+        return n, (n - int(self.table["ok"].astype(bool).sum()) if n else 0)
+
     @property
     def status(self) -> int:
         """0: every run ok; 1: some failed; 2: all failed (or none ran)."""
-        ok = self.table["ok"].astype(bool) if len(self.table) else []
-        n_bad = int(len(ok) - sum(ok))
-        return 0 if len(ok) and not n_bad else (2 if n_bad == len(ok) else 1)
+        n, bad = self._failed()
+        return 0 if n and not bad else (2 if bad == n else 1)
 
     @property
     def message(self) -> str:
-        n = int(len(self.table))
-        bad = n - int(self.table["ok"].astype(bool).sum()) if n else 0
+        n, bad = self._failed()
         return "ok" if n and not bad else (f"{bad} of {n} run(s) failed" if n else "no runs")
 
     def summary(self) -> str:

@@ -8,13 +8,27 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Optional
+from typing import Annotated, Optional
 
 import typer
 
 from ..errors import ParameterError
 from . import _common as chk
 from . import app
+
+# Options of the two reproductions that have a --robustness sweep (zhu-fujimoto, zhang2023), declared once.
+SweepSeed = Annotated[Optional[int], typer.Option(
+    "--seed", help="Measurement-noise seed (0 to 2**32 - 1; default 0). Not with --robustness, which runs its own "
+                   "seeds.")]
+SweepWorkers = Annotated[Optional[int], typer.Option(
+    "--workers", help="With --robustness: worker processes of the local Dask cluster (default: the cores); 0 runs "
+                      "in this process without Dask.")]
+SweepScheduler = Annotated[Optional[str], typer.Option(
+    "--scheduler", help="With --robustness: address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786), or "
+                        "'none'.")]
+SweepOut = Annotated[Optional[Path], typer.Option(
+    "--out", help="With --robustness: folder for the Parquet results (one row per variant); a rerun computes only "
+                  "the missing variants.")]
 
 reproduce_app = typer.Typer(help="Reproduce the source papers' findings in simulation.", no_args_is_help=True,
                             rich_markup_mode=None)
@@ -44,8 +58,7 @@ def _stages(console, name: str, total: int):
 def zhu_fujimoto(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
-    seed: Optional[int] = typer.Option(None, "--seed", help="Measurement-noise seed (0 to 2**32 - 1; default 0). "
-                                            "Not with --robustness, which runs its own seeds."),
+    seed: SweepSeed = None,
     plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG beside the JSON."),
     nut_model: str = typer.Option("sliding", "--nut-model",
                                   help="Nut model: 'sliding' (Dahl on screw rotation), 'flank' "
@@ -57,12 +70,9 @@ def zhu_fujimoto(
     robustness: bool = typer.Option(False, "--robustness",
                                     help="Instead: the robustness sweep (noise seeds 0-2, each assumed stiffness "
                                          "x0.7 and x1.3: 13 variants; --quick runs per variant)."),
-    workers: Optional[int] = typer.Option(None, "--workers", help="With --robustness: worker processes of the local "
-                                          "Dask cluster (default: the cores); 0 runs in this process without Dask."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="With --robustness: address of a running Dask "
-                                            "scheduler (e.g. tcp://10.0.0.5:8786), or 'none'."),
-    out_dir: Optional[Path] = typer.Option(None, "--out", help="With --robustness: folder for the Parquet results "
-                                           "(one row per variant); a rerun computes only the missing variants."),
+    workers: SweepWorkers = None,
+    scheduler: SweepScheduler = None,
+    out_dir: SweepOut = None,
 ) -> None:
     """Seed 001: Table 3 (sinc/Coulomb/sigmoid, post-only sigmoid), Fig. 5, Fig. 10 (l_d), the
     Table 2 selector and redesigned fast non-reverse stop, the Fig. 2 check."""
@@ -257,19 +267,15 @@ def sdss(
 def zhang2023(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer plateaus and base speeds, shorter runs (< 60 s)."),
-    seed: Optional[int] = typer.Option(None, "--seed", help="Noise seed (0 to 2**32 - 1; default 0). "
-                                            "Not with --robustness, which runs its own seeds."),
+    seed: SweepSeed = None,
     plot: bool = typer.Option(True, "--plot/--no-plot",
                               help="Write the six-panel PNG (Fig. 16, Tables 7-8, Figs. 17-20, crawling) beside the JSON."),
     robustness: bool = typer.Option(False, "--robustness",
                                     help="Instead: the robustness sweep (3 noise seeds, +-20 % on the preset's "
                                          "assumptions; --quick runs per variant); long."),
-    workers: Optional[int] = typer.Option(None, "--workers", help="With --robustness: worker processes of the local "
-                                       "Dask cluster (default: the cores); 0 runs in this process without Dask."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="With --robustness: address of a running Dask "
-                                         "scheduler (e.g. tcp://10.0.0.5:8786), or 'none'."),
-    out_dir: Optional[Path] = typer.Option(None, "--out", help="With --robustness: folder for the Parquet results "
-                                        "(one row per variant); a rerun computes only the missing variants."),
+    workers: SweepWorkers = None,
+    scheduler: SweepScheduler = None,
+    out_dir: SweepOut = None,
 ) -> None:
     """Seed 000 (TDMS): WSIM vs ACIM (Table 7), LuGre vs GMS (Table 8), identified Tables 3-6,
     Fig. 16 hysteresis RMS, CDFS vs TDMS crawling (ours)."""

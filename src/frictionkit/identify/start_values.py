@@ -146,6 +146,19 @@ def _mean_sigma2(law) -> float:
     return float(np.mean(np.asarray(law.static_rows(), float)[:, 4]))
 
 
+def _given_starts(owner: str, kind: str, given, allowed: Mapping[str, tuple], bad_kind: str) -> dict:
+    """The user's start values for ``kind``: ``kind`` one of ``allowed`` (else ``bad_kind`` is the
+    error), every key one of its parameters, scalars finite (:func:`_scalar_starts`)."""
+    if kind not in allowed:
+        raise ParameterError(f"{owner}: {bad_kind}")
+    given = dict(given or {})
+    unknown = sorted(set(given) - set(allowed[kind]))
+    if unknown:
+        raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
+                             f"give {', '.join(allowed[kind])}")
+    return _scalar_starts(owner, given)
+
+
 def _scalar_starts(owner: str, given: dict) -> dict:
     """``given`` with its scalar start values (sigma0, sigma1, C) as finite floats: a boolean, a list or
     NaN is refused naming the key (``True`` became 1 N/m; a list raised a bare TypeError)."""
@@ -216,14 +229,8 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     factor √10 apart, so ``k_i`` is proportional to ``10^(-i/2)``; ``C`` defaults to
     :data:`GMS_C_START`.
     """
-    if kind not in _GIVEN:
-        raise ParameterError(f"{owner}: model0 = {kind!r}: must be 'lugre', 'gms' or a LuGre/GMS law")
-    given = dict(given or {})
-    unknown = sorted(set(given) - set(_GIVEN[kind]))
-    if unknown:
-        raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
-                             f"give {', '.join(_GIVEN[kind])}")
-    given = _scalar_starts(owner, given)
+    given = _given_starts(owner, kind, given, _GIVEN,
+                          f"model0 = {kind!r}: must be 'lugre', 'gms' or a LuGre/GMS law")
     sigma2 = _mean_sigma2(static)
     info: dict = {}
     if kind == "lugre":
@@ -284,15 +291,8 @@ def motion_error_start(kind: str, static, data, *, given: Mapping[str, Any] | No
     from .motion_error import motion_start
 
     owner = "motion_error_start"
-    allowed = {"lugre": ("sigma0", "sigma1"), "gms": ("k", "xi", "C"), "dahl": ("sigma0",)}
-    if kind not in allowed:
-        raise ParameterError(f"{owner}: kind = {kind!r}: must be 'lugre', 'gms' or 'dahl'")
-    given = dict(given or {})
-    unknown = sorted(set(given) - set(allowed[kind]))
-    if unknown:
-        raise ParameterError(f"{owner}: initial has {unknown[0]!r}, not a start value of {kind}; "
-                             f"give {', '.join(allowed[kind])}")
-    given = _scalar_starts(owner, given)
+    given = _given_starts(owner, kind, given, {**_GIVEN, "dahl": ("sigma0",)},
+                          f"kind = {kind!r}: must be 'lugre', 'gms' or 'dahl'")
     law = static_law(static, owner)
     md = data if isinstance(data, MotionData) else motion_data(data, drive=drive, integration=integration,
                                                                 rests=rests, min_rest=min_rest)

@@ -265,10 +265,7 @@ class ReferenceResult(TraceAccess):
         lines = [f"{self.machine.name} (solve_ivp twin, {self.method}, rtol {self.rtol:g}): {self.t.size} samples "
                  f"over {self.t[-1]:.6g} s, {self.nfev} RHS evaluations, {self.n_events} switchings, "
                  f"{self.wall_s:.3g} s; status {self.status} ({self.message})"]
-        for i, d in enumerate(self.machine.dofs):
-            lines.append(f"  {d.name:>12s}: final x = {self.q[-1, i]:.6g} {d.unit}, "
-                         f"max |v| = {np.nanmax(np.abs(self.v[:, i])):.4g} {d.unit}/s")
-        return "\n".join(lines)
+        return "\n".join(lines + self._dof_lines())
 
     #: Positions of the DOFs over time, drawn as for a :class:`MachineResult`; returns the Axes.
     plot = MachineResult.plot

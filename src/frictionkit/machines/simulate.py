@@ -182,6 +182,11 @@ class TraceAccess:
         """Force of a friction site, compliance or load [N or N·m]."""
         return self.F[:, self._index(self.site_names, site, "site")]
 
+    def _dof_lines(self) -> list[str]:
+        """One summary line per degree of freedom: final position and largest speed."""
+        return [f"  {d.name:>12s}: final x = {self.q[-1, i]:.6g} {d.unit}, "
+                f"max |v| = {np.nanmax(np.abs(self.v[:, i])):.4g} {d.unit}/s" for i, d in enumerate(self.machine.dofs)]
+
 
 @dataclass(frozen=True, eq=False)
 class MachineResult(TraceAccess):
@@ -223,9 +228,7 @@ class MachineResult(TraceAccess):
     def summary(self) -> str:
         lines = [f"{self.machine.name}: {self.t.size} samples over {self.t[-1]:.6g} s, "
                  f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})"]
-        for i, d in enumerate(self.machine.dofs):
-            lines.append(f"  {d.name:>12s}: final x = {self.q[-1, i]:.6g} {d.unit}, "
-                         f"max |v| = {np.nanmax(np.abs(self.v[:, i])):.4g} {d.unit}/s")
+        lines += self._dof_lines()
         for j, s in enumerate(self.site_names):
             lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.F[:, j])) if self.F.shape[0] else 0:.4g}")
         return "\n".join(lines)

@@ -193,3 +193,22 @@ def test_settle_removes_the_slow_plateau_transient():
         from frictionkit.fleet import config_from_dict
 
         config_from_dict({"columns": {"time": "t", "force": "F", "velocity": "v"}, "segmentation": {"settle": 1.0}})
+
+
+def test_parts_from_another_frictionkit_version_are_recomputed_and_said(dask_run, small_fleet, tmp_path, monkeypatch):
+    import frictionkit
+
+    out = tmp_path / "r.parquet"
+    shutil.copytree(parts_dir(dask_run.out), parts_dir(out))
+    old = frictionkit.__version__
+    monkeypatch.setattr(frictionkit, "__version__", "99.0.0")  # the fingerprint and the rows read it at call time
+    with pytest.warns(UserWarning, match=rf"12 result\(s\) .* another frictionkit version \({old}; this is 99\.0\.0\)"):
+        run = identify_fleet(small_fleet.root, out=out, scheduler="none", progress=False)
+    assert (run.computed + run.failed_tasks, run.skipped, run.other_version) == (12, 0, 12)
+    assert run.to_dict()["other_version"] == 12
+    assert set(run.table["frictionkit_version"]) == {"99.0.0"}
+    assert len(list(parts_dir(out).glob("*.parquet"))) == 12  # the old parts are gone, none duplicated
+    cols = ["axis", "period", "ok", *PARAM_COLUMNS]
+    pd.testing.assert_frame_equal(run.table[cols], dask_run.table[cols])
+    again = identify_fleet(small_fleet.root, out=out, scheduler="none", progress=False)
+    assert (again.computed, again.skipped, again.other_version) == (0, 12, 0)

@@ -75,6 +75,9 @@ class FleetRun:
         Wall time from the first task submitted to the last result [s].
     task_seconds : float
         Sum over the computed tasks of their own run time [s].
+    other_version : int
+        Tasks recomputed because their axis-period's part was written by another frictionkit
+        version (the version is part of each part's fingerprint; a warning says so).
     """
 
     out: Path
@@ -92,6 +95,7 @@ class FleetRun:
     compute_seconds: float
     task_seconds: float
     monitored: bool = False
+    other_version: int = 0
 
     @property
     def status(self) -> int:
@@ -106,6 +110,8 @@ class FleetRun:
         d = self.to_dict()
         text = (f"fleet identify: {self.tasks} log file(s), {self.computed} identified, {self.skipped} done before; "
                 f"{self.ok} ok, {self.errors} with an error; status {self.status} ({self.message}); {self.out}")
+        if self.other_version:
+            text += f"\n  {self.other_version} recomputed: their parts were written by another frictionkit version"
         if "flagged_axes" in d:
             text += f"\n  drift flagged on {len(d['flagged_axes'])} axis/axes: {', '.join(d['flagged_axes'][:10])}"
         return text
@@ -142,7 +148,7 @@ class FleetRun:
                "elapsed_s": round(self.elapsed, 3), "compute_s": round(self.compute_seconds, 3),
                "task_s_total": round(self.task_seconds, 3),
                "task_s_mean": round(self.task_seconds / self.computed, 4) if self.computed else None,
-               "monitored": self.monitored}
+               "monitored": self.monitored, "other_version": self.other_version}
         if self.monitored and "drift_flag" in self.table:
             flagged = self.table.loc[self.table["drift_flag"].fillna(False).astype(bool), "axis"].unique()
             out["flagged_axes"] = sorted(map(str, flagged))
@@ -326,6 +332,28 @@ def consolidate(logs: list[LogFile], parts: Path, config: FleetConfig, extra_row
     return df
 
 
+def _other_versions(todo: list[LogFile], parts: Path, done: set[str]) -> dict[str, str]:
+    """Tasks to run whose axis-period has a part written by another frictionkit version:
+    part name -> that part's version (read from its ``frictionkit_version`` column)."""
+    import pyarrow.parquet as pq
+
+    from .. import __version__
+
+    out: dict[str, str] = {}
+    for log in todo:
+        prefix = log.part_name.rsplit("__", 1)[0] + "__"
+        for name in done:
+            if not name.startswith(prefix) or name == log.part_name:
+                continue
+            try:
+                ver = pq.read_table(parts / name, columns=["frictionkit_version"]).column(0)[0].as_py()
+            except Exception:  # noqa: BLE001 - unreadable or foreign part: stale either way, not a version change
+                continue
+            if ver != __version__:
+                out[log.part_name] = str(ver)
+    return out
+
+
 def _remove_stale(parts: Path, logs: list[LogFile]) -> None:
     """Delete parts of the same axis-period made from an older version of a file or configuration."""
     current = {log.part_name for log in logs}
@@ -428,6 +456,15 @@ def identify_fleet(
     parts.mkdir(exist_ok=True)
     done = {f.name for f in parts.glob("*.parquet")}
     todo = [log for log in logs if log.part_name not in done]
+    other = _other_versions(todo, parts, done)
+    if other:
+        import warnings
+
+        from .. import __version__
+
+        vers = sorted(set(other.values()))
+        warnings.warn(f"{len(other)} result(s) in '{parts}' were written by another frictionkit version "
+                      f"({', '.join(vers[:3])}; this is {__version__}): not reused, recomputed", stacklevel=2)
 
     bar = _Progress(progress, len(todo), "identify")
     rows: list[dict] = []
@@ -461,7 +498,7 @@ def identify_fleet(
     return FleetRun(out=out, table=df, tasks=len(logs), computed=len(todo) - len(failed), skipped=len(logs) - len(todo),
                     failed_tasks=len(failed), ok=n_ok, errors=int(len(df) - n_ok), unmatched=tuple(unmatched),
                     scheduler=mode, workers=n_workers, elapsed=time.perf_counter() - t_start,
-                    compute_seconds=compute, task_seconds=task_s, monitored=monitored)
+                    compute_seconds=compute, task_seconds=task_s, monitored=monitored, other_version=len(other))
 
 
 __all__ = ["CONFIG_NAME", "FleetRun", "PIN_ENV", "consolidate", "dask_client", "default_workers", "identify_batch", "identify_fleet",

@@ -254,6 +254,31 @@ class StudySpec:
             raise DataError(f"{where}: [reference] amplitude = {ref['amplitude']!r}: must be > 0")
         if self.reference["duration"] / self.reference["dt"] > 2_000_000:
             raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
+        if preset == "ballscrew":
+            self._check_ballscrew_plants(where)
+
+    def _check_ballscrew_plants(self, where: str) -> None:
+        """Build the stage at both ends of every drawn range up front: an implausible plant
+        (mass 1e300 / 1e-300 kg) is one error naming the key and value, not a failure in every
+        run with the core's symptom ('mass matrix is singular', 'coupling.c = nan')."""
+        from .errors import ParameterError
+        from .presets.ballscrew import check_plant
+        from .reproduce.zhu_fujimoto import paper_plant
+
+        m = self.machine
+        keys = {"mass": "M_t", "guide_friction": "guide_friction", "nut_friction": "nut_friction",
+                "presliding_length": "presliding_length"}
+        for k, field_ in keys.items():
+            sp = self.spread.get(k, 0.0)
+            ends = sorted({m[k] * (1.0 - sp), m[k] * (1.0 + sp)})
+            drawn = f" (drawn in [{ends[0]:.6g}, {ends[-1]:.6g}] with [spread] {k} = {sp:g})" if sp else ""
+            for end in ends:
+                kw = {f: m[j] for j, f in keys.items()}
+                kw[field_] = end
+                try:
+                    check_plant(paper_plant(m["nut_model"], m["stage"], **kw), f"{where}: [machine] {k} = {m[k]!r}{drawn}")
+                except ParameterError as exc:
+                    raise DataError(str(exc)) from None
 
     @property
     def spreadable(self) -> tuple[str, ...]:

@@ -72,7 +72,7 @@ from ..machines import PID, HertzContact, Machine, NormalLoad, StateSpace, Sum, 
 from ..models.lugre import Dahl
 from ..plants.ballscrew import DAHL_SPAN, ElasticBallScrew, RigidBallScrew
 
-__all__ = ["ballscrew_machine", "dob_block", "simulate_stage", "rayleigh_beta"]
+__all__ = ["ballscrew_machine", "check_plant", "dob_block", "simulate_stage", "rayleigh_beta"]
 
 ELASTIC_DOFS = ("theta_m", "theta_s", "x_l", "x_m", "x_r", "x_t")
 
@@ -80,6 +80,47 @@ ELASTIC_DOFS = ("theta_m", "theta_s", "x_l", "x_m", "x_r", "x_t")
 def rayleigh_beta(plant: ElasticBallScrew) -> float:
     """``beta = 2 zeta / omega_1`` of the stiffness-proportional damping ``D = beta K``."""
     return 2.0 * plant.damping_ratio / plant.modes()[0]
+
+
+#: Largest ratio of the chain's inertias (each DOF's, in its own unit: kg·m² or kg) the stage
+#: accepts: the machine core refuses a mass matrix whose eigenvalues span 1e12 or more (singular in
+#: double precision), so a wider span can never run; the seed 001 stage spans 2.7e5.
+MAX_INERTIA_SPAN = 1e12
+
+
+def check_plant(plant: ElasticBallScrew | RigidBallScrew, where: str = "ballscrew stage") -> None:
+    """Refuse a plant the stage cannot simulate, naming the value (issue 13: a table mass of
+    1e300 / 1e-300 kg failed every run as 'the mass matrix is singular' / 'coupling.c = nan').
+
+    Elastic stage: the inertias ``J_m``, ``J_b`` [kg·m²], ``M_b / 3``, ``M_t`` [kg] must span less
+    than :data:`MAX_INERTIA_SPAN` (the one farthest, in decades, from the median of the others is
+    named), and the first elastic mode (Rayleigh damping ``beta = 2 zeta / omega_1``) must be
+    finite and positive. Rigid stage: ``J`` and the friction level finite.
+    """
+    if isinstance(plant, RigidBallScrew):
+        return
+    if not isinstance(plant, ElasticBallScrew):
+        raise ParameterError(f"{where}: plant = {type(plant).__name__}: must be ElasticBallScrew or RigidBallScrew")
+    inertias = {"J_m": (plant.J_m, "kg·m²"), "J_b": (plant.J_b, "kg·m²"), "M_b": (plant.M_b, "kg"),
+                "M_t": (plant.M_t, "kg")}
+    per_dof = {k: (v / 3.0 if k == "M_b" else v) for k, (v, _) in inertias.items()}
+    lo, hi = min(per_dof.values()), max(per_dof.values())
+    if not hi < MAX_INERTIA_SPAN * lo:
+        logs = {k: np.log10(v) for k, v in per_dof.items()}
+
+        def off(k):
+            return abs(logs[k] - float(np.median([x for j, x in logs.items() if j != k])))
+
+        bad = max(logs, key=off)
+        others = ", ".join(f"{k} = {inertias[k][0]:.4g} {inertias[k][1]}" for k in inertias if k != bad)
+        raise ParameterError(
+            f"{where}: {bad} = {inertias[bad][0]:.4g} {inertias[bad][1]} is not a plausible inertia beside "
+            f"{others}: the chain's inertias would span {hi / lo:.3g} (at most {MAX_INERTIA_SPAN:.0e}; the mass "
+            "matrix is singular in double precision beyond that)")
+    w1 = float(plant.modes()[0]) if np.all(np.isfinite(plant.modes())) else float("nan")
+    if not (np.isfinite(w1) and w1 > 0.0):
+        raise ParameterError(f"{where}: the first elastic mode of the chain is {w1!r} rad/s (the Rayleigh damping "
+                             "needs a finite, positive one); check the stiffnesses and inertias")
 
 
 def _dahl(level: float, length: float):
@@ -152,6 +193,7 @@ def ballscrew_machine(plant: ElasticBallScrew | RigidBallScrew, controller: TwoD
     if controller is not None and not isinstance(controller, TwoDofController):
         raise ParameterError(f"ballscrew_machine controller = {type(controller).__name__}: must be a TwoDofController")
 
+    check_plant(plant, "ballscrew_machine")
     if isinstance(plant, ElasticBallScrew):
         R = plant.R
         m = Machine(f"ballscrew (elastic, {plant.nut_model} nut)")

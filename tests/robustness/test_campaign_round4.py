@@ -1,0 +1,41 @@
+"""Issue 13, campaign round 4 (helper rob): what the fourth fuzzing round found, one test per
+pattern. Round 3's leftovers first: a ball-screw plant or study with an implausible mass failed
+every run with a message that missed the cause."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from frictionkit.errors import DataError, ParameterError
+from frictionkit.presets.ballscrew import MAX_INERTIA_SPAN, ballscrew_machine, check_plant
+from frictionkit.reproduce.zhu_fujimoto import paper_plant
+from frictionkit.study import StudySpec
+
+
+@pytest.mark.parametrize("mass", [1e300, 1e-300, 1e20])
+def test_ballscrew_machine_names_an_implausible_table_mass(mass):
+    with pytest.raises(ParameterError, match=re.escape(f"M_t = {mass:.4g} kg is not a plausible inertia")):
+        ballscrew_machine(paper_plant(M_t=mass))
+
+
+def test_ballscrew_inertia_span_is_the_cores_bound():
+    plant = paper_plant()
+    # J_b = 1.0052e-3 kg·m² is the smallest inertia of the preset: just inside / outside the span
+    check_plant(paper_plant(M_t=0.5 * MAX_INERTIA_SPAN * plant.J_b))
+    with pytest.raises(ParameterError, match="J_b = 1e-20 kg·m²"):
+        check_plant(paper_plant(J_b=1e-20))
+
+
+@pytest.mark.parametrize("mass", [1e300, 1e-300])
+def test_ballscrew_study_refuses_the_mass_up_front(mass):
+    with pytest.raises(DataError, match=re.escape(f"[machine] mass = {mass!r}") + ".*kg is not a plausible inertia"):
+        StudySpec(machine={"preset": "ballscrew", "mass": mass})
+
+
+def test_ballscrew_study_checks_the_drawn_range():
+    # the span ends at J_b x 1e12 = 1.0052e9 kg: 1e8 x 1.5 is inside, 6e8 x 1.9 = 1.14e9 outside
+    StudySpec(machine={"preset": "ballscrew", "mass": 1e8}, spread={"mass": 0.5})
+    with pytest.raises(DataError, match=r"drawn in \[.*\] with \[spread\] mass = 0.9"):
+        StudySpec(machine={"preset": "ballscrew", "mass": 6e8}, spread={"mass": 0.9})

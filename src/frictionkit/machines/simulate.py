@@ -578,7 +578,9 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         scales are shorter than the sub-step (:func:`site_coupling`: a very light mass on a
         stiff or damped contact) makes the run check itself against 16x the sub-steps and
         return status 2 (``STATUS_TOLERANCE``) with what to do when they disagree; other
-        runs cost nothing extra.
+        runs cost nothing extra. A closed loop that is linearly unstable at the sample period
+        (:func:`frictionkit.machines.stability.loop_stability`) is checked the same way: status 2
+        when its traces do not converge, else a note in ``message``.
     seed : int — seed of the sensor noise.
     fast_path : bool — a machine that is one mass, one dynamic friction site (LuGre, Dahl, GMS)
         and one open-loop force input, with nothing else, runs on the single-axis adaptive
@@ -643,7 +645,15 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
                                  val.positive("simulate_machine", "atol", atol), max_substeps)
     res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
-    return _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
+    res = _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
+    return _loop_check(machine, res, dt, inputs, N, seed)
+
+
+def _loop_check(machine, res, dt, inputs, N, seed):
+    """Unstable closed loops (issue 13): see :func:`frictionkit.machines.stability.loop_check`."""
+    from .stability import loop_check
+
+    return loop_check(machine, res, dt, lambda n: _run_machine(machine, dt, inputs, N, n, seed, False))
 
 
 def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, atol, max_substeps):
@@ -674,7 +684,8 @@ def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, 
             # atol bounds the positions only: a light mass's forces and velocities can ring while
             # its positions agree (LuGre 1e-9 kg, atol 1e-3: status 0 with a peak friction of 193 N
             # for 2 N), so the accepted run gets the same sub-step check as a plain one
-            return _substep_check(machine, ok, dt, inputs, N, n, seed, raise_on_failure, atol_given=True)
+            ok = _substep_check(machine, ok, dt, inputs, N, n, seed, raise_on_failure, atol_given=True)
+            return _loop_check(machine, ok, dt, inputs, N, seed)
         prev = nxt
 
 

@@ -67,6 +67,7 @@ from scipy.optimize import least_squares
 from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError
 from ..simulation.core import SimOptions
+from . import _jacobian
 from ._oe_params import _Template, _unit
 from ._oe_problem import _batch_costs, _blas_limit, _bounds_tr, _Problem, _start_points
 from .fit_options import OUTPUT_ERROR_FIT, FitOptions, fit_settings
@@ -424,7 +425,10 @@ def fit_output_error(
         prob.cost_history = []
         with warnings.catch_warnings(), _blas_limit():
             warnings.simplefilter("ignore", RuntimeWarning)
-            sol = least_squares(prob.fun, pts[i], jac=prob.jac, bounds=(lo, hi), method="trf",
+            # exact Jacobians: every evaluation is one augmented run, handed to trf as the (p + 1)-row
+            # problem with the same cost, gradient and Gauss-Newton matrix (_jacobian.ReducedProblem)
+            red = _jacobian.ReducedProblem(prob) if prob.exact else prob
+            sol = least_squares(red.fun, pts[i], jac=red.jac, bounds=(lo, hi), method="trf",
                                 x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
         runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
                      "njev": int(sol.njev or 0), "message": sol.message, "history": list(prob.cost_history)})

@@ -65,30 +65,35 @@ import math
 import numpy as np
 
 from .._jit import njit
-
-GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
-OK, NONFINITE, BUDGET, TOLERANCE = 0, 1, 2, 3
-#: Smallest sub-step as a fraction of ``dt``.
-H_MIN = 1e-9
+from ._phi2 import phis
+from ._stribeck import R_S2
+from ._stribeck import row as static_row
+from .lugre import BUDGET, E_GROW, EXP_NORM_MAX, GAMMA, H_MIN, NONFINITE, OK, SPAN_MAX, TOLERANCE
+from .lugre import _atol_run, _flat, _force, _point
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
 N_COEF = 7
+#: ``(|v| / vs)^delta`` beyond which the Stribeck term ``exp(-.)`` (< 1e-30) is taken as 0. Its
+#: products with the sensitivities otherwise run through subnormal numbers (~100x slower
+#: arithmetic) on every fast-sliding sample; the level changes by < 1e-30 of ``Fs - Fc``.
+PHI_CUT = 69.0
 
 
 @njit(inline="always")
-def _g_parts(Fc, Fs, vs, delta, shape, av):
-    """``(g, dg/d|v|, phi, dphi/dvs, dphi/ddelta)`` with ``g = Fc + (Fs - Fc) phi(|v| / vs)``."""
+def _g_parts(Fc, Fs, vs, delta, shape, av, want_delta=True):
+    """``(g, dg/d|v|, phi, dphi/dvs, dphi/ddelta)`` with ``g = Fc + (Fs - Fc) phi(|v| / vs)``
+    (``dphi/ddelta`` is 0 unless ``want_delta``: it costs a logarithm)."""
     r = av / vs
     if r == 0.0:
         return Fs, 0.0, 1.0, 0.0, 0.0
     if shape == 0.0:
         rd = r * r if delta == 2.0 else (r if delta == 1.0 else r**delta)
-        if rd > 700.0:  # phi has underflowed: g = Fc, flat
+        if rd > PHI_CUT:  # phi < 1e-30: g = Fc, flat (further terms would be subnormal: slow)
             return Fc, 0.0, 0.0, 0.0, 0.0
         phi = math.exp(-rd)
         dphi_dr = -phi * delta * rd / r
         return (Fc + (Fs - Fc) * phi, (Fs - Fc) * dphi_dr / vs, phi, -dphi_dr * r / vs,
-                -phi * rd * math.log(r))
+                -phi * rd * math.log(r) if want_delta else 0.0)
     q = 1.0 / (1.0 + r * r)
     dphi_dr = -2.0 * r * q * q
     return Fc + (Fs - Fc) * q, (Fs - Fc) * dphi_dr / vs, q, -dphi_dr * r / vs, 0.0
@@ -160,204 +165,437 @@ def lugre_motion_sens(xpos, dt, static, dyn, coef, F_out, S_out):
 
 
 @njit(inline="always")
-def _rates(v, z, w, m, off, Fc, Fs, vs, delta, shape, s0, s1, s2):
-    """``(fv, zd, Fv, Fz, zdv, a, phi, dphi_vs, dphi_de, 1/g)`` at one state (``zd = dz/dt``)."""
+def _pt(v, z, uu, im, Fc, Fs, vs, delta, shape, s0, s1, s2, want_delta):
+    """Rates and their derivatives at one state, parameters of one row:
+    ``(fv, zd, dzd/dv, dzd/dz, dF/dv, dF/dz, |v|, 1/g, phi, dphi/dvs, dphi/ddelta)``."""
     av = abs(v)
-    g, gr, phi, dphi_vs, dphi_de = _g_parts(Fc, Fs, vs, delta, shape, av)
+    g, gr, phi, dpv, dpd = _g_parts(Fc, Fs, vs, delta, shape, av, want_delta)
     ig = 1.0 / g
     a = s0 * av * ig
     zd = v - a * z
     sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
     zdv = 1.0 - s0 * z * sg * ig * (1.0 - av * gr * ig)
     F = s0 * z + s1 * zd + s2 * v
-    fv = (w - F - off) / m
-    return fv, zd, s1 * zdv + s2, s0 - s1 * a, zdv, a, phi, dphi_vs, dphi_de, ig
+    return (uu - F) * im, zd, zdv, -a, s1 * zdv + s2, s0 - s1 * a, av, ig, phi, dpv, dpd
 
 
 @njit(inline="always")
-def _ftheta(coef, j, row, dmj, doffj, v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dphi_vs, dphi_de):
-    """``(d fv / d theta_j, d fz / d theta_j)`` at fixed state, parameter rows of ``row``
+def _ftheta(coef, j, row, dmj, doffj, v, z, av, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dphi_vs, dphi_de):
+    """``(d v' / d theta_j, d z' / d theta_j)`` at fixed state, parameter rows of ``row``
     (``im = 1/m``, ``ig = 1/g``: no division in the per-parameter loop)."""
     dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
     ds0 = coef[j, row, C_S0]
-    dzd = -abs(v) * (ds0 - s0 * dgj * ig) * ig * z
+    dzd = -av * (ds0 - s0 * dgj * ig) * ig * z
     dF = ds0 * z + coef[j, row, C_S1] * zd + s1 * dzd + coef[j, row, C_S2] * v
     return -(dF + doffj + fv * dmj) * im, dzd
 
 
 @njit(inline="always")
-def _u_at(u, dt, t):
-    """The input force at time ``t``, linear between samples (clamped at the record's end)."""
-    q = t / dt
-    k = int(q)
-    if k >= u.size - 1:
-        return u[u.size - 1]
-    return u[k] + (u[k + 1] - u[k]) * (q - k)
-
-
-@njit(inline="always")
-def _hermite(a0, d0, a1, d1, h, th):
-    """Cubic Hermite interpolant at ``t_n + th h`` from values and slopes at both step ends."""
-    th2 = th * th
-    th3 = th2 * th
-    return ((2.0 * th3 - 3.0 * th2 + 1.0) * a0 + (th3 - 2.0 * th2 + th) * h * d0
-            + (3.0 * th2 - 2.0 * th3) * a1 + (th3 - th2) * h * d1)
-
-
-#: Longest step, in sample periods. Steps may span samples (the input is evaluated exactly
-#: at the stage times and the W-matrix leaves out the time column, which a W-method allows);
-#: the samples inside a step are read off the cubic Hermite interpolant of the step.
-H_SPAN = 50.0
-
-
-@njit(error_model="numpy")  # IEEE division: no zero test per division; non-finite states are caught below
-def lugre_force_sens(u, dt, m, off, static, dyn, coef, dm, doff, rtol, atol_v, atol_z, max_sub,
-                     x_out, v_out, Sx_out, Sv_out):
-    """Force-driven LuGre on a mass from rest, with forward sensitivities (ROS2-W, see above).
-
-    Fills ``x_out``, ``v_out`` (``N``) and ``Sx_out``, ``Sv_out`` (``N, p``: ``dx/dtheta``,
-    ``dv/dtheta``). Steps span samples where the error control allows (at most ``H_SPAN``
-    sample periods); ``max_sub`` is the sub-step budget per sample interval on average.
-    Returns ``(status, sub-steps)``.
-    """
-    N = u.size
-    p = coef.shape[0]
-    x_out[0] = 0.0
-    v_out[0] = 0.0
-    for j in range(p):
-        Sx_out[0, j] = 0.0
-        Sv_out[0, j] = 0.0
-    if N < 2:
-        return OK, 0
-    T = (N - 1) * dt
+def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor,
+               static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz):
+    """One sample interval by adaptive ROS2 sub-steps (the scheme of ``lugre._interval``), the
+    sensitivities ``sx, sv, sz`` (updated in place) riding on every accepted sub-step as a
+    W-method on the augmented system (module docstring). Returns ``(x, v, z, h_try, n, status, vpk)``."""
     im = 1.0 / m
-    x = 0.0
-    v = 0.0
-    z = 0.0
+    du = (u1 - u0) / dt
     t = 0.0
-    sx = np.zeros(p)
-    sv = np.zeros(p)
-    sz = np.zeros(p)
-    dsv = np.zeros(p)  # d(sv)/dt = (J S + f_theta)_v at the current point
-    dsz = np.zeros(p)
-    sx0 = np.zeros(p)
-    sv0 = np.zeros(p)
-    dsv0 = np.zeros(p)
-    k1v = np.zeros(p)
-    k1z = np.zeros(p)
-    k1x = np.zeros(p)
-    # rates and sensitivity slopes at the start
-    row = 0
-    Fc = static[row, 0]
-    Fs = static[row, 1]
-    s0 = dyn[row, 0]
-    s1 = dyn[row, 1]
-    fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, u[0], m, off, Fc, Fs, static[row, 2],
-                                                       static[row, 3], static[row, 5], s0, s1, static[row, 4])
-    for j in range(p):
-        ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
-        dsv[j] = ftv
-        dsz[j] = ftz
-    h = dt
-    nsub = 0
-    budget = max_sub * (N - 1)
-    kout = 1
-    while kout < N:
-        if nsub >= budget:
-            return BUDGET, nsub
-        h = min(h, H_SPAN * dt)
-        if t + h >= T - 1e-9 * dt:
-            h = T - t
+    w = u0
+    n = 0
+    P = coef.shape[0]
+    zd, F, dzv, dzz, dFv, dFz = _point(v, z, p0, p1, d0, d1)
+    tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+    while t < dt:
+        h = h_try
+        rem = dt - t
+        if h >= rem or rem - h < 1e-9 * dt:
+            h = rem
         gh = GAMMA * h
-        A11 = 1.0 + gh * Fv * im
-        A12 = gh * Fz * im
-        A21 = -gh * zdv
-        A22 = 1.0 + gh * a
-        idet = 1.0 / (A11 * A22 - A12 * A21)
-        k1v_ = (A22 * fv - A12 * zd) * idet
-        k1z_ = (A11 * zd - A21 * fv) * idet
-        k1x_ = v + gh * k1v_
-        v2 = v + h * k1v_
-        z2 = z + h * k1z_
-        row2 = 0 if v2 >= 0.0 else 1
-        Fc2 = static[row2, 0]
-        Fs2 = static[row2, 1]
-        s02 = dyn[row2, 0]
-        s12 = dyn[row2, 1]
-        fv2, zd2, Fv2, Fz2, zdv2, a2, phi2, dpv2, dpd2, ig2 = _rates(
-            v2, z2, _u_at(u, dt, t + h), m, off, Fc2, Fs2, static[row2, 2], static[row2, 3], static[row2, 5],
-            s02, s12, static[row2, 4])
-        bv = fv2 - 2.0 * k1v_
-        bz = zd2 - 2.0 * k1z_
-        k2v_ = (A22 * bv - A12 * bz) * idet
-        k2z_ = (A11 * bz - A21 * bv) * idet
-        k2x_ = (v2 - 2.0 * k1x_) + gh * k2v_
-        vn = v + 0.5 * h * (3.0 * k1v_ + k2v_)
-        zn = z + 0.5 * h * (3.0 * k1z_ + k2z_)
-        e1 = abs(0.5 * h * (k1v_ + k2v_)) / (atol_v + rtol * max(abs(v), abs(vn)))
-        e2 = abs(0.5 * h * (k1z_ + k2z_)) / (atol_z + rtol * max(abs(z), abs(zn)))
-        err = max(e1, e2)
-        nsub += 1
-        if not math.isfinite(err) or not math.isfinite(vn + zn):
-            if h <= H_MIN * dt:
-                return NONFINITE, nsub
-            h *= 0.2
+        a11 = 1.0 + gh * dFv * im
+        a12 = gh * dFz * im
+        a21 = -gh * dzv
+        a22 = 1.0 - gh * dzz
+        idet = 1.0 / (a11 * a22 - a12 * a21)
+        b1 = (w - F + gh * du) * im
+        k1v = (b1 * a22 - a12 * zd) * idet
+        k1z = (a11 * zd - a21 * b1) * idet
+        k1x = v + gh * k1v
+        v2 = v + h * k1v
+        z2 = z + h * k1z
+        zd2, F2 = _force(v2, z2, p0, p1, d0, d1)
+        r_z = zd2 - 2.0 * k1z
+        b1 = (w + h * du - F2 - gh * du) * im - 2.0 * k1v
+        k2v = (b1 * a22 - a12 * r_z) * idet
+        k2z = (a11 * r_z - a21 * b1) * idet
+        k2x = v2 - 2.0 * k1x + gh * k2v
+        xn = x + h * (1.5 * k1x + 0.5 * k2x)
+        vn = v + h * (1.5 * k1v + 0.5 * k2v)
+        zn = z + h * (1.5 * k1z + 0.5 * k2z)
+        n += 1
+        if not math.isfinite(xn + vn + zn):
+            if h > H_MIN * dt:
+                h_try = 0.1 * h
+                continue
+            return x, v, z, h_try, n, NONFINITE, vpk
+        e1 = 0.5 * h * (k1v + k2v)
+        e2 = 0.5 * h * (k1z + k2z)
+        ev = (e1 * a22 - a12 * e2) * idet
+        ez = (a11 * e2 - a21 * e1) * idet
+        e = abs(ev) / (tol_v + rtol * abs(vn))
+        q = abs(ez) / (atol_z + rtol * abs(zn))
+        if q > e:
+            e = q
+        if e > 1.0 and h <= H_MIN * dt:
+            return x, v, z, h_try, n, TOLERANCE, vpk
+        if e <= 1.0:
+            # sensitivities on the same sub-step: stage 1 at (v, z), stage 2 at (v2, z2)
+            r = 0 if v >= 0.0 else 1
+            Fc, Fs, s0, s1 = static[r, 0], static[r, 1], dyn[r, 0], dyn[r, 1]
+            fa, zda, zva, zza, Fva, Fza, ava, iga, pha, dva, dda = _pt(
+                v, z, w, im, Fc, Fs, static[r, 2], static[r, 3], static[r, 5], s0, s1, static[r, 4], want_delta)
+            r2 = 0 if v2 >= 0.0 else 1
+            Fc2, Fs2, s02, s12 = static[r2, 0], static[r2, 1], dyn[r2, 0], dyn[r2, 1]
+            fb, zdb, zvb, zzb, Fvb, Fzb, avb, igb, phb, dvb, ddb = _pt(
+                v2, z2, w + h * du, im, Fc2, Fs2, static[r2, 2], static[r2, 3], static[r2, 5], s02, s12,
+                static[r2, 4], want_delta)
+            for j in range(P):
+                ftv, ftz = _ftheta(coef, j, r, dm[j], doff[j], v, z, ava, im, fa, zda, iga, Fc, Fs, s0, s1,
+                                   pha, dva, dda)
+                rv = -(Fva * sv[j] + Fza * sz[j]) * im + ftv
+                rz = zva * sv[j] + zza * sz[j] + ftz
+                q1v = (a22 * rv - a12 * rz) * idet
+                q1z = (a11 * rz - a21 * rv) * idet
+                q1x = sv[j] + gh * q1v
+                sv2 = sv[j] + h * q1v
+                sz2 = sz[j] + h * q1z
+                ftv, ftz = _ftheta(coef, j, r2, dm[j], doff[j], v2, z2, avb, im, fb, zdb, igb, Fc2, Fs2, s02, s12,
+                                   phb, dvb, ddb)
+                rv = -(Fvb * sv2 + Fzb * sz2) * im + ftv - 2.0 * q1v
+                rz = zvb * sv2 + zzb * sz2 + ftz - 2.0 * q1z
+                q2v = (a22 * rv - a12 * rz) * idet
+                q2z = (a11 * rz - a21 * rv) * idet
+                if want_x:
+                    sx[j] += h * (1.5 * q1x + 0.5 * ((sv2 - 2.0 * q1x) + gh * q2v))
+                sv[j] += h * (1.5 * q1v + 0.5 * q2v)
+                sz[j] += h * (1.5 * q1z + 0.5 * q2z)
+            x = xn
+            v = vn
+            z = zn
+            t += h
+            w = u0 + du * t
+            if abs(v) > vpk:
+                vpk = abs(v)
+                tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+            zd, F, dzv, dzz, dFv, dFz = _point(v, z, p0, p1, d0, d1)
+        fac = 0.9 / math.sqrt(e) if e > E_GROW else 5.0
+        h_try = h * min(5.0, max(0.2, fac))
+        if n >= max_sub:
+            return x, v, z, h_try, n, BUDGET, vpk
+    return x, v, z, h_try, n, OK, vpk
+
+
+@njit(error_model="numpy")  # IEEE division: non-finite states are caught by the step logic
+def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z, max_sub, v_floor, want_x,
+                     x, v, z, Sx, Sv):
+    """Force-driven LuGre on a mass from rest, with forward sensitivities (module docstring).
+
+    ``u`` is the force on the mass less the constant ``offset`` (as :func:`frictionkit.simulate`
+    is given it); ``dm``, ``doff`` the derivatives of the mass and the offset. Fills ``x, v, z``
+    (``N``) and ``Sv`` (``N, p``: ``dv/dtheta``), and ``Sx`` (``dx/dtheta``) when ``want_x``.
+    The state steps are those of :func:`.lugre.lugre_force` (tolerances and ``v_floor`` as it
+    takes them). Returns ``(status, k, substeps)`` as it does.
+    """
+    p0 = _flat(static_row(static, 0))
+    p1 = _flat(static_row(static, 1))
+    d0 = (dyn[0, 0], dyn[0, 1])
+    d1 = (dyn[1, 0], dyn[1, 1])
+    im = 1.0 / m
+    dt2 = dt * dt
+    N = u.size
+    P = coef.shape[0]
+    want_delta = False
+    for j in range(P):
+        if coef[j, 0, C_DELTA] != 0.0 or coef[j, 1, C_DELTA] != 0.0:
+            want_delta = True
+    K = _k_table(coef, dm, doff)
+    sx = np.zeros(P)
+    sv = np.zeros(P)
+    sz = np.zeros(P)
+    qv = np.zeros(P)  # forcing d f / d theta + w c.S of the sensitivity equation at the current sample
+    qz = np.zeros(P)
+    xs, vs_, zs = 0.0, 0.0, 0.0
+    x[0] = xs
+    v[0] = vs_
+    z[0] = zs
+    for j in range(P):
+        Sv[0, j] = 0.0
+        if want_x:
+            Sx[0, j] = 0.0
+    total = 0
+    vpk = 0.0
+    k = 0
+    n_try = 1
+    have = False
+    zd0 = F0 = dzv = dzz = dFv = dFz = 0.0
+    h_ros = dt
+    while k < N - 1:
+        sd = vs_
+        if sd == 0.0:
+            ac = u[k] - _force(0.0, zs, p0, p1, d0, d1)[1]
+            if ac == 0.0:
+                ac = u[k + 1] - u[k]
+            sd = math.copysign(1e-300, ac) if ac != 0.0 else 0.0
+            have = False
+        j = 0
+        if sd != 0.0:
+            if not have:
+                zd0, F0, dzv, dzz, dFv, dFz = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
+            have = False
+            s0, s1 = d0 if sd > 0.0 else d1
+            s2 = p0[R_S2] if sd > 0.0 else p1[R_S2]
+            b11 = -dFv * im
+            b12 = -dFz * im
+            b21 = dzv
+            b22 = dzz
+            if dt * (max(abs(b11), abs(b22)) + math.sqrt(abs(b12 * b21))) > EXP_NORM_MAX:
+                sd = 0.0
+        if sd != 0.0:
+            E, P1, P2, P3, P4 = phis((b11 * dt, b12 * dt, b21 * dt, b22 * dt))
+            r0 = -F0 * im - (b11 * vs_ + b12 * zs)
+            r1 = zd0 - (b21 * vs_ + b22 * zs)
+            Rv = dt * (P1[0] * r0 + P1[1] * r1)
+            Rz = dt * (P1[2] * r0 + P1[3] * r1)
+            Av = dt * P1[0] * im
+            Az = dt * P1[2] * im
+            Bv = dt * P2[0] * im
+            Bz = dt * P2[2] * im
+            Pxv = dt * P1[0]
+            Pxz = dt * P1[1]
+            Rx = dt2 * (P2[0] * r0 + P2[1] * r1)
+            Ax = dt2 * P2[0] * im
+            Bx = dt2 * P3[0] * im
+            wv = -s1 * im
+            W1v = dt * (P1[0] * wv + P1[1])
+            W1z = dt * (P1[2] * wv + P1[3])
+            W2v = dt * (P2[0] * wv + P2[1])
+            W2z = dt * (P2[2] * wv + P2[3])
+            W3v = 2.0 * dt * (P3[0] * wv + P3[1])
+            W3z = 2.0 * dt * (P3[2] * wv + P3[3])
+            X2 = dt2 * (P2[0] * wv + P2[1])
+            X3 = dt2 * (P3[0] * wv + P3[1])
+            X4 = 2.0 * dt2 * (P4[0] * wv + P4[1])
+            tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+            while True:
+                n = min(n_try, N - 1 - k)
+                xa, va, za = xs, vs_, zs
+                vmax = vpk
+                flip = False
+                j = 0
+                acc = (u[k] - F0) * im
+                while j < n:
+                    uk = u[k + j]
+                    du = u[k + j + 1] - uk
+                    xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
+                    vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
+                    zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
+                    if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
+                        flip = True
+                        break
+                    acn = b11 * vn + b12 * zn + r0 + u[k + j + 1] * im
+                    if acc * sd < 0.0 < acn * sd and min(abs(va), abs(vn)) < 0.25 * dt * (abs(acc) + abs(acn)):
+                        flip = True
+                        break
+                    acc = acn
+                    j += 1
+                    x[k + j] = xn
+                    v[k + j] = vn
+                    z[k + j] = zn
+                    xa, va, za = xn, vn, zn
+                    if abs(vn) > vmax:
+                        vmax = abs(vn)
+                total += 1
+                if j == 0:
+                    break
+                ge = _force(va, za, p0, p1, d0, d1)[0] - (b21 * va + b22 * za + r1)
+                if j >= 2:
+                    jm = j // 2
+                    th = jm / j
+                    vm = v[k + jm]
+                    zm = z[k + jm]
+                    gm = _force(vm, zm, p0, p1, d0, d1)[0] - (b21 * vm + b22 * zm + r1)
+                    ca = (gm - th * th * ge) / (th - th * th)
+                else:
+                    ca = 0.0
+                cb = ge - ca
+                ij = 1.0 / j
+                c2 = cb * ij * ij
+                ex = 0.0
+                ev = 0.0
+                ez = 0.0
+                ok = True
+                for i in range(j):
+                    c0 = (ca + cb * i * ij) * i * ij
+                    c1 = ca * ij + 2.0 * cb * i * ij * ij
+                    nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
+                    nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
+                    nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
+                    ex, ev, ez = nx, nv, nz
+                    vv = v[k + i + 1] + ev
+                    zz = z[k + i + 1] + ez
+                    if vv * sd <= 0.0:
+                        ok = False
+                        break
+                    x[k + i + 1] += ex
+                    v[k + i + 1] = vv
+                    z[k + i + 1] = zz
+                e = abs(ev) / (tol_v + rtol * abs(va))
+                q = abs(ez) / (atol_z + rtol * abs(za))
+                if q > e:
+                    e = q
+                if not ok or not math.isfinite(e):
+                    e = 1e10
+                if e <= 1.0:
+                    _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, want_delta, want_x,
+                               E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv)
+                    k += j
+                    xs = x[k]
+                    vs_ = v[k]
+                    zs = z[k]
+                    zd0, F0, dzv, dzz, dFv, dFz = _point(vs_, zs, p0, p1, d0, d1)
+                    have = True
+                    if vmax > vpk:
+                        vpk = vmax
+                    if flip:
+                        n_try = j
+                    else:
+                        fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0
+                        n_try = max(1, min(SPAN_MAX, int(j * min(4.0, max(0.2, fac)))))
+                    break
+                if j == 1:
+                    j = 0
+                    break
+                fac = 0.9 / e ** (1.0 / 3.0)
+                n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
+        if j > 0:
+            h_ros = dt
             continue
-        if err > 1.0:
-            if h <= H_MIN * dt:
-                return TOLERANCE, nsub
-            h *= max(0.2, 0.9 / math.sqrt(err))
+        xs, vs_, zs, h_ros, nn, st, vpk = _ros2_sens(
+            xs, vs_, zs, min(h_ros, dt), u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub,
+            vpk, v_floor, static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz)
+        have = False
+        total += nn
+        k += 1
+        x[k] = xs
+        v[k] = vs_
+        z[k] = zs
+        for jj in range(P):
+            Sv[k, jj] = sv[jj]
+            if want_x:
+                Sx[k, jj] = sx[jj]
+        n_try = 1
+        if st != OK:
+            return st, k, total
+    return OK, N - 1, total
+
+
+@njit(error_model="numpy")
+def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, want_x,
+               E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv):
+    """Sensitivities over an accepted spanning step of ``n`` samples from sample ``k``.
+
+    ``S' = B S + q(t)`` with ``B`` the step's linearisation and the forcing
+    ``q = df/dtheta (y(t)) + w (c(t) . S)``, ``c = grad dz/dt (y(t)) - grad dz/dt (y_k)`` (the
+    Jacobian along the path is ``B + w c^T`` exactly: the remainder is in ``dz/dt`` alone).
+    Each sample interval is solved exactly for ``q`` linear between the samples (the
+    exponential trapezoidal rule: ``S+ = E S + dt (phi1 - phi2) q + dt phi2 q+``), implicit in
+    ``c+ . S+`` (a scalar per column, closed form). ``K[row]`` (``9 x p``): the packed-row
+    derivatives per column (:func:`_k_table`).
+    """
+    P = sv.size
+    rs = 0 if sd > 0.0 else 1
+    Fc = static[rs, 0]
+    Fs = static[rs, 1]
+    vsr = static[rs, 2]
+    de = static[rs, 3]
+    sh = static[rs, 5]
+    s2 = static[rs, 4]
+    s0 = dyn[rs, 0]
+    s1 = dyn[rs, 1]
+    Kr = K[rs]
+    q10, q11, q12, q13 = dt * (P1[0] - P2[0]), dt * (P1[1] - P2[1]), dt * (P1[2] - P2[2]), dt * (P1[3] - P2[3])
+    q20, q22 = dt * P2[0], dt * P2[2]
+    omv = q20 * wv + dt * P2[1]  # dt phi2 w
+    omz = q22 * wv + dt * P2[3]
+    x0v, x0z = dt * P1[0], dt * P1[1]
+    xav, xaz = dt2 * (P2[0] - P3[0]), dt2 * (P2[1] - P3[1])
+    xbv, xbz = dt2 * P3[0], dt2 * P3[1]
+    omx = xbv * wv + xbz
+    dF = Fs - Fc
+    for i in range(n + 1):
+        b = k + i
+        if i == 0:
+            vb = v0 if v0 != 0.0 else sd  # the side the step is on (from rest: sd = +-1e-300)
+            zb = z0
+        else:
+            vb = v[b]
+            zb = z[b]
+        av = abs(vb)
+        g, gr, phi, dpv, dpd = _g_parts(Fc, Fs, vsr, de, sh, av, want_delta)
+        ig = 1.0 / g
+        a = s0 * av * ig
+        zd = vb - a * zb
+        sg = 1.0 if vb > 0.0 else -1.0
+        zdv = 1.0 - s0 * zb * sg * ig * (1.0 - av * gr * ig)
+        fv = (u[b] - (s0 * zb + s1 * zd + s2 * vb)) * im
+        G = s0 * av * ig * ig * zb  # d(dz/dt)/dg
+        Z0 = -av * ig * zb  # d(dz/dt)/dsigma0
+        g1 = G * (1.0 - phi)
+        g2 = G * phi
+        g3 = G * dF * dpv
+        g4 = G * dF * dpd
+        if i == 0:  # forcing at the step's first sample (c = 0 there by construction)
+            for j in range(P):
+                al = g1 * Kr[2, j] + g2 * Kr[3, j] + g3 * Kr[4, j] + g4 * Kr[5, j] + Z0 * Kr[0, j]
+                be = -(Kr[0, j] * zb + Kr[1, j] * zd + Kr[6, j] * vb + Kr[8, j] + fv * Kr[7, j]) * im
+                qv[j] = be + wv * al
+                qz[j] = al
             continue
-        # accepted: the sensitivities on the same step (stage 1: their slope at the current point)
-        for j in range(p):
-            k1v[j] = (A22 * dsv[j] - A12 * dsz[j]) * idet
-            k1z[j] = (A11 * dsz[j] - A21 * dsv[j]) * idet
-            k1x[j] = sv[j] + gh * k1v[j]
-        for j in range(p):
-            ftv, ftz = _ftheta(coef, j, row2, dm[j], doff[j], v2, z2, im, fv2, zd2, ig2, Fc2, Fs2, s02, s12,
-                               phi2, dpv2, dpd2)
-            sv2 = sv[j] + h * k1v[j]
-            sz2 = sz[j] + h * k1z[j]
-            bv = (-Fv2 * sv2 - Fz2 * sz2) * im + ftv - 2.0 * k1v[j]
-            bz = zdv2 * sv2 - a2 * sz2 + ftz - 2.0 * k1z[j]
-            k2v = (A22 * bv - A12 * bz) * idet
-            k2z = (A11 * bz - A21 * bv) * idet
-            k2x = (sv2 - 2.0 * k1x[j]) + gh * k2v
-            sx0[j] = sx[j]
-            sv0[j] = sv[j]
-            dsv0[j] = dsv[j]
-            sx[j] += 0.5 * h * (3.0 * k1x[j] + k2x)
-            sv[j] += 0.5 * h * (3.0 * k1v[j] + k2v)
-            sz[j] += 0.5 * h * (3.0 * k1z[j] + k2z)
-        x0 = x
-        v0 = v
-        fv0 = fv
-        x += 0.5 * h * (3.0 * k1x_ + k2x_)
-        v = vn
-        z = zn
-        t0 = t
-        t = T if h == T - t0 else t0 + h
-        # rates and sensitivity slopes at the new point (the next step's first stage)
-        row = 0 if v >= 0.0 else 1
-        Fc = static[row, 0]
-        Fs = static[row, 1]
-        s0 = dyn[row, 0]
-        s1 = dyn[row, 1]
-        fv, zd, Fv, Fz, zdv, a, phi, dpv, dpd, ig = _rates(v, z, _u_at(u, dt, t), m, off, Fc, Fs, static[row, 2],
-                                                           static[row, 3], static[row, 5], s0, s1, static[row, 4])
-        for j in range(p):
-            ftv, ftz = _ftheta(coef, j, row, dm[j], doff[j], v, z, im, fv, zd, ig, Fc, Fs, s0, s1, phi, dpv, dpd)
-            dsv[j] = (-Fv * sv[j] - Fz * sz[j]) * im + ftv
-            dsz[j] = zdv * sv[j] - a * sz[j] + ftz
-        # the samples inside (t0, t]
-        while kout < N and kout * dt <= t + 1e-9 * dt:
-            th = min(1.0, (kout * dt - t0) / h)
-            x_out[kout] = _hermite(x0, v0, x, v, h, th)
-            v_out[kout] = _hermite(v0, fv0, v, fv, h, th)
-            for j in range(p):
-                Sx_out[kout, j] = _hermite(sx0[j], sv0[j], sx[j], sv[j], h, th)
-                Sv_out[kout, j] = _hermite(sv0[j], dsv0[j], sv[j], dsv[j], h, th)
-            kout += 1
-        fac = 5.0 if err < 0.0324 else 0.9 / math.sqrt(err)
-        h = h * fac
-    return OK, nsub
+        cv = zdv - b21
+        cz = -a - b22
+        den = 1.0 / (1.0 - (cv * omv + cz * omz))
+        for j in range(P):
+            al = g1 * Kr[2, j] + g2 * Kr[3, j] + g3 * Kr[4, j] + g4 * Kr[5, j] + Z0 * Kr[0, j]
+            be = -(Kr[0, j] * zb + Kr[1, j] * zd + Kr[6, j] * vb + Kr[8, j] + fv * Kr[7, j]) * im
+            svo = sv[j]
+            szo = sz[j]
+            qvo = qv[j]
+            qzo = qz[j]
+            # dt phi2 ft+ with ft+ = be e_v + al w
+            av_ = E[0] * svo + E[1] * szo + q10 * qvo + q11 * qzo + q20 * be + omv * al
+            az_ = E[2] * svo + E[3] * szo + q12 * qvo + q13 * qzo + q22 * be + omz * al
+            kap = (cv * av_ + cz * az_) * den
+            nsv = av_ + omv * kap
+            nqv = be + wv * (al + kap)
+            nqz = al + kap
+            if want_x:
+                sx[j] += x0v * svo + x0z * szo + xav * qvo + xaz * qzo + xbv * be + omx * (al + kap)
+                Sx[b, j] = sx[j]
+            sv[j] = nsv
+            sz[j] = az_ + omz * kap
+            qv[j] = nqv
+            qz[j] = nqz
+            Sv[b, j] = nsv
+
+
+@njit
+def _k_table(coef, dm, doff):
+    """``K[row, :, j]`` = the derivatives of ``[sigma0, sigma1, Fc, Fs, vs, delta, sigma2, m, offset]``
+    (row ``row``) with respect to ``theta_j``, contiguous in ``j``."""
+    P = coef.shape[0]
+    K = np.empty((2, 9, P))
+    for r in range(2):
+        for j in range(P):
+            for c in range(N_COEF):
+                K[r, c, j] = coef[j, r, c]
+            K[r, 7, j] = dm[j]
+            K[r, 8, j] = doff[j]
+    return K

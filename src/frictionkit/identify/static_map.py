@@ -11,7 +11,9 @@ nonlinear least squares (``scipy.optimize.least_squares``), where
 
 Standard errors come from the Jacobian at the solution, ``s^2 (J^T J)^-1`` with
 ``s^2 = RSS / (n - p)``; 95 % intervals use Student's t with ``n - p`` degrees of
-freedom. The model structure (Coulomb-viscous, exponential or Lorentzian Stribeck)
+freedom. ``covariance="run_robust"`` takes per parameter the larger of that variance and the
+HC3 sandwich (each run's own residual, leverage-corrected; see :data:`COVARIANCES`), for
+campaigns where each run mean carries its own error. The model structure (Coulomb-viscous, exponential or Lorentzian Stribeck)
 is chosen per direction by AIC or BIC unless given.
 """
 
@@ -40,6 +42,24 @@ UNIDENTIFIABLE_RSE = 1.0
 RANK_TOL = 1e-8
 
 _LOSSES = ("linear", "soft_l1", "huber", "cauchy", "arctan")
+
+#: How :func:`fit_static_map` computes the parameter covariance:
+#:
+#: * ``"residual"`` — ``s² (JᵀJ)⁻¹``, ``s² = RSS / (n − p)``: every point carries one common
+#:   error variance;
+#: * ``"run_robust"`` — per parameter the larger of that variance and the HC3 sandwich
+#:   ``(JᵀJ)⁻¹ Jᵀ diag(e_i² / (1 − h_ii)²) J (JᵀJ)⁻¹`` (``h`` the leverages ``diag(J (JᵀJ)⁻¹ Jᵀ)``;
+#:   MacKinnon & White 1985, recommended for small samples by Long & Ervin 2000; the
+#:   linearised delete-one-run jackknife), the correlation kept from the residual form. For
+#:   constant-velocity campaigns: the unit of independent information is the run, each run mean
+#:   carries its own error (averaging noise, velocity jitter through the map's curvature, a small
+#:   limit cycle), and with ~12 runs for 4 parameters per direction the few runs inside the
+#:   Stribeck transition have high leverage — the fit bends to their error, their residual is
+#:   small and the error hides in the parameters, which ``"residual"`` cannot see. HC3 can itself
+#:   fall below ``"residual"`` when the errors are exchangeable (it is noisy in small samples), hence
+#:   the larger of the two. A run with ``h_ii → 1`` (it alone fixes a parameter) gives an unbounded
+#:   variance: the parameter is then flagged. Neither form carries an error common to every run.
+COVARIANCES = ("residual", "run_robust")
 
 
 @dataclass(frozen=True)
@@ -138,9 +158,25 @@ def _unit_of(name: str, Fu: str, vu: str) -> str:
     return f"{Fu}/({vu})"
 
 
+def _hc3(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float]:
+    """HC3 sandwich covariance of least-squares parameters (scaled units) and the largest leverage."""
+    A = np.linalg.pinv(J.T @ J)
+    h = np.einsum("ij,jk,ik->i", J, A, J)
+    alone = h > 1.0 - 1e-9  # the fit passes through such a run: its own error cannot be seen
+    den = np.where(alone, 1.0, 1.0 - h)
+    meat = J.T @ (J * ((np.where(alone, 0.0, e) / den) ** 2)[:, None])
+    cov = A @ meat @ A
+    if alone.any():  # unbounded variance for the parameters such a run moves
+        infl = np.abs(A @ J.T)
+        moved = (infl[:, alone] > 1e-9 * np.max(infl, axis=1, keepdims=True)).any(axis=1)
+        cov[moved, :] = np.inf
+        cov[:, moved] = np.inf
+    return cov, float(np.max(h)) if h.size else 0.0
+
+
 def _fit_direction(
     u: np.ndarray, y: np.ndarray, w: np.ndarray, st: _Structure, *, delta: float | None,
-    loss: str, f_scale: float | None,
+    loss: str, f_scale: float | None, covariance: str = "residual",
 ) -> dict:
     """Fit one structure to speeds ``u`` and friction magnitudes ``y`` (unscaled)."""
     Fsc = float(np.max(np.abs(y))) or 1.0
@@ -175,6 +211,21 @@ def _fit_direction(
     sv = np.linalg.svd(J, compute_uv=False)
     rank_ratio = float(sv[-1] / sv[0]) if sv[0] > 0 else 0.0
     cov_s = s2 * np.linalg.pinv(J.T @ J)
+    max_leverage = None
+    if covariance == "run_robust":
+        cov_h, max_leverage = _hc3(J, best.fun)
+        var_r = np.clip(np.diag(cov_s), 0.0, None)
+        var_h = np.diag(cov_h)
+        var_h = np.where(np.isfinite(var_h), np.clip(var_h, 0.0, None), np.inf)
+        sd = np.sqrt(np.maximum(var_r, var_h))
+        sd_r = np.sqrt(var_r)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            corr = cov_s / np.outer(sd_r, sd_r)
+        corr = np.where(np.isfinite(corr), corr, 0.0)
+        np.fill_diagonal(corr, 1.0)
+        with np.errstate(invalid="ignore"):
+            cov_s = corr * np.outer(sd, sd)
+        cov_s[np.diag_indices_from(cov_s)] = sd**2
     # J and s2 are both in scaled residual units, so cov_s is the covariance of the
     # scaled parameters; each physical parameter is scaled parameter * scale.
     cov = cov_s * np.outer(scale, scale)
@@ -187,7 +238,8 @@ def _fit_direction(
     aic = n * np.log(rss_eff / n) + 2 * k
     bic = n * np.log(rss_eff / n) + k * np.log(n)
     return {"res": best, "values": values, "cov": cov, "dof": dof, "raw": raw, "rss": rss,
-            "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J}
+            "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J,
+            "max_leverage": max_leverage}
 
 
 def _phi(st: _Structure, vals: np.ndarray, u: np.ndarray, delta: float | None) -> np.ndarray:
@@ -310,6 +362,7 @@ def fit_static_map(
     sigma=None,
     criterion: str = "aic",
     units: dict | None = None,
+    covariance: str = "residual",
 ) -> IdentificationResult:
     """Fit a static friction map per direction to steady-state points.
 
@@ -340,6 +393,10 @@ def fit_static_map(
     units : dict, optional
         ``{"v": ..., "F": ...}`` unit strings used for the parameter units; default
         taken from the points, else ``m/s`` and ``N``.
+    covariance : {"residual", "run_robust"}
+        How the standard errors and intervals are computed (:data:`COVARIANCES`):
+        ``"run_robust"`` for points that are run means of a constant-velocity campaign, each
+        with its own error (needs ``loss="linear"``).
 
     Returns
     -------
@@ -377,6 +434,11 @@ def fit_static_map(
         raise ParameterError(f"fit_static_map.loss = {loss!r}: must be one of {list(_LOSSES)}")
     if criterion not in ("aic", "bic"):
         raise ParameterError(f"fit_static_map.criterion = {criterion!r}: must be 'aic' or 'bic'")
+    if covariance not in COVARIANCES:
+        raise ParameterError(f"fit_static_map.covariance = {covariance!r}: must be one of {list(COVARIANCES)}")
+    if covariance == "run_robust" and loss != "linear":
+        raise ParameterError(f"fit_static_map.covariance = 'run_robust' needs loss='linear' (got {loss!r}): "
+                             "the sandwich is that of ordinary least squares")
     if model != "auto":
         _structure(model, delta)
     if delta is not None and (val.is_bool(delta) or not (np.isfinite(delta) and delta > 0)):
@@ -405,7 +467,8 @@ def fit_static_map(
             st = _structure(m, delta)
             if u.size < len(st.params) + 1:
                 continue
-            fits[m] = (st, _fit_direction(u, y, w, st, delta=delta, loss=loss, f_scale=f_scale))
+            fits[m] = (st, _fit_direction(u, y, w, st, delta=delta, loss=loss, f_scale=f_scale,
+                                          covariance=covariance))
         if not fits:
             need = len(_structure(cands[0], delta).params) + 1
             raise IdentificationError(
@@ -449,6 +512,8 @@ def fit_static_map(
                 "nfev": int(fit["res"].nfev),
                 "loss": loss,
                 "delta_fixed": delta,
+                "covariance": covariance,
+                **({"max_leverage": fit["max_leverage"]} if fit["max_leverage"] is not None else {}),
             },
             provenance={"units": {"v": vu, "F": Fu}},
             data={"v": va[sel], "F": Fa[sel], "F_pred": pred,
@@ -575,4 +640,4 @@ def fit_static_records(records, *, trim: float = 0.0, **kwargs) -> Identificatio
     return fit_static_map(steady_state_points(records, trim=trim), **kwargs)
 
 
-__all__: Sequence[str] = ("MODELS", "fit_static_map", "fit_static_records", "stribeck_model")
+__all__: Sequence[str] = ("MODELS", "COVARIANCES", "fit_static_map", "fit_static_records", "stribeck_model")

@@ -45,10 +45,11 @@ from ..plants.mass import Mass
 from .initial_guess import initial_guess_lugre
 from .output_error import fit_output_error
 from .result import IdentificationResult
-from .static_map import fit_static_map
+from .static_map import COVARIANCES, fit_static_map
 
 __all__ = ["TwoStepResult", "ConstantVelocityScreen", "fit_two_step", "velocity_nrmse", "simulate_run",
-           "constant_velocity_ripple", "screen_constant_velocity", "MAX_RIPPLE_PERCENT"]
+           "constant_velocity_ripple", "screen_constant_velocity", "ripple_rejection_limit", "MAX_RIPPLE_PERCENT",
+           "RIPPLE_CONFIDENCE"]
 
 #: Largest velocity ripple [% of the mean speed, RMS] of a run that eq. 10 counts as a
 #: constant-velocity point. Eq. 10 equates a run's mean torque with ``T_fss(mean speed)``, which
@@ -59,6 +60,18 @@ __all__ = ["TwoStepResult", "ConstantVelocityScreen", "fit_two_step", "velocity_
 #: (the friction lags and sticks) and shows ripples of tens of per cent. Chosen from this
 #: argument before its effect on the SDSS fits was looked at (robustness over 3-50 %: README).
 MAX_RIPPLE_PERCENT = 10.0
+
+#: Confidence at which a run's ripple must exceed the threshold to be rejected. The ripple is an
+#: estimate from a few dozen windows; where the encoder's share dominates (2e-5 rad/s on the SDSS
+#: axes: floor 15 %) its sampling error is several per cent, and a plain comparison rejected the
+#: slowest runs of 3 of 20 noise seeds by chance (ripple 10.2-11.9 %, nothing hunting there).
+RIPPLE_CONFIDENCE = 0.95
+
+#: Inflation of the variance of a sample variance of window velocities: they are differences of
+#: encoder readings, so white encoder noise gives them a lag-1 correlation of -1/2, and the
+#: variance of their sample variance grows by ``1 + 2 rho^2 = 1.5`` (effective degrees of freedom
+#: ``(m - 1) / 1.5`` for ``m`` windows).
+_WINDOW_VARIANCE_INFLATION = 1.5
 
 _SHAPES = {"9b": "exponential", "9a": "lorentzian"}
 _STATIC = ("Fc", "Fs", "vs", "sigma2")
@@ -133,6 +146,26 @@ def constant_velocity_ripple(t, angle, *, window: float, resolution: float = 0.0
             "floor_percent": 100.0 * float(np.sqrt(floor2)) / scale, "windows": int(vw.size)}
 
 
+def ripple_rejection_limit(max_ripple_percent: float, floor_percent, windows, *,
+                           confidence: float = RIPPLE_CONFIDENCE) -> np.ndarray:
+    """Ripple [%] above which a run is rejected: ``max_ripple_percent`` exceeded at ``confidence``.
+
+    A run's window velocities have variance ``r² + floor²`` (relative to the mean speed², ``floor`` the
+    encoder's share, :func:`constant_velocity_ripple`); with ``m`` windows its sample variance has
+    about ``nu = (m − 1) / 1.5`` degrees of freedom (the windows are differences of encoder
+    readings: lag-1 correlation −½ from white noise). Under ``r = max_ripple_percent`` the sample
+    variance stays below ``(floor² + r_max²) χ²_conf(nu) / nu`` with probability ``confidence``;
+    the limit is the ripple at that variance, ``sqrt((floor² + r_max²) χ²_conf(nu)/nu − floor²)``.
+    """
+    from scipy.stats import chi2
+
+    floor = np.asarray(floor_percent, float)
+    m = np.asarray(windows, float)
+    nu = np.maximum(m - 1.0, 1.0) / _WINDOW_VARIANCE_INFLATION
+    var = (floor**2 + max_ripple_percent**2) * chi2.ppf(confidence, nu) / nu
+    return np.sqrt(np.maximum(var - floor**2, 0.0))
+
+
 @dataclass(frozen=True, eq=False)
 class ConstantVelocityScreen:
     """Outcome of :func:`screen_constant_velocity`: which runs eq. 10 may use.
@@ -142,8 +175,13 @@ class ConstantVelocityScreen:
     status : int — 0 enough points kept in every direction; 1 fewer than ``min_points`` in one.
     message : str — names the rejected runs.
     v, F, ripple_percent : arrays — every run (mean speed, mean torque, ripple).
-    accepted : bool array — runs kept (ripple <= ``max_ripple_percent``).
+    accepted : bool array — runs kept.
     max_ripple_percent : float
+    limit_percent : array or None — per run, the ripple above which it is rejected
+        (:func:`ripple_rejection_limit`; ``None``: the plain threshold, no encoder data given).
+    resolvable : bool array or None — whether the encoder's share (``floor_percent``) is below the
+        threshold: where it is not, the screen cannot tell a ripple of the threshold from the
+        encoder, and the run is kept and named "not resolvable".
     """
 
     status: int
@@ -153,6 +191,8 @@ class ConstantVelocityScreen:
     ripple_percent: np.ndarray
     accepted: np.ndarray
     max_ripple_percent: float
+    limit_percent: np.ndarray | None = None
+    resolvable: np.ndarray | None = None
 
     @property
     def success(self) -> bool:
@@ -170,8 +210,11 @@ class ConstantVelocityScreen:
     def summary(self) -> str:
         lines = [f"constant-velocity screen (ripple <= {self.max_ripple_percent:g} %): status {self.status} "
                  f"({self.message})"]
-        for v, r, a in zip(self.v, self.ripple_percent, self.accepted):
-            lines.append(f"  {v:+.4e} rad/s  ripple {r:7.2f} %  {'kept' if a else 'REJECTED'}")
+        lim = self.limit_percent if self.limit_percent is not None else np.full(self.v.size, np.nan)
+        res = self.resolvable if self.resolvable is not None else np.ones(self.v.size, bool)
+        for v, r, a, L, ok in zip(self.v, self.ripple_percent, self.accepted, lim, res):
+            lines.append(f"  {v:+.4e} rad/s  ripple {r:7.2f} %" + (f" (limit {L:5.2f} %)" if np.isfinite(L) else "")
+                         + f"  {'kept' if a else 'REJECTED'}" + ("" if ok else ", not resolvable"))
         return "\n".join(lines)
 
     def plot(self, ax=None):
@@ -198,9 +241,13 @@ def screen_constant_velocity(steady: Mapping, *, max_ripple_percent: float = MAX
     """Keep the runs of a constant-velocity campaign whose speed was constant (eq. 10's premise).
 
     ``steady``: ``{"v", "F", "ripple_percent"}`` per run (:func:`constant_velocity_ripple` gives
-    the ripple from each run's encoder angle). A run whose ripple exceeds ``max_ripple_percent``
-    (:data:`MAX_RIPPLE_PERCENT`, argued there) is not a constant-velocity point: rejected and
-    named. ``status`` 1 when a direction keeps fewer than ``min_points`` runs (eq. 10 fits four
+    the ripple from each run's encoder angle), optionally with its ``floor_percent`` and
+    ``windows``. A run whose ripple exceeds ``max_ripple_percent`` (:data:`MAX_RIPPLE_PERCENT`,
+    argued there) is not a constant-velocity point: rejected and named. With ``floor_percent``
+    and ``windows`` the ripple is read as the estimate it is: a run is rejected when it exceeds the
+    threshold at :data:`RIPPLE_CONFIDENCE` (:func:`ripple_rejection_limit`), and a run whose
+    encoder floor is above the threshold is named "not resolvable" (kept: no evidence against it).
+    ``status`` 1 when a direction keeps fewer than ``min_points`` runs (eq. 10 fits four
     parameters per direction).
     """
     if "ripple_percent" not in steady:
@@ -213,14 +260,30 @@ def screen_constant_velocity(steady: Mapping, *, max_ripple_percent: float = MAX
     max_ripple_percent = val.positive("screen_constant_velocity", "max_ripple_percent", max_ripple_percent)
     if isinstance(min_points, bool) or not isinstance(min_points, (int, np.integer)) or min_points < 1:
         raise ParameterError(f"screen_constant_velocity: min_points = {min_points!r}: must be an integer >= 1")
-    acc = np.isfinite(r) & (r <= max_ripple_percent)
-    rej = [f"{x:+.3e} rad/s ({p:.1f} %)" for x, p in zip(v, r) if not (np.isfinite(p) and p <= max_ripple_percent)]
+    limit = resolvable = None
+    if "floor_percent" in steady and "windows" in steady:
+        floor = np.asarray(steady["floor_percent"], float)
+        m = np.asarray(steady["windows"], float)
+        if not (floor.shape == m.shape == v.shape):
+            raise DataError(f"screen_constant_velocity: floor_percent, windows have {floor.size}, {m.size} entries, "
+                            f"v has {v.size}")
+        limit = ripple_rejection_limit(max_ripple_percent, floor, m)
+        resolvable = floor <= max_ripple_percent
+    lim = np.full(v.size, max_ripple_percent) if limit is None else limit
+    acc = np.isfinite(r) & (r <= lim)
+    rej = [f"{x:+.3e} rad/s ({p:.1f} %)" for x, p, a in zip(v, r, acc) if not a]
+    unres = [] if resolvable is None else [f"{x:+.3e} rad/s (floor {f:.1f} %)"
+                                           for x, f, ok in zip(v, floor, resolvable) if not ok]
     short = [d for d, sel in (("positive", v > 0), ("negative", v < 0)) if sel.any() and (acc & sel).sum() < min_points]
+    how = (f"ripple > {max_ripple_percent:g} %" if limit is None
+           else f"ripple > {max_ripple_percent:g} % at {100 * RIPPLE_CONFIDENCE:g} % confidence")
     msg = (f"kept {int(acc.sum())} of {v.size} runs"
-           + (f"; rejected (ripple > {max_ripple_percent:g} %): " + ", ".join(rej) if rej else "")
+           + (f"; rejected ({how}): " + ", ".join(rej) if rej else "")
+           + (f"; not resolvable (encoder floor > {max_ripple_percent:g} %, kept): " + ", ".join(unres) if unres else "")
            + (f"; too few points left in the {' and '.join(short)} direction (< {min_points})" if short else ""))
     return ConstantVelocityScreen(status=1 if short else 0, message=msg, v=v, F=F, ripple_percent=r, accepted=acc,
-                                  max_ripple_percent=float(max_ripple_percent))
+                                  max_ripple_percent=float(max_ripple_percent), limit_percent=limit,
+                                  resolvable=resolvable)
 
 
 def is_flagged(name: str, warnings) -> bool:
@@ -393,6 +456,7 @@ def fit_two_step(
     starts: int = 1,
     max_nfev: int = 400,
     max_ripple_percent: float | None = MAX_RIPPLE_PERCENT,
+    covariance: str = "run_robust",
     progress: Callable[[str], None] | None = None,
 ) -> TwoStepResult:
     """Identify a LuGre law of a slow heavy rotary axis in two steps (seed 002 §3).
@@ -423,6 +487,9 @@ def fit_two_step(
     max_nfev : int — evaluation limit of the output-error static fit (``dynamic_first``).
     max_ripple_percent : float or None — the screen's threshold (:data:`MAX_RIPPLE_PERCENT`);
         ``None`` keeps every run.
+    covariance : {"run_robust", "residual"} — the intervals of eq. 10's static map
+        (:data:`~frictionkit.identify.static_map.COVARIANCES`): each point is a run mean with its
+        own error, so by default the larger of the residual and the run-level (HC3) variance.
     progress : callable(label), optional — called before each step.
 
     Returns
@@ -454,6 +521,8 @@ def fit_two_step(
         raise ParameterError(f"fit_two_step: inertia = {inertia!r}: must be finite and > 0")
     if order == "static_first" and steady is None:
         raise ParameterError("fit_two_step: order='static_first' needs steady= (the constant-velocity points)")
+    if covariance not in COVARIANCES:
+        raise ParameterError(f"fit_two_step: covariance = {covariance!r}: must be one of {list(COVARIANCES)}")
     if max_ripple_percent is not None:  # checked even where the screen does not run (a typo is not ignored)
         max_ripple_percent = val.positive("fit_two_step", "max_ripple_percent", max_ripple_percent)
     if order == "dynamic_first" and above is None:
@@ -495,7 +564,7 @@ def fit_two_step(
             pts_F = np.asarray(steady["F"], float)
             static_res = fit_static_map(pts_v, pts_F, model="exponential" if map == "9b" else "lorentzian",
                                         delta=delta if map == "9b" else None, direction="both",
-                                        units={"v": "rad/s", "F": "N·m"})
+                                        units={"v": "rad/s", "F": "N·m"}, covariance=covariance)
             steps.append(("static map (eq. 10)", static_res))
             static_law = _static_law(static_res, shape, delta)
             step("sigma0, sigma1 (eq. 12)")

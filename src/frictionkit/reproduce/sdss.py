@@ -109,13 +109,13 @@ def constant_velocity_runs(axis, speeds, *, seed: int = 0, accel: float = 0.01, 
     The position loop follows a ramp reached with ``accel`` [rad/s²]; after ``settle`` s at speed
     (at least :data:`SETTLE_TRAVEL` of travel) the encoder angle and the current are averaged over ``average`` s: mean velocity =
     angle change / time, mean torque = eq. 2's gain × mean current. Returns ``v``, ``F`` and, per run, the
-    velocity ripple over the same window from the encoder angle (``ripple_percent``, ``floor_percent``:
+    velocity ripple over the same window from the encoder angle (``ripple_percent``, ``floor_percent``, ``windows``:
     :func:`~frictionkit.identify.two_step.constant_velocity_ripple` with windows of a tenth of the position
     loop's period, ``1 / (10 bandwidth_hz)``, and the encoder's data-sheet resolution and noise).
     """
     m = machine or axis.machine(loop="position")
     dt = axis.dt
-    v_out, F_out, rip, floor = [], [], [], []
+    v_out, F_out, rip, floor, nwin = [], [], [], [], []
     window = 0.1 / axis.bandwidth_hz
     for k, w in enumerate(np.asarray(speeds, float)):
         ta = abs(w) / accel
@@ -133,8 +133,9 @@ def constant_velocity_runs(axis, speeds, *, seed: int = 0, accel: float = 0.01, 
                                      noise=axis.encoder.noise)
         rip.append(r["ripple_percent"])
         floor.append(r["floor_percent"])
+        nwin.append(r["windows"])
     return {"v": np.array(v_out), "F": np.array(F_out), "ripple_percent": np.array(rip),
-            "floor_percent": np.array(floor)}
+            "floor_percent": np.array(floor), "windows": np.array(nwin)}
 
 
 def speed_grid(quick: bool) -> np.ndarray:
@@ -223,7 +224,7 @@ def run_rotator(axis=None, *, quick: bool = False, seed: int = 0,
     steady = constant_velocity_runs(axis, speeds, seed=seed)
     screen, used = _screened(steady, max_ripple_percent)
     res = fit_static_map(used["v"], used["F"], model="exponential", delta=2.0, direction="both",
-                         units={"v": "rad/s", "F": "N·m"})
+                         units={"v": "rad/s", "F": "N·m"}, covariance="run_robust")
     identified = {n: {"value": res.parameter(n)["value"], "ci95": res.parameter(n)["ci95"],
                       "unit": res.parameter(n)["unit"], "flagged": is_flagged(n, res.warnings)}
                   for n in res.names}
@@ -231,9 +232,9 @@ def run_rotator(axis=None, *, quick: bool = False, seed: int = 0,
     bench = constant_velocity_runs(axis, speeds, seed=seed + 500, machine=axis.machine(hd_only=True))
     bench_screen, bench_used = _screened(bench, max_ripple_percent)
     hd = fit_static_map(bench_used["v"], bench_used["F"], model="exponential", delta=2.0, direction="both",
-                        units={"v": "rad/s", "F": "N·m"})
+                        units={"v": "rad/s", "F": "N·m"}, covariance="run_robust")
     bearing = fit_static_map(used["v"], used["F"] - hd.model.steady_state(used["v"]), model="exponential",
-                             delta=2.0, direction="both", units={"v": "rad/s", "F": "N·m"})
+                             delta=2.0, direction="both", units={"v": "rad/s", "F": "N·m"}, covariance="run_robust")
     b, h, nc = axis.bearing.static, axis.hd_friction.static, axis.n_c
     sep = {"hd_at_rotator": {"truth": {"Fc": nc * h.Fc, "Fs": nc * h.Fs, "vs": h.vs / nc, "sigma2": nc**2 * h.sigma2},
                              "identified": {k: hd[f"{k}_pos"] for k in _STATIC}},

@@ -7,7 +7,10 @@ from __future__ import annotations
 import re
 
 import pytest
+from _robustness_helpers import STATIC_ARGS, one_error_line
 
+import frictionkit.cli.identify  # noqa: F401  (registers the verbs)
+from frictionkit.cli import app
 from frictionkit.errors import DataError, ParameterError
 from frictionkit.presets.ballscrew import MAX_INERTIA_SPAN, ballscrew_machine, check_plant
 from frictionkit.reproduce.zhu_fujimoto import paper_plant
@@ -39,3 +42,15 @@ def test_ballscrew_study_checks_the_drawn_range():
     StudySpec(machine={"preset": "ballscrew", "mass": 1e8}, spread={"mass": 0.5})
     with pytest.raises(DataError, match=r"drawn in \[.*\] with \[spread\] mass = 0.9"):
         StudySpec(machine={"preset": "ballscrew", "mass": 6e8}, spread={"mass": 0.9})
+
+
+@pytest.mark.parametrize("option", ["--json", "--plot"])
+def test_dash_for_a_file_only_output_is_refused_not_written_as_a_file(runner, staircase_csv, tmp_path, monkeypatch,
+                                                                      option):
+    """`identify ... --json -` wrote a file named '-' in the working folder (other verbs print the
+    JSON to stdout for '-'); a verb without stdout output refuses it in one line."""
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(app, ["identify", "static", str(staircase_csv), *STATIC_ARGS, option, "-"])
+    assert res.exit_code != 0
+    assert f"{option} -: this verb writes {option} to a file, not to stdout" in one_error_line(res)
+    assert not (tmp_path / "-").exists()

@@ -134,6 +134,8 @@ def outputs(inputs: Iterable[Path | None], *, plots: Mapping[str, Path | None] =
         for option, path in opts.items():
             if path is None:
                 continue
+            if str(path) == "-":  # was written as a file named '-' in the working folder (issue 13 round 4)
+                raise DataError(f"{option} -: this verb writes {option} to a file, not to stdout; give a file name")
             out = check_output_file(path, option=option, inputs=inputs, plot=is_plot, make_parents=make_parents)
             key = str(out.resolve())
             if key in seen:

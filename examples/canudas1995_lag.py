@@ -14,7 +14,7 @@ own velocity.
 
     python examples/canudas1995_lag.py --json OUT [--omega 1 10 25]
 
-writes ``{"omega": [...], "v": [[...], ...], "F": [[...], ...], "area": [...], "width": [...]}``:
+writes ``{"omega": [...], "v": [[...], ...], "friction": [[...], ...], "area": [...], "width": [...]}``:
 for each frequency the last full period of velocity [m/s] and friction [N], the loop area
 ``|closed integral of F dv|`` [N·m/s] and its widest gap between the rising and falling branches [N].
 """
@@ -58,7 +58,7 @@ def loop(omega: float, periods: float = 3.0, samples_per_period: int = 2000) -> 
     last = slice(n - samples_per_period, n + 1)
     v, F = res.velocity("x")[last], res.force("friction")[last]
     area = abs(float(np.sum(0.5 * (F[1:] + F[:-1]) * np.diff(v))))  # closed integral of F dv
-    return {"v": v, "F": F, "area": area, "width": width(v, F)}
+    return {"v": v, "friction": F, "area": area, "width": width(v, F)}
 
 
 def width(v: np.ndarray, F: np.ndarray, n: int = 200) -> float:
@@ -77,20 +77,20 @@ def width(v: np.ndarray, F: np.ndarray, n: int = 200) -> float:
 
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--json", metavar="OUT", help="write {omega, v, F, area, width} to this file")
+    ap.add_argument("--json", metavar="OUT", help="write {omega, v, friction, area, width} to this file")
     ap.add_argument("--omega", type=float, nargs="+", default=[1.0, 10.0, 25.0],
                     help="velocity oscillation frequencies [rad/s] (default 1 10 25)")
     args = ap.parse_args(argv)
     loops = [loop(w) for w in args.omega]
     out = {"omega": list(args.omega), "v": [lp["v"].tolist() for lp in loops],
-           "F": [lp["F"].tolist() for lp in loops], "area": [lp["area"] for lp in loops],
+           "friction": [lp["friction"].tolist() for lp in loops], "area": [lp["area"] for lp in loops],
            "width": [lp["width"] for lp in loops]}
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f)
     for w, lp in zip(args.omega, loops):
         print(f"omega = {w:6.2f} rad/s: loop area {lp['area']:.3e} N·m/s, widest gap {lp['width']:.4f} N, "
-              f"F {lp['F'].min():.4f}..{lp['F'].max():.4f} N")
+              f"F {lp['friction'].min():.4f}..{lp['friction'].max():.4f} N")
     return out
 
 

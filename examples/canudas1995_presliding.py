@@ -9,7 +9,7 @@ give the closed form ``x = -(Fs / sigma0) ln(1 - u / Fs)`` (the LuGre pre-slidin
 
     python examples/canudas1995_presliding.py --json OUT
 
-writes ``{"t", "u", "x", "F", "x_closed_form"}`` (the closed form on the first rise, null after).
+writes ``{"t", "u", "x", "friction", "x_closed_form"}`` (the closed form on the first rise, null after).
 """
 
 from __future__ import annotations
@@ -54,12 +54,12 @@ def run(dt: float = 1e-3) -> dict:
     rise = int(np.argmax(u))  # end of the first rise
     xc = [float(v) for v in closed_form(u[: rise + 1])] + [None] * (u.size - rise - 1)
     return {"t": res.t.tolist(), "u": u.tolist(), "x": res.position("x").tolist(),
-            "F": res.force("friction").tolist(), "x_closed_form": xc}
+            "friction": res.force("friction").tolist(), "x_closed_form": xc}
 
 
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--json", metavar="OUT", help="write {t, u, x, F, x_closed_form} to this file")
+    ap.add_argument("--json", metavar="OUT", help="write {t, u, x, friction, x_closed_form} to this file")
     ap.add_argument("--dt", type=float, default=1e-3, help="sample period [s] (default 1e-3)")
     args = ap.parse_args(argv)
     out = run(args.dt)

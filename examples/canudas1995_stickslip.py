@@ -7,7 +7,7 @@ vs = 1e-3 m/s, m = 1 kg, 20 s.
 
     python examples/canudas1995_stickslip.py --json OUT
 
-writes ``{"t": [...], "x": [...], "F": [...]}`` (time [s], mass position [m], friction force
+writes ``{"t": [...], "x": [...], "friction": [...]}`` (time [s], mass position [m], friction force
 [N] at the samples) and prints the stick phases it found.
 """
 
@@ -42,7 +42,7 @@ def inputs(duration: float = 20.0, dt: float = 1e-3) -> dict:
 
 def run(duration: float = 20.0, dt: float = 1e-3) -> dict:
     res = fk.simulate_machine(machine(), dt=dt, inputs=inputs(duration, dt), raise_on_failure=True)
-    return {"t": res.t.tolist(), "x": res.position("x").tolist(), "F": res.force("friction").tolist()}
+    return {"t": res.t.tolist(), "x": res.position("x").tolist(), "friction": res.force("friction").tolist()}
 
 
 def stick_phases(t, x, dt: float, v_stick: float = 1e-3) -> list[tuple[float, float]]:
@@ -66,7 +66,7 @@ def main(argv=None) -> dict:
             json.dump(out, f)
     phases = stick_phases(out["t"], out["x"], args.dt)
     print(f"stick phases (|v| < 1 mm/s): {', '.join(f'{a:.2f}-{b:.2f} s' for a, b in phases)}")
-    print(f"peak friction {max(out['F']):.3f} N (Fs = {LAW.static.Fs} N), final x = {out['x'][-1]:.4f} m")
+    print(f"peak friction {max(out['friction']):.3f} N (Fs = {LAW.static.Fs} N), final x = {out['x'][-1]:.4f} m")
     return out
 
 

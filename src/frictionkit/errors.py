@@ -25,3 +25,15 @@ class SimulationError(FrictionKitError, RuntimeError):
 
 class IdentificationError(FrictionKitError, RuntimeError):
     """An identification could not produce a trustworthy result."""
+
+
+class FrictionKitDeprecationWarning(DeprecationWarning):
+    """A name that still works for one release but has a new spelling (the message names it)."""
+
+
+def warn_renamed(owner: str, old: str, new: str, *, stacklevel: int = 3) -> None:
+    """Warn that ``owner.old`` is now ``owner.new`` (kept for one release)."""
+    import warnings
+
+    warnings.warn(f"{owner}.{old} is deprecated: use {owner}.{new} (the old name goes in the next release)",
+                  FrictionKitDeprecationWarning, stacklevel=stacklevel)

@@ -139,7 +139,7 @@ def test_c_lugre_update_matches_motion_driven_simulation(compiled, name):
     got = _run(compiled[name], v)[:, 1]
     ref = fk.simulate(law, position=x, dt=DT)
     assert ref.success
-    err = np.max(np.abs(got - ref.F[1:]))
+    err = np.max(np.abs(got - ref.friction[1:]))
     assert err <= 1e-9 * _level(law), err
     # the run visits pre-sliding and sliding in both directions (Fc = 0: the force fades at speed)
     assert got.min() < -0.1 * _level(law) and got.max() > 0.1 * _level(law)
@@ -202,7 +202,7 @@ def test_structured_text_declarations_and_formulas(tmp_path, name):
             exec(body, ns)  # noqa: S102 - the translated function block
             got.append(ns["F"])
         ref = fk.simulate(law, position=x, dt=DT)
-        assert np.max(np.abs(np.array(got) - ref.F[1:])) <= 1e-9 * _level(law)
+        assert np.max(np.abs(np.array(got) - ref.friction[1:])) <= 1e-9 * _level(law)
         ns["reset"], ns["v"] = True, 0.0
         exec(body, ns)  # noqa: S102
         assert ns["z"] == 0.0 and ns["F"] == 0.0

@@ -46,7 +46,7 @@ def lugre_csv(tmp_path_factory):
 def gms_csv(tmp_path_factory):
     x = np.r_[np.linspace(0, 50e-6, 2501), np.linspace(50e-6, -50e-6, 5001)[1:]]
     t = np.arange(x.size) * DT
-    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).F
+    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).friction
     return _write(tmp_path_factory.mktemp("ps") / "gms.csv", t_s=t, x_m=x, F_N=F)
 
 

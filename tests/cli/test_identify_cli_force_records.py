@@ -116,7 +116,7 @@ def test_presliding_fits_several_records(tmp_path):
     gms = fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
     x1 = np.r_[np.linspace(0, 50e-6, 1001), np.linspace(50e-6, -50e-6, 2001)[1:]]
     x2 = np.r_[np.linspace(0, -40e-6, 801), np.linspace(-40e-6, 40e-6, 1601)[1:]]
-    rows = [np.column_stack([np.full(x.size, i), np.arange(x.size) * DT, x, fk.simulate(gms, position=x, dt=DT).F])
+    rows = [np.column_stack([np.full(x.size, i), np.arange(x.size) * DT, x, fk.simulate(gms, position=x, dt=DT).friction])
             for i, x in ((1, x1), (2, x2))]
     path = tmp_path / "ps.csv"
     np.savetxt(path, np.vstack(rows), delimiter=",", header="rec,t,x,F", comments="", fmt="%.17g")

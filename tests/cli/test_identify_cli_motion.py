@@ -51,7 +51,7 @@ def _log(drive: int, seed: int, speed: float = 1.0):
     rng = np.random.default_rng(seed)
     edges = np.flatnonzero(np.diff(moving.astype(int)))
     for a, b in zip(edges[::2], edges[1::2]):
-        seg = fk.simulate(TRUE[drive], position=x[a:b + 1] - x[a], dt=DT).F
+        seg = fk.simulate(TRUE[drive], position=x[a:b + 1] - x[a], dt=DT).friction
         F[a + 1:b + 1] = seg[1:] + 2e-5 * rng.standard_normal(b - a)
     t = np.arange(x.size) * DT
     return {"t_s": t, "v_rad_s": np.r_[0.0, np.diff(x) / DT], "T_Nm": F, "enabled": moving.astype(float)}
@@ -98,7 +98,7 @@ def test_motion_fit_of_one_drive_with_units_rests_and_validation(logs, tmp_path)
     assert png.stat().st_size > 1000
     law = fit.model
     assert isinstance(law, fk.LuGre)
-    assert np.isfinite(fk.simulate(law, velocity=np.linspace(0, 1, 50), dt=DT).F).all()
+    assert np.isfinite(fk.simulate(law, velocity=np.linspace(0, 1, 50), dt=DT).friction).all()
 
 
 def test_group_fits_several_records_jointly(logs, tmp_path):
@@ -236,7 +236,7 @@ def test_force_drive_and_presliding_take_where_units_and_validate(tmp_path):
 
     x = np.r_[np.linspace(0, 50e-6, 501), np.linspace(50e-6, -50e-6, 1001)[1:]]
     tp = np.arange(x.size) * DT
-    F = fk.simulate(fk.GMS(law, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).F
+    F = fk.simulate(fk.GMS(law, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).friction
     ps = tmp_path / "ps.csv"
     np.savetxt(ps, np.column_stack([np.ones(x.size), tp, x, F]), delimiter=",", header="axis,t,x,F", comments="",
                fmt="%.17g")

@@ -44,18 +44,18 @@ def test_position_ramp_settles_on_the_stribeck_curve(tmp_path, model):
     assert res.exit_code == 0, res.output
     assert "LuGre position-driven, 1001 samples" in res.stdout and f"wrote {out}" in res.stdout
     tr = _traces(out)
-    assert list(tr) == ["t [s]", "x [m]", "v [m/s]", "F [N]", "z [m]"]
+    assert list(tr) == ["t [s]", "x [m]", "v [m/s]", "friction [N]", "z [m]"]
     # seed 002 eq. 8/9b by hand: F = Fc + (Fs - Fc) exp(-(v/vs)^2) + sigma2 v at v = 2 mm/s
-    assert tr["F [N]"][-1] == pytest.approx(1.0 + 0.5 * math.exp(-4.0) + 0.4 * v0, rel=1e-9)
+    assert tr["friction [N]"][-1] == pytest.approx(1.0 + 0.5 * math.exp(-4.0) + 0.4 * v0, rel=1e-9)
     assert tr["z [m]"][-1] == pytest.approx((1.0 + 0.5 * math.exp(-4.0)) / 1e5, rel=1e-9)
     # the CLI is fk.simulate: same numbers (17 digits in the CSV)
     ref = fk.simulate(LAW, position=v0 * T, dt=DT)
-    np.testing.assert_allclose(tr["F [N]"], ref.F, rtol=1e-12)  # dt from the file's time column: rounding
+    np.testing.assert_allclose(tr["friction [N]"], ref.friction, rtol=1e-12)  # dt from the file's time column: rounding
     assert png.stat().st_size > 5000
     doc = json.loads(js.read_text())
     assert doc["status"] == 0 and doc["samples"] == 1001 and doc["drive"] == "position"
     assert doc["columns"] == {"time": "time", "signal": "pos"}
-    assert doc["peak_F"] == pytest.approx(float(np.max(np.abs(ref.F))))
+    assert doc["peak_friction"] == pytest.approx(float(np.max(np.abs(ref.friction))))
 
 
 def test_force_below_breakaway_rests_at_z_equal_u_over_sigma0(tmp_path, model):
@@ -68,7 +68,7 @@ def test_force_below_breakaway_rests_at_z_equal_u_over_sigma0(tmp_path, model):
     import pandas as pd
 
     tr = pd.read_parquet(tmp_path / "tr.parquet")
-    assert list(tr.columns) == ["t [s]", "x [m]", "v [m/s]", "F [N]", "z [m]"]
+    assert list(tr.columns) == ["t [s]", "x [m]", "v [m/s]", "friction [N]", "z [m]"]
     # at rest under 0.5 N < Fc the bristles carry the load: sigma0 z = u, v -> 0
     assert tr["z [m]"].iloc[-1] == pytest.approx(0.5 / 1e5, rel=1e-4)
     assert abs(tr["v [m/s]"].iloc[-1]) < 1e-7
@@ -89,13 +89,13 @@ def test_velocity_log_in_mm_per_s_held(tmp_path):
                               "--velocity-integration", "held", "--out", str(out)])
     assert res.exit_code == 0, res.output
     tr = _traces(out)
-    assert [c for c in tr if c.startswith(("F_", "stick_"))] == ["F_1 [N]", "F_2 [N]", "stick_1", "stick_2"]
+    assert [c for c in tr if c.startswith(("friction_", "stick_"))] == ["friction_1 [N]", "friction_2 [N]", "stick_1", "stick_2"]
     # held: x_k = sum_{j=1..k} v_j dt; v_1..v_499 = +3 mm/s, v_500..v_1000 = -3 mm/s
     # (the trapezoidal rule would give 1.497 mm at k = 500 and -3 µm at the end)
     assert tr["x [m]"][500] == pytest.approx(498 * 3e-6, rel=1e-9)
     assert tr["x [m]"][-1] == pytest.approx((499 - 501) * 3e-6, rel=1e-9)
     # sliding at 3 mm/s: (sum xi) [Fc + (Fs - Fc) exp(-9)] (seed 000 eq. 4, delta = 2)
-    assert tr["F [N]"][499] == pytest.approx(1.0 + 0.5 * math.exp(-9.0), rel=1e-6)
+    assert tr["friction [N]"][499] == pytest.approx(1.0 + 0.5 * math.exp(-9.0), rel=1e-6)
 
 
 BAD = {

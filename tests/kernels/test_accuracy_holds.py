@@ -88,7 +88,7 @@ def runs():
 
 def _rel(res_x, res_F, ref):
     return (float(np.abs(res_x - ref["x"]).max() / np.ptp(ref["x"])),
-            float(np.abs(res_F - ref["F"]).max() / np.ptp(ref["F"])))
+            float(np.abs(res_F - ref["friction"]).max() / np.ptp(ref["friction"])))
 
 
 def _single_errors(rows):
@@ -98,7 +98,7 @@ def _single_errors(rows):
             warnings.simplefilter("error")  # a failed run must not pass silently
             res = fk.simulate(model, plant=fk.Mass(m), force=_u(A), dt=DT)
         assert res.success, res.message
-        errs.append(_rel(res.x, res.F, ref))
+        errs.append(_rel(res.x, res.friction, ref))
     return np.array(errs)
 
 

@@ -34,7 +34,7 @@ def test_constant_velocity_settles_on_static_map(law, v_const):
     for model in models:
         res = fk.simulate(model, position=_ramp_to(v_const, n=20000), dt=DT)
         assert res.success
-        np.testing.assert_allclose(res.F[-1], expected, rtol=1e-6, err_msg=type(model).__name__)
+        np.testing.assert_allclose(res.friction[-1], expected, rtol=1e-6, err_msg=type(model).__name__)
 
 
 def test_directional_steady_state_uses_each_branch():
@@ -48,7 +48,7 @@ def test_directional_steady_state_uses_each_branch():
         for v in (-4e-3, 4e-3):
             res = fk.simulate(model, position=_ramp_to(v, n=20000), dt=DT)
             want = float((pos if v > 0 else neg).steady_state(v))
-            np.testing.assert_allclose(res.F[-1], want, rtol=1e-6)
+            np.testing.assert_allclose(res.friction[-1], want, rtol=1e-6)
 
 
 @pytest.mark.parametrize("which", ["lugre", "gms"])
@@ -83,7 +83,7 @@ def test_presliding_stiffness(lugre, gms):
     for model, stiffness in ((lugre, lugre.sigma0), (gms, gms.presliding_stiffness)):
         res = fk.simulate(model, position=x, dt=1e-3)
         # slope from the quasi-static part (velocity 1e-7 m/s makes the sigma1/sigma2 terms tiny)
-        slope = np.polyfit(res.x[50:150], res.F[50:150], 1)[0]
+        slope = np.polyfit(res.x[50:150], res.friction[50:150], 1)[0]
         assert slope == pytest.approx(stiffness, rel=1e-3), type(model).__name__
 
 
@@ -107,8 +107,8 @@ def _rejoin_error(model) -> float:
     head = _legs([0.0, 20e-6, -20e-6, -16e-6], step)
     loop = _legs([-16e-6, -18e-6, -16e-6], step)[1:]
     tail = _legs([-16e-6, 20e-6], step)[1:]
-    a = fk.simulate(model, position=np.concatenate([head, loop, tail]), dt=1e-3).F
-    b = fk.simulate(model, position=np.concatenate([head, tail]), dt=1e-3).F
+    a = fk.simulate(model, position=np.concatenate([head, loop, tail]), dt=1e-3).friction
+    b = fk.simulate(model, position=np.concatenate([head, tail]), dt=1e-3).friction
     # the first tail sample follows one interval after the loop's end; compare the tails
     return float(np.abs(a[-tail.size :] - b[-tail.size :]).max())
 

@@ -177,7 +177,7 @@ def errors(name: str, substeps: int, *, window: float | None = None, **kw) -> di
     assert res.success, res.message
     k = slice(None) if window is None else slice(0, int(round(window / dt)) + 1)
     return {"dq": np.abs(res.q[k] - ref.q[k]).max(axis=0), "dv": np.abs(res.v[k] - ref.v[k]).max(axis=0),
-            "dF": np.abs(res.F[k] - ref.F[k]).max(axis=0)}
+            "dF": np.abs(res.site_forces[k] - ref.site_forces[k]).max(axis=0)}
 
 
 # --------------------------------------------------------------------------- the runs are what they claim
@@ -287,7 +287,7 @@ def test_one_dof_defaults_take_the_fast_path_and_agree_with_the_twin():
         res = simulate_machine(m, dt=dt, inputs=inputs)
         assert res.success and "fast path" in res.message, res.message
         assert np.abs(res.q - ref.q).max() <= 3.0 * dq
-        assert np.abs(res.F - ref.F).max() <= 3.0 * dF
+        assert np.abs(res.site_forces - ref.site_forces).max() <= 3.0 * dF
 
 
 # --------------------------------------------------------------------------- the twin itself
@@ -300,7 +300,7 @@ def test_twin_matches_the_single_mass_twin():
     ref = reference_machine(m, dt=dt, inputs={"u": u})
     one = reference_force_driven(example_gms(3), 1.0, u, dt, rtol=1e-10, atol=1e-13)
     assert np.abs(ref.q[:, 0] - one["x"]).max() < 1e-8
-    assert np.abs(ref.F[:, 0] - one["F"]).max() < 1e-5
+    assert np.abs(ref.site_forces[:, 0] - one["friction"]).max() < 1e-5
     assert [k for _, k, _, _ in ref.event_log] == [k for _, k, _ in one["event_log"]]
 
 

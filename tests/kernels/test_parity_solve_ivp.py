@@ -33,7 +33,7 @@ def test_force_driven_stick_slip_matches_solve_ivp(model, u):
     assert res.v.max() > 0.2 and res.v.min() < -0.2
     assert np.mean(np.abs(res.v) < 1e-3) > 0.05
     assert np.abs(res.x - ref["x"]).max() <= 1e-6
-    assert np.abs(res.F - ref["F"]).max() <= 0.01 * FS
+    assert np.abs(res.friction - ref["friction"]).max() <= 0.01 * FS
 
 
 def test_gms_grazing_breakaway_in_ringing_is_caught():
@@ -48,7 +48,7 @@ def test_gms_grazing_breakaway_in_ringing_is_caught():
     assert any(kind == "breakaway" and 2.19 < t < 2.2 for t, kind, _ in ref["event_log"])
     res = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)
     late = slice(int(2.15 / DT), None)
-    assert np.abs(res.F[late] - ref["F"][late]).max() <= 1e-3
+    assert np.abs(res.friction[late] - ref["friction"][late]).max() <= 1e-3
 
 
 @pytest.mark.parametrize("model", [example_lugre(), example_gms(4), example_gms(16)], ids=["lugre", "gms4", "gms16"])
@@ -56,7 +56,7 @@ def test_motion_driven_matches_solve_ivp(model):
     x = reversal_position(duration=2.0, amplitude=2e-3, dt=DT)
     ref = reference_motion_driven(model, x, DT)
     res = fk.simulate(model, position=x, dt=DT)
-    np.testing.assert_allclose(res.F, ref["F"], atol=1e-4 * FS)
+    np.testing.assert_allclose(res.friction, ref["friction"], atol=1e-4 * FS)
 
 
 def test_stiff_presliding_stays_finite_and_accurate():
@@ -79,7 +79,7 @@ def test_stiff_presliding_stays_finite_and_accurate():
         ref = reference_force_driven(lugre, 1.0, u, dt, method="LSODA", rtol=1e-10, atol=1e-16)
         assert res.success and np.isfinite(res.x).all()
         assert np.abs(res.x - ref["x"]).max() <= 0.01 * np.abs(ref["x"]).max()
-        assert np.abs(res.F - ref["F"]).max() <= 0.01 * FS
+        assert np.abs(res.friction - ref["friction"]).max() <= 0.01 * FS
 
 
 def test_nonfinite_run_stops_with_status_and_message():

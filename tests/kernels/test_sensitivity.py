@@ -75,10 +75,10 @@ def test_motion_driven_sensitivities_are_the_derivative_of_simulate(case, positi
     th = th0[:n]
     F, S, status = jc.motion_driven(lambda t: (law(t), 1.0, 0.0), th, x, dt)
     assert status == 0
-    F_ref = fk.simulate(law(th), position=x, dt=dt).F
+    F_ref = fk.simulate(law(th), position=x, dt=dt).friction
     assert np.max(np.abs(F - F_ref)) <= 1e-12 * np.max(np.abs(F_ref))
     for j, name in enumerate(names):
-        fd = _central(lambda t: fk.simulate(law(t), position=x, dt=dt).F, th, j, 1e-6)
+        fd = _central(lambda t: fk.simulate(law(t), position=x, dt=dt).friction, th, j, 1e-6)
         err = np.max(np.abs(S[:, j] - fd)) / np.max(np.abs(fd))
         assert err < 1e-6, (case, name, err)
 

@@ -223,7 +223,7 @@ def test_a_sticking_site_holds_no_more_than_its_static_level(name):
     sv = ref.v @ np.asarray(c, dtype=float)
     rest = np.abs(sv) < 1e-12
     assert rest.sum() > 10
-    F = ref.F[rest, 0]
+    F = ref.site_forces[rest, 0]
     assert F.max() <= Fs_pos * (1 + 1e-9) and F.min() >= -Fs_neg * (1 + 1e-9), (F.min(), F.max())
 
 

@@ -60,10 +60,10 @@ def test_lugre_force_driven_matches_solve_ivp():
     ref = reference_force_driven(model, 1.0, u, DT, method="LSODA", rtol=1e-9, atol=1e-20)
     res = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)
     assert res.status == 0, res.message
-    assert np.isfinite(res.x).all() and np.isfinite(res.F).all() and np.isfinite(res.states["z"]).all()
+    assert np.isfinite(res.x).all() and np.isfinite(res.friction).all() and np.isfinite(res.states["z"]).all()
     assert res.v.max() > 0.4  # well past the speed where friction has faded out
     fast = np.abs(res.v) > 0.03
-    assert np.abs(res.F[fast]).max() <= 1e-8  # sigma2 = 0: F -> sigma2 v = 0
+    assert np.abs(res.friction[fast]).max() <= 1e-8  # sigma2 = 0: F -> sigma2 v = 0
     # default tolerances: the collapse of g from 1.5 N to 0 within a few mm/s costs
     # accuracy in position (measured 2.0 µm); F = sigma0 z + sigma1 dz/dt amplifies the
     # bristle error by sigma1 sigma0 |v| / g there, so F is compared at a tighter rtol
@@ -71,7 +71,7 @@ def test_lugre_force_driven_matches_solve_ivp():
     tight = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT, options=fk.SimOptions(rtol=1e-7))
     assert tight.status == 0
     assert np.abs(tight.x - ref["x"]).max() <= 1e-6  # measured 0.19 µm
-    assert np.abs(tight.F - ref["F"]).max() <= 0.01 * FS  # measured 1.4e-3 N
+    assert np.abs(tight.friction - ref["friction"]).max() <= 0.01 * FS  # measured 1.4e-3 N
 
 
 def test_gms_force_driven_matches_solve_ivp():
@@ -80,12 +80,12 @@ def test_gms_force_driven_matches_solve_ivp():
     ref = reference_force_driven(model, 1.0, u, DT, method="LSODA", rtol=1e-10, atol=1e-14)
     res = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)
     assert res.status == 0, res.message
-    assert np.isfinite(res.x).all() and np.isfinite(res.F).all()
+    assert np.isfinite(res.x).all() and np.isfinite(res.friction).all()
     assert res.v.max() > 0.3
     fast = np.abs(res.v) > 0.03
-    assert np.abs(res.F[fast]).max() <= 1e-8  # every element slipping, F_i -> xi_i s = 0
+    assert np.abs(res.friction[fast]).max() <= 1e-8  # every element slipping, F_i -> xi_i s = 0
     assert np.abs(res.x - ref["x"]).max() <= 1e-6  # measured 0.5 µm
-    assert np.abs(res.F - ref["F"]).max() <= 0.01 * FS  # measured 3.8e-4 N
+    assert np.abs(res.friction - ref["friction"]).max() <= 0.01 * FS  # measured 3.8e-4 N
 
 
 def test_gms_motion_driven_matches_solve_ivp():
@@ -93,8 +93,8 @@ def test_gms_motion_driven_matches_solve_ivp():
     model = _gms(fk.Stribeck(Fc=0.0, Fs=FS, vs=1e-3, sigma2=0.4))
     ref = reference_motion_driven(model, x, DT, method="LSODA", rtol=1e-10, atol=1e-14)
     res = fk.simulate(model, position=x, dt=DT)
-    assert res.status == 0 and np.isfinite(res.F).all()
-    np.testing.assert_allclose(res.F, ref["F"], atol=1e-6)
+    assert res.status == 0 and np.isfinite(res.friction).all()
+    np.testing.assert_allclose(res.friction, ref["friction"], atol=1e-6)
 
 
 @pytest.mark.parametrize("v", [2e-3, 0.1])
@@ -110,13 +110,13 @@ def test_lugre_motion_driven_constant_velocity_closed_form(v):
     n = 401
     t = DT * np.arange(n)
     res = fk.simulate(model, position=v * t, dt=DT)
-    assert res.status == 0 and np.isfinite(res.F).all()
+    assert res.status == 0 and np.isfinite(res.friction).all()
     g = max(FS * np.exp(-((v / 1e-3) ** 2)), S.G_FLOOR * FS)
     a = model.sigma0 * v / g
     z = g / model.sigma0 * -np.expm1(-a * t)
     F = model.sigma0 * z + model.sigma1 * (v - a * z) + law.sigma2 * v
-    np.testing.assert_allclose(res.F[1:], F[1:], rtol=1e-9, atol=1e-8)
-    assert res.F[-1] == pytest.approx(law.steady_state(v), abs=2e-9)
+    np.testing.assert_allclose(res.friction[1:], F[1:], rtol=1e-9, atol=1e-8)
+    assert res.friction[-1] == pytest.approx(law.steady_state(v), abs=2e-9)
 
 
 def test_zero_breakaway_level_runs_at_rest():
@@ -126,9 +126,9 @@ def test_zero_breakaway_level_runs_at_rest():
     for model in (_lugre(law), _gms(law)):
         res = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)
         assert res.status == 0, res.message
-        assert np.isfinite(res.x).all() and np.isfinite(res.F).all()
+        assert np.isfinite(res.x).all() and np.isfinite(res.friction).all()
         res = fk.simulate(model, position=np.zeros(50), dt=DT)
-        assert res.status == 0 and np.all(res.F == 0.0)
+        assert res.status == 0 and np.all(res.friction == 0.0)
 
 
 def test_batch_runs_fading_laws():

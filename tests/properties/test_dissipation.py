@@ -32,7 +32,7 @@ def _work(res) -> float:
     """∮ F dx with F on each interval taken at the interval's end (exact for the
     linear pre-sliding branch in the limit, conservative otherwise) — trapezoid."""
     dx = np.diff(res.x)
-    return float(np.sum(0.5 * (res.F[1:] + res.F[:-1]) * dx))
+    return float(np.sum(0.5 * (res.friction[1:] + res.friction[:-1]) * dx))
 
 
 laws = st.builds(

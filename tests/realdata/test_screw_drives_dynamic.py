@@ -122,6 +122,6 @@ def test_models_load_back_as_laws_usable_in_simulate(fits):
         law = res.model
         assert isinstance(law, fk.GMS if model == "gms" else fk.LuGre)
         v = np.r_[np.zeros(5), np.full(50, 20.0), np.zeros(5), np.full(50, -20.0)]
-        F = fk.simulate(law, velocity=v, dt=0.04).F
+        F = fk.simulate(law, velocity=v, dt=0.04).friction
         assert np.isfinite(F).all()
         assert doc["provenance"]["units"]["F"] == "N·m" and doc["parameters"]["J"]["unit"] == "kg·m²"

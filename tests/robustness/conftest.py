@@ -45,6 +45,6 @@ def static_json(tmp_path_factory) -> Path:
 def gms_csv(tmp_path_factory) -> Path:
     x = np.r_[np.linspace(0, 50e-6, 501), np.linspace(50e-6, -50e-6, 1001)[1:]]
     t = np.arange(x.size) * DT
-    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).F
+    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).friction
     return write_csv(tmp_path_factory.mktemp("ps") / "gms.csv", t_s=t, x_m=x, F_N=F)
 

@@ -241,7 +241,7 @@ def test_presliding_rests_that_cut_the_motion_too_finely_are_named():
     from frictionkit.identify import fit_presliding
 
     x = np.r_[np.linspace(0, 50e-6, 301), np.linspace(50e-6, -50e-6, 601)[1:]]
-    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).F
+    F = fk.simulate(fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0), position=x, dt=DT).friction
     F[::3] = 0.0
     rec = {"t": np.arange(x.size) * DT, "x": x, "F": F}
     with pytest.raises(DataError, match=r"no pre-sliding branch of 4 samples in any of the \d+ runs between rests "

@@ -44,7 +44,7 @@ def test_lugre_on_a_nanogram_is_flagged_not_silently_wrong():
     assert "step-size underflow" in res.message
     assert res.failed_at is not None and np.isnan(res.x[res.failed_at + 1:]).all()
     # the samples before the failing interval are still plausible (|u| <= 2 N)
-    assert np.abs(res.F[: res.failed_at]).max() < 2.5
+    assert np.abs(res.friction[: res.failed_at]).max() < 2.5
 
 
 def test_status_3_is_in_the_kernel_contract():

@@ -42,7 +42,7 @@ def run(law, mass, **kw):
 @pytest.mark.parametrize("mass", [1e-9, 1e-7, 1e-5])
 def test_light_lugre_slider_is_flagged_not_returned_as_ok(mass):
     res = run(LUGRE, mass)
-    peak = float(np.max(np.abs(res.F)))
+    peak = float(np.max(np.abs(res.site_forces)))
     # the run is wrong: the friction on a near-massless slider cannot exceed the 2 N drive by 50 %
     assert peak > 3.0, peak
     assert res.status == STATUS_TOLERANCE and not res.success, res.message
@@ -54,7 +54,7 @@ def test_one_gram_lugre_slider_is_accurate_and_passes_the_check():
     res = run(LUGRE, 1e-3)
     assert res.status == 0, res.message
     assert "sub-step check passed" in res.message
-    assert abs(float(np.max(np.abs(res.F))) - 2.0) < 0.02  # peak friction = peak drive (m a ~ 1e-5 N)
+    assert abs(float(np.max(np.abs(res.site_forces))) - 2.0) < 0.02  # peak friction = peak drive (m a ~ 1e-5 N)
 
 
 def test_normal_mass_runs_no_check():
@@ -102,6 +102,6 @@ def test_atol_run_whose_positions_agree_but_forces_ring_is_flagged():
     """atol bounds positions only: 1e-9 kg with atol = 1e-3 m was accepted at 20 sub-steps
     (positions 10 -> 20 moved 1e-6 m) with status 0 and a peak friction of 193 N for a 2 N drive."""
     res = run(LUGRE, 1e-9, atol=1e-3)
-    assert float(np.max(np.abs(res.F))) > 3.0  # still wrong (see the module docstring)
+    assert float(np.max(np.abs(res.site_forces))) > 3.0  # still wrong (see the module docstring)
     assert res.status == STATUS_TOLERANCE, res.message
     assert "Raise substeps" in res.message and "positions only" in res.message

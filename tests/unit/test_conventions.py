@@ -194,3 +194,128 @@ def test_one_name_each_for_the_function_and_its_package():
 
     assert isinstance(pkg, types.ModuleType) and callable(fk.simulate) and pkg.simulate is fk.simulate
     assert not (SRC / "simulate").exists()
+
+
+# --------------------------------------------------------------------------- 5. forces: F vs friction
+#: Public classes with a field ``F``: each is a force/torque ACTING ON THE AXIS, recorded or
+#: applied (README "Forces"). A simulated friction force is ``friction``; machine site forces are
+#: ``site_forces``. Adding a class here needs that argument.
+F_IS_THE_FORCE_ON_THE_AXIS = {
+    "frictionkit.data.recording.Recording",                      # recorded/applied force or torque
+    "frictionkit.data.segmentation.SteadyStatePoints",           # mean measured force per plateau
+    "frictionkit.identify.two_step.ConstantVelocityScreen",      # mean measured torque per run
+}
+
+
+def _classes_with_field(name: str) -> set[str]:
+    out = set()
+    for q, o in _public_objects():
+        if inspect.isclass(o) and name in getattr(o, "__dataclass_fields__", {}):
+            out.add(f"{o.__module__}.{o.__qualname__}")
+    return out
+
+
+def test_F_is_the_force_on_the_axis_only():
+    assert _classes_with_field("F") == F_IS_THE_FORCE_ON_THE_AXIS
+    results = {f"{c.__module__}.{c.__qualname__}" for c in _result_classes().values()}
+    assert not (results & _classes_with_field("F")), "a result names a simulated force F: use friction"
+    assert {"frictionkit.simulation.core.SimulationResult", "frictionkit.control.loop.ClosedLoopResult"} \
+        <= _classes_with_field("friction")
+    assert {"frictionkit.machines.simulate.MachineResult", "frictionkit.machines.reference.ReferenceResult"} \
+        <= _classes_with_field("site_forces")
+
+
+def test_old_F_names_warn_and_still_read():
+    """One release of grace: ``res.F``, ``machine_res.F`` and ``twin["F"]`` give the new values
+    with a FrictionKitDeprecationWarning naming the new spelling."""
+    from frictionkit.errors import FrictionKitDeprecationWarning
+    from frictionkit.simulation.reference import reference_motion_driven
+
+    law = fk.Dahl(Fc=1.0, sigma0=1e5)
+    x = 1e-5 * np.sin(np.linspace(0.0, 6.0, 61))
+    res = fk.simulate(law, position=x, dt=1e-3)
+    with pytest.warns(FrictionKitDeprecationWarning, match=r"SimulationResult\.F is deprecated: use "
+                      r"SimulationResult\.friction"):
+        assert res.F is res.friction
+    twin = reference_motion_driven(law, x, 1e-3)
+    with pytest.warns(FrictionKitDeprecationWarning, match='use "friction"'):
+        assert twin["F"] is twin["friction"]
+    m = fk.machines.Machine("slider")
+    q = m.dof("q", inertia=1.0)
+    m.friction("contact", q, law=fk.CoulombViscous(Fc=1.0))
+    m.actuator("motor", q)
+    mres = fk.machines.simulate_machine(m, dt=1e-3, duration=0.01, inputs={"motor": np.full(11, 2.0)})
+    with pytest.warns(FrictionKitDeprecationWarning, match=r"MachineResult\.F is deprecated: use "
+                      r"MachineResult\.site_forces"):
+        assert mres.F is mres.site_forces
+    assert mres.force("contact") is not None
+
+
+def test_old_trace_columns_still_load_in_the_report(tmp_path):
+    """A traces CSV written before the rename (column ``F [N]``) reads as today's ``friction [N]``."""
+    from frictionkit.report.adapters import sections_from_file
+
+    t = np.arange(50) * 1e-3
+    for col in ("F [N]", "friction [N]"):
+        p = tmp_path / f"{col[0]}.csv"
+        p.write_text(f"t [s],x [m],v [m/s],{col}\n" + "\n".join(f"{a},{a * 1e-3},1e-3,{np.sin(a)}" for a in t))
+        kind, secs = sections_from_file(p)
+        assert kind == "traces" and secs[0].figures, col
+
+
+# --------------------------------------------------------------------------- 6. sigma2 vs Fv, M
+#: The viscous coefficient is ``sigma2`` [N·s/m] on every law and in every model file. ``Fv``
+#: survives only as the EMPS paper's symbol (PUBLISHED values and the rigid-body IDIM fit's
+#: regression-parameter names ``M, Fv, Fc, offset``, whose ``.model`` is a
+#: ``CoulombViscous(sigma2=Fv)``), in these modules. Shrink only.
+FV_MODULES = {
+    "identify/rigid_body.py", "identify/rigid_body_stribeck.py", "identify/emps_dynamic.py",
+    "presets/emps.py", "cli/identify.py", "report/demo.py", "compensate.py",
+}
+
+#: Public parameters / fields named ``M``: a mass [kg], the symbol of the paper the object comes
+#: from (EMPS, the rigid-body model). A GMS element count is ``elements``; a mass matrix is never
+#: public. Shrink only.
+M_IS_A_MASS = {
+    "frictionkit.plants.rigid_body.RigidBody",
+    "frictionkit.presets.emps.emps_machine",
+    "frictionkit.identify.emps_dynamic.emps_closed_loop",
+    "frictionkit.identify.emps_dynamic.emps_closed_loop_errors",
+}
+
+
+def _public_callables():
+    for qual, obj in _public_objects():
+        targets = [(qual, obj)]
+        if inspect.isclass(obj):
+            targets += [(f"{qual}.{k}", v) for k, v in vars(obj).items()
+                        if inspect.isfunction(v) and not k.startswith("_")]
+        yield from targets
+
+
+def _names_of(obj) -> set[str]:
+    out = set(getattr(obj, "__dataclass_fields__", {}))
+    try:
+        out |= set(inspect.signature(obj).parameters)
+    except (TypeError, ValueError):
+        pass
+    return out
+
+
+def test_viscous_coefficient_is_sigma2():
+    public = sorted(q for q, o in _public_callables() if "Fv" in _names_of(o))
+    assert public == [], f"a public signature or field spells the viscous coefficient Fv: {public}"
+    where = {str(p.relative_to(SRC)) for p in SRC.rglob("*.py")
+             if re.search(r"\bFv\b", p.read_text(encoding="utf-8"))}
+    assert where <= FV_MODULES, sorted(where - FV_MODULES)
+    # every law with a viscous term names it sigma2
+    law = fk.CoulombViscous(Fc=1.0, sigma2=0.5)
+    assert law.sigma2 == 0.5
+
+
+def test_M_is_a_mass_where_public_and_elements_count_gms_elements():
+    with_M = {q for q, o in _public_callables() if "M" in _names_of(o)}
+    assert with_M == M_IS_A_MASS
+    counts = {q for q, o in _public_callables()
+              if {"n_elements", "n_elem", "num_elements"} & _names_of(o)}
+    assert counts == set(), "a GMS element count is `elements`"

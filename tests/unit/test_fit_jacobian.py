@@ -82,7 +82,7 @@ def test_motion_drive_exact_jacobian_equal_or_lower_cost():
     t = np.arange(4001) * dt
     x = 20e-6 * np.sin(2 * np.pi * 4.0 * t) * (1 + 4 * (t > t[-1] / 2))
     law = fk.LuGre(LAW, sigma0=1e5, sigma1=30.0)
-    F = fk.simulate(law, position=x, dt=dt).F
+    F = fk.simulate(law, position=x, dt=dt).friction
     F = F + 0.01 * np.random.default_rng(3).standard_normal(F.size)
     start = fk.LuGre(LAW, sigma0=3e4, sigma1=60.0)
     out = {}

@@ -36,7 +36,7 @@ def _noisy(F, seed, level=0.01):
 @pytest.mark.parametrize("seed", [0, 1])
 def test_lugre_round_trip_with_intervals(seed):
     t, x = _stroke()
-    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).F, seed)
+    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).friction, seed)
     res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(LAW, sigma0=2e4, sigma1=5.0))
     assert res.success and res.kind == "output_error"
     assert res["sigma0"] == pytest.approx(1e5, rel=0.05)
@@ -53,7 +53,7 @@ def test_lugre_round_trip_with_intervals(seed):
 def test_gms_round_trip():
     true = fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
     t, x = _stroke()
-    F = _noisy(fk.simulate(true, position=x, dt=DT).F, 3, level=0.005)
+    F = _noisy(fk.simulate(true, position=x, dt=DT).friction, 3, level=0.005)
     start = fk.GMS(LAW, k=[1e5, 5e4, 5e4], xi=[0.2, 0.3, 0.5], C=20.0)
     res = fit_motion_error({"t": t, "x": x, "F": F}, start, free=("k",))
     assert res.success
@@ -64,7 +64,7 @@ def test_gms_round_trip():
 def test_dahl_round_trip():
     true = fk.Dahl(Fc=1.0, sigma0=5e4, sigma2=0.4)
     t, x = _stroke()
-    F = _noisy(fk.simulate(true, position=x, dt=DT).F, 4)
+    F = _noisy(fk.simulate(true, position=x, dt=DT).friction, 4)
     res = fit_motion_error({"t": t, "x": x, "F": F}, fk.Dahl(Fc=1.0, sigma0=1e4, sigma2=0.4))
     assert res.names == ("sigma0",) and res.model_name == "dahl"
     assert res["sigma0"] == pytest.approx(5e4, rel=0.05)
@@ -74,7 +74,7 @@ def test_direction_dependent_dynamic_parameters():
     true = fk.Directional(positive=fk.LuGre(LAW, sigma0=2e5, sigma1=30.0),
                           negative=fk.LuGre(LAW, sigma0=5e4, sigma1=30.0))
     t, x = _stroke()
-    F = _noisy(fk.simulate(true, position=x, dt=DT).F, 5)
+    F = _noisy(fk.simulate(true, position=x, dt=DT).friction, 5)
     res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(LAW, sigma0=1e5, sigma1=30.0),
                            free=("sigma0_pos", "sigma0_neg"))
     assert isinstance(res.model, fk.Directional)
@@ -87,7 +87,7 @@ def test_inertia_and_offset_are_free_parameters():
     sim = fk.simulate(LUGRE, position=x, dt=DT)
     v = np.gradient(x, DT)
     a = np.gradient(v, DT)
-    F = _noisy(sim.F + 0.8 * a + 0.25, 6)
+    F = _noisy(sim.friction + 0.8 * a + 0.25, 6)
     res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(LAW, sigma0=5e4, sigma1=30.0),
                            free=("sigma0", "J", "offset"), inertia=0.3)
     assert res["J"] == pytest.approx(0.8, rel=0.05)
@@ -104,7 +104,7 @@ def _with_rests(x_parts, rest=400):
         xs.append(np.full(rest, x_end))
         Fs.append(np.zeros(rest))
         xm = x_end + xp
-        Fm = fk.simulate(LUGRE, position=np.r_[x_end, xm], dt=DT).F[1:]
+        Fm = fk.simulate(LUGRE, position=np.r_[x_end, xm], dt=DT).friction[1:]
         xs.append(xm)
         Fs.append(Fm)
         x_end = xm[-1]
@@ -134,8 +134,8 @@ def test_several_records_fitted_jointly_with_different_sample_times():
     t1, x1 = _stroke(3001)
     t2 = np.arange(1501) * 2 * DT
     x2 = 30e-6 * np.sin(2 * np.pi * 3 * t2)
-    recs = {"a": Recording(t=t1, x=x1, F=_noisy(fk.simulate(LUGRE, position=x1, dt=DT).F, 7), name="a"),
-            "b": Recording(t=t2, x=x2, F=_noisy(fk.simulate(LUGRE, position=x2, dt=2 * DT).F, 8), name="b")}
+    recs = {"a": Recording(t=t1, x=x1, F=_noisy(fk.simulate(LUGRE, position=x1, dt=DT).friction, 7), name="a"),
+            "b": Recording(t=t2, x=x2, F=_noisy(fk.simulate(LUGRE, position=x2, dt=2 * DT).friction, 8), name="b")}
     res = fit_motion_error(recs, fk.LuGre(LAW, sigma0=3e4, sigma1=10.0))
     assert res.n_obs == 3001 + 1501
     assert res["sigma0"] == pytest.approx(1e5, rel=0.05)
@@ -164,7 +164,7 @@ def test_find_rests_absorbs_single_sample_blips_only():
 
 def test_velocity_log_held_vs_trapezoidal():
     t, x = _stroke()
-    F = fk.simulate(LUGRE, position=x, dt=DT).F
+    F = fk.simulate(LUGRE, position=x, dt=DT).friction
     v_avg = np.r_[0.0, np.diff(x) / DT]  # a drive's averaged velocity: mean over the preceding interval
     res = fit_motion_error({"t": t, "v": v_avg, "F": F}, fk.LuGre(LAW, sigma0=3e4, sigma1=10.0))
     assert res.provenance["procedure"]["integration"] == "held"
@@ -178,7 +178,7 @@ def test_simulate_takes_a_held_velocity_log():
     t, x = _stroke(2001)
     v_avg = np.r_[0.0, np.diff(x) / DT]
     held = fk.simulate(LUGRE, velocity=v_avg, dt=DT, velocity_integration="held")
-    np.testing.assert_allclose(held.F, fk.simulate(LUGRE, position=x, dt=DT).F, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(held.friction, fk.simulate(LUGRE, position=x, dt=DT).friction, rtol=1e-9, atol=1e-9)
     trap = fk.simulate(LUGRE, velocity=v_avg, dt=DT)  # the default: the velocity at the instant
     assert np.max(np.abs(trap.x - x)) > 1e-3 * np.ptp(x)
     with pytest.raises(ParameterError, match="velocity_integration"):
@@ -192,7 +192,7 @@ def test_coarse_sampling_is_reported_as_unidentifiable():
     t = np.arange(500) * dt
     v = np.where((t > 4) & (t < 9), 20.0, 0.0) - np.where((t > 11) & (t < 16), 20.0, 0.0)
     x = np.r_[0.0, np.cumsum(v[1:] * dt)]
-    F = _noisy(fk.simulate(true, position=x, dt=dt).F, 9, level=3e-4)
+    F = _noisy(fk.simulate(true, position=x, dt=dt).friction, 9, level=3e-4)
     F[v == 0] = 0.0  # drive disabled at rest
     rec = Recording(t=t, v=v, F=F, units={"F": "N·m", "v": "rad/s", "x": "rad"})
     start = motion_start("lugre", true.static, rec)
@@ -216,7 +216,7 @@ def test_log_interval_of_drive3_delta():
 
 def test_non_convergence_is_a_result_unless_asked_to_raise():
     t, x = _stroke(2001)
-    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).F, 10)
+    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).friction, 10)
     data = {"t": t, "x": x, "F": F}
     start = fk.LuGre(LAW, sigma0=2e3, sigma1=1.0)
     res = fit_motion_error(data, start, max_nfev=1, starts=1)
@@ -228,11 +228,11 @@ def test_non_convergence_is_a_result_unless_asked_to_raise():
 
 def test_json_round_trip_gives_a_law_for_simulate(tmp_path):
     t, x = _stroke(2001)
-    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).F, 11)
+    F = _noisy(fk.simulate(LUGRE, position=x, dt=DT).friction, 11)
     res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(LAW, sigma0=3e4, sigma1=10.0))
     back = IdentificationResult.load_json(res.save_json(tmp_path / "m.json"))
     assert back.model == res.model and back.flagged == res.flagged
-    assert np.allclose(fk.simulate(back.model, position=x, dt=DT).F, fk.simulate(res.model, position=x, dt=DT).F)
+    assert np.allclose(fk.simulate(back.model, position=x, dt=DT).friction, fk.simulate(res.model, position=x, dt=DT).friction)
     assert back.diagnostics["static_rms"] == pytest.approx(res.diagnostics["static_rms"])
 
 

@@ -245,7 +245,7 @@ def test_motion_fit_takes_a_model_name_and_auto_start_values_too():
     dt = 1e-4
     t = np.arange(4001) * dt
     x = 20e-6 * np.sin(2 * np.pi * 5 * t)
-    F = fk.simulate(true, position=x, dt=dt).F
+    F = fk.simulate(true, position=x, dt=dt).friction
     res = fk.identify.fit_motion_error({"t": t, "x": x, "F": F}, "lugre", static=LAW, profile=False)
     assert res.success and res["sigma0"] == pytest.approx(1e5, rel=1e-3)
     with pytest.raises(ParameterError, match="static= and initial= are for a model name"):
@@ -260,8 +260,8 @@ def test_presliding_resets_at_a_rest_inside_a_record():
     gms = fk.GMS(LAW, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
     x1 = np.r_[np.linspace(0, 50e-6, 1001), np.linspace(50e-6, -30e-6, 1601)[1:]]
     x2 = np.r_[np.linspace(0, -40e-6, 801)[1:], np.linspace(-40e-6, 40e-6, 1601)[1:]]  # moves at once
-    F1 = fk.simulate(gms, position=x1, dt=DT).F
-    F2 = fk.simulate(gms, position=np.r_[0.0, x2], dt=DT).F  # from rest at the last rest sample
+    F1 = fk.simulate(gms, position=x1, dt=DT).friction
+    F2 = fk.simulate(gms, position=np.r_[0.0, x2], dt=DT).friction  # from rest at the last rest sample
     rest = 10
     x = np.r_[x1, np.full(rest - 1, x1[-1]), x1[-1] + np.r_[0.0, x2]]
     F = np.r_[F1, np.zeros(rest), F2[1:]]  # the disabled drive logs exactly 0 (F2[0] is sigma2 v, not 0)

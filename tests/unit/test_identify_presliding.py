@@ -22,7 +22,7 @@ def stroke():
     x = np.r_[np.linspace(0, 50e-6, 2501), np.linspace(50e-6, -50e-6, 5001)[1:],
               np.linspace(-50e-6, 50e-6, 5001)[1:]]
     t = np.arange(x.size) * DT
-    F = fk.simulate(TRUE, position=x, dt=DT).F
+    F = fk.simulate(TRUE, position=x, dt=DT).friction
     return t, x, F
 
 

@@ -300,7 +300,7 @@ def test_one_dof_fast_path_is_the_single_axis_kernel_and_agrees_with_the_general
     assert "fast path" in fast.message and fast.substeps == 0
     ref = fk.simulate(law, plant=fk.Mass(1.0), force=2.0 * np.clip(u, -3.0, 3.0), dt=dt)
     np.testing.assert_array_equal(fast.q[:, 0], ref.x)
-    np.testing.assert_array_equal(fast.force("contact"), ref.F)
+    np.testing.assert_array_equal(fast.force("contact"), ref.friction)
     general = simulate_machine(m, dt=dt, inputs={"u": u}, fast_path=False)
     assert general.substeps == 10 and "fast path" not in general.message
     # measured 0.47 um over a 1.0 m run (the two paths against each other)
@@ -344,5 +344,5 @@ def test_kinematic_site_on_a_motion_is_the_motion_driven_law():
     ref = fk.simulate(law, position=belt, dt=dt)
     # both are exact for piecewise-linear position (constant rate per sub-step, exponential
     # bristle update; the force at a sample uses the arriving rate): equal to round-off
-    np.testing.assert_allclose(r.force("contact"), ref.F, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(r.force("contact"), ref.friction, rtol=0, atol=1e-12)
     assert np.abs(r.q).max() == 0.0  # a kinematic site acts on nothing

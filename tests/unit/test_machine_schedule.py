@@ -64,7 +64,7 @@ def test_a_level_of_zero_gives_no_force_and_no_nan():
         m = slider(law, schedule="p.position")
         t = _t(0.5)
         res = fk.simulate_machine(m, dt=DT, inputs={"u": np.full(t.size, 0.5 * sign), "p": np.zeros(t.size)})
-        assert res.success and np.all(np.isfinite(res.F))
+        assert res.success and np.all(np.isfinite(res.site_forces))
         np.testing.assert_allclose(res.position("x"), sign * 0.125 * t**2, rtol=1e-9, atol=1e-12)
 
 

@@ -43,7 +43,7 @@ def ramp(v, dt, n):
 @pytest.mark.parametrize("v", [5e-3, -2e-2, 1e-1])
 def test_lugre_constant_velocity_settles_on_stribeck(v):
     out = reference_motion_driven(lugre(LAW_L), ramp(v, 1e-4, 401), 1e-4)
-    assert out["F"][-1] == pytest.approx(float(LAW_L.steady_state(v)), rel=1e-8)
+    assert out["friction"][-1] == pytest.approx(float(LAW_L.steady_state(v)), rel=1e-8)
     # steady bristle deflection z = s(v) / sigma0
     assert out["states"][-1, 0] == pytest.approx(float(LAW_L.stribeck(v)) / 1e5, rel=1e-8)
 
@@ -51,7 +51,7 @@ def test_lugre_constant_velocity_settles_on_stribeck(v):
 @pytest.mark.parametrize("v", [5e-2, -2e-2])
 def test_gms_constant_velocity_settles_on_stribeck(v):
     out = reference_motion_driven(gms(LAW_L, C=2000.0), ramp(v, 1e-4, 601), 1e-4)
-    assert out["F"][-1] == pytest.approx(float(LAW_L.steady_state(v)), rel=1e-9)
+    assert out["friction"][-1] == pytest.approx(float(LAW_L.steady_state(v)), rel=1e-9)
     np.testing.assert_allclose(out["states"][-1], XI * float(LAW_L.stribeck(v)), rtol=1e-9)
     assert out["slipping"][-1].all() and out["n_breakaway"] == 3
 
@@ -65,7 +65,7 @@ def test_directional_picks_the_row_by_direction():
     ):
         for v, law in ((3e-2, pos), (-3e-2, neg)):
             out = reference_motion_driven(model, ramp(v, 1e-4, 301), 1e-4)
-            assert out["F"][-1] == pytest.approx(float(law.steady_state(v)), rel=1e-8), (model, v)
+            assert out["friction"][-1] == pytest.approx(float(law.steady_state(v)), rel=1e-8), (model, v)
 
 
 # ------------------------------------------------------------------ GMS virgin curve and reversal
@@ -77,13 +77,13 @@ def test_gms_virgin_curve_breaks_away_exactly_at_xi_s_over_k():
     x_break = XI * S / K
     expect = np.minimum(K * x[:, None], XI * S)  # per element
     np.testing.assert_allclose(out["states"], expect, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(out["F"], expect.sum(axis=1) + 0.4 * v, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out["friction"], expect.sum(axis=1) + 0.4 * v, rtol=0, atol=1e-12)
     # piecewise-linear: slopes sum(k), then k1 + k2, then k1, then 0
     assert out["n_breakaway"] == 3
     for i in range(3):
         first = int(np.argmax(out["slipping"][:, i]))
         assert x[first - 1] < x_break[i] <= x[first] + 1e-18, (i, x[first], x_break[i])
-    slopes = np.diff(out["F"]) / np.diff(x)
+    slopes = np.diff(out["friction"]) / np.diff(x)
     assert slopes[0] == pytest.approx(K.sum(), rel=1e-9)
     mid12 = (x[:-1] > x_break[2]) & (x[1:] < x_break[1])
     mid01 = (x[:-1] > x_break[1]) & (x[1:] < x_break[0])
@@ -104,14 +104,14 @@ def test_gms_reversal_sticks_every_element_and_follows_masing():
     np.testing.assert_allclose(out["states"][k_rev:].sum(axis=1), expect, rtol=0, atol=1e-11)
     assert out["slipping"][k_rev].all() and not out["slipping"][k_rev + 1].any()
     assert out["n_breakaway"] == 6
-    assert out["F"][-1] == pytest.approx(-S - 0.4 * v, rel=1e-12)
+    assert out["friction"][-1] == pytest.approx(-S - 0.4 * v, rel=1e-12)
 
 
 def test_gms_motion_driven_zero_velocity_freezes_states():
     x = np.concatenate((ramp(1e-4, 1e-3, 101), np.full(50, 1e-5)))
     out = reference_motion_driven(gms(), x, 1e-3)
     np.testing.assert_array_equal(out["states"][-1], out["states"][101])
-    assert out["F"][-1] == pytest.approx(out["states"][-1].sum(), rel=1e-15)  # v = 0: no viscous term
+    assert out["friction"][-1] == pytest.approx(out["states"][-1].sum(), rel=1e-15)  # v = 0: no viscous term
 
 
 def test_lugre_motion_driven_one_interval_closed_form():
@@ -122,8 +122,8 @@ def test_lugre_motion_driven_one_interval_closed_form():
     z = S / 1e5 * -np.expm1(-1e5 * v * dt / S)
     assert out["states"][1, 0] == pytest.approx(z, rel=1e-9)
     zdot = v - 1e5 * v * z / S
-    assert out["F"][1] == pytest.approx(1e5 * z + 63.2 * zdot + 0.4 * v, rel=1e-9)
-    assert out["F"][0] == pytest.approx((63.2 + 0.4) * v, rel=1e-12)  # k = 0 uses the first interval's v
+    assert out["friction"][1] == pytest.approx(1e5 * z + 63.2 * zdot + 0.4 * v, rel=1e-9)
+    assert out["friction"][0] == pytest.approx((63.2 + 0.4) * v, rel=1e-12)  # k = 0 uses the first interval's v
 
 
 # ------------------------------------------------------------------ force-driven
@@ -141,7 +141,7 @@ def test_gms_force_below_breakaway_stays_presliding():
     # holds); the stiff elements re-stick at small oscillation reversals, hence the loose tolerance
     assert out["x"][-1] == pytest.approx(5e-6, rel=0.1)
     assert out["n_breakaway"] >= 2
-    assert abs(out["F"][-1] - 0.8) < 0.05
+    assert abs(out["friction"][-1] - 0.8) < 0.05
 
 
 def test_lugre_force_below_breakaway_stays_presliding():
@@ -160,7 +160,7 @@ def test_gms_all_sticking_start_is_elastic():
     t = dt * np.arange(51)
     out = reference_force_driven(gms(), 1.0, 5.0 * t, dt)  # 0.025 N: nothing breaks
     assert out["n_events"] == 0
-    np.testing.assert_allclose(out["F"], K.sum() * out["x"] + 0.4 * out["v"], rtol=1e-9, atol=1e-14)
+    np.testing.assert_allclose(out["friction"], K.sum() * out["x"] + 0.4 * out["v"], rtol=1e-9, atol=1e-14)
 
 
 @pytest.mark.parametrize("model", [lugre(), gms()], ids=["lugre", "gms"])
@@ -169,7 +169,7 @@ def test_terminal_velocity_under_constant_force(model):
     v_star = brentq(lambda v: float(LAW.steady_state(v)) - u, 1e-3, 10.0)
     out = reference_force_driven(model, 0.01, np.full(601, u), 1e-3)
     assert out["v"][-1] == pytest.approx(v_star, rel=1e-8)
-    assert out["F"][-1] == pytest.approx(u, rel=1e-8)
+    assert out["friction"][-1] == pytest.approx(u, rel=1e-8)
 
 
 def test_dahl_force_driven_saturates_at_fc():
@@ -201,7 +201,7 @@ def test_rk45_and_lsoda_agree_on_stick_slip(model):
     for key in ("x", "v"):
         scale = np.abs(a[key]).max()
         np.testing.assert_allclose(b[key], a[key], rtol=0, atol=1e-7 * scale)
-    np.testing.assert_allclose(b["F"], a["F"], rtol=0, atol=1e-4)
+    np.testing.assert_allclose(b["friction"], a["friction"], rtol=0, atol=1e-4)
     assert a["n_events"] == b["n_events"]
     if isinstance(model, fk.GMS):
         assert a["n_reversal"] >= 1 and a["n_breakaway"] >= 3
@@ -247,7 +247,7 @@ def test_mass_object_accepted():
     a = reference_force_driven(lugre(), fk.Mass(2.0), np.full(11, 0.1), 1e-3)
     b = reference_force_driven(lugre(), 2.0, np.full(11, 0.1), 1e-3)
     np.testing.assert_array_equal(a["x"], b["x"])
-    assert set(a) >= {"t", "x", "v", "F", "nfev", "wall_s"}
+    assert set(a) >= {"t", "x", "v", "friction", "nfev", "wall_s"}
 
 
 def test_rk45_and_lsoda_agree_when_fs_below_fc():
@@ -285,4 +285,4 @@ def test_directional_gms_force_driven_uses_negative_row():
     # pre-sliding stiffness of the negative row before the first breakaway
     first = out["event_log"][0][0]
     early = out["t"] < first
-    np.testing.assert_allclose(out["F"][early], 2 * K.sum() * out["x"][early] + 0.25 * out["v"][early], rtol=1e-8, atol=1e-15)
+    np.testing.assert_allclose(out["friction"][early], 2 * K.sum() * out["x"][early] + 0.25 * out["v"][early], rtol=1e-8, atol=1e-15)

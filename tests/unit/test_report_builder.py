@@ -209,7 +209,7 @@ def test_static_model_file_has_no_loop(tmp_path):
 def test_traces(files, name):
     kind, (sec,) = sections_from_file(files / name)
     assert kind == "traces" and sec.title.startswith("Simulated traces: 801 samples")
-    assert [r[0] for r in sec.table[1:]] == ["t [s]", "x [m]", "v [m/s]", "F [N]", "z [m]"]
+    assert [r[0] for r in sec.table[1:]] == ["t [s]", "x [m]", "v [m/s]", "friction [N]", "z [m]"]
     assert sec.table[2][1:] == ["-3e-05", "3e-05"]  # the position drive's amplitude, 30 µm
     assert len(sec.figures) == 1
 

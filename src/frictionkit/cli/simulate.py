@@ -185,10 +185,10 @@ def simulate(
     doc = {"model": str(model), "law": law_entry(mf.model).name, "drive": kind, "signal": str(signal),
            "columns": {"time": tcol, "signal": scol}, "samples": rec.n, "dt": rec.dt,
            "status": res.status, "message": res.message, "success": res.success,
-           "peak_F": peak(res.F), "peak_v": peak(res.v), "x_range": [float(np.nanmin(res.x)), float(np.nanmax(res.x))],
+           "peak_friction": peak(res.friction), "peak_v": peak(res.v), "x_range": [float(np.nanmin(res.x)), float(np.nanmax(res.x))],
            "units": dict(u), "outputs": {k: str(p) for k, p in (("traces", out), ("plot", plot)) if p is not None}}
     text = (f"{doc['law']} {kind}-driven, {rec.n} samples at dt = {rec.dt:.6g} s: {res.message}\n"
-            f"peak |F| {doc['peak_F']:.6g} {u['F']}, peak |v| {doc['peak_v']:.6g} {u['v']}, "
+            f"peak |friction| {doc['peak_friction']:.6g} {u['F']}, peak |v| {doc['peak_v']:.6g} {u['v']}, "
             f"x in [{doc['x_range'][0]:.6g}, {doc['x_range'][1]:.6g}] {u['x']}")
     text += "".join(f"\nwrote {p}" for p in doc["outputs"].values())
     chk.emit(doc, json_out, text)
@@ -328,7 +328,7 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
            "substeps": res.substeps, "status": res.status, "message": res.message, "success": res.success,
            "dofs": {d.name: {"unit": d.unit, "final_x": float(res.q[-1, i]), "peak_v": peak(res.v[:, i])}
                     for i, d in enumerate(machine.dofs)},
-           "sites": {s: {"peak_F": peak(res.F[:, j])} for j, s in enumerate(res.site_names)},
+           "sites": {s: {"peak_force": peak(res.site_forces[:, j])} for j, s in enumerate(res.site_names)},
            "outputs": {k: str(p) for k, p in (("traces", out), ("plot", plot)) if p is not None}}
     text = res.summary() + "".join(f"\nwrote {p}" for p in doc["outputs"].values())
     chk.emit(doc, json_out, text)

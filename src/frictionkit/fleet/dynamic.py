@@ -119,7 +119,7 @@ def fit_lugre_reversals(rec, law) -> dict:
             v0 = float(v[s])
             z0 = math.copysign(float(_g(law, np.array([v0]))[0]), v0) / s0_
             sim = fk.simulate(model, position=x[s:e] - x[s], dt=dt, state0=z0)
-            out.append(sim.F)
+            out.append(sim.friction)
         return np.concatenate(out)
 
     target = np.concatenate([Ff[s:e] for s, e in windows])

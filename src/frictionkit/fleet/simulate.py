@@ -193,7 +193,7 @@ def _log_table(p: dict, q: dict, rng: np.random.Generator, t: np.ndarray, vref: 
     if not res.success:  # pragma: no cover - motion-driven LuGre runs are exact
         raise RuntimeError(f"fleet simulation failed: {res.message}")
     acc = np.gradient(vref, DT)
-    F = plant.m * acc + res.F + rng.normal(0.0, p["noise_F"], t.size)
+    F = plant.m * acc + res.friction + rng.normal(0.0, p["noise_F"], t.size)
     v = vref + rng.normal(0.0, 2e-5, t.size)
     temp = q["temperature"] + 0.3 * t / t[-1] + rng.normal(0.0, 0.02, t.size)
     return pa.table({"t_s": t, "x_mm": res.x * 1e3, "v_mm_s": v * 1e3, "F_N": F, "temperature_C": temp})

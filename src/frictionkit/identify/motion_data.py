@@ -263,7 +263,7 @@ def _simulate_segments(model, md: MotionData) -> list[np.ndarray] | None:
         warnings.simplefilter("ignore", RuntimeWarning)
         for s in md.segments:
             res = simulate(model, position=s.x, dt=s.dt)
-            out.append(res.F)
+            out.append(res.friction)
     return out
 
 

@@ -404,7 +404,7 @@ def fit_motion_error(
     >>> from frictionkit.identify import fit_motion_error
     >>> true = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, sigma1=30.0)
     >>> dt = 1e-4; t = np.arange(4001) * dt; x = 20e-6 * np.sin(2 * np.pi * 5 * t)
-    >>> F = fk.simulate(true, position=x, dt=dt).F
+    >>> F = fk.simulate(true, position=x, dt=dt).friction
     >>> res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(true.static, sigma0=3e4, sigma1=5.0))
     >>> round(res["sigma0"] / 1e5, 3), res.success
     (1.0, True)

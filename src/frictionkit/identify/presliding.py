@@ -235,7 +235,7 @@ def fit_presliding(
     >>> true = fk.GMS(law, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
     >>> x = np.r_[np.linspace(0, 50e-6, 2501), np.linspace(50e-6, -50e-6, 5001)[1:]]
     >>> t = np.arange(x.size) * 1e-3
-    >>> F = fk.simulate(true, position=x, dt=1e-3).F
+    >>> F = fk.simulate(true, position=x, dt=1e-3).friction
     >>> res = fit_presliding({"t": t, "x": x, "F": F}, elements=3, static=law)
     >>> bool(abs(res.diagnostics["total_stiffness"] / 5.2e5 - 1) < 0.05)
     True
@@ -329,7 +329,7 @@ def fit_presliding(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             mdl = GMS(static, k=k, xi=xi, C=Cv)
-            return np.concatenate([simulate(mdl, position=sg.x, dt=sg.dt).F[sg.fit] for sg in segs])
+            return np.concatenate([simulate(mdl, position=sg.x, dt=sg.dt).friction[sg.fit] for sg in segs])
 
     def rms_of(k, xi, Cv):
         r = sim_F(k, xi, Cv) - F_all

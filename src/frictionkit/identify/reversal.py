@@ -186,7 +186,7 @@ def fit_reversal(
     >>> t = np.arange(4000) * 1e-3
     >>> x = 50e-6 * np.sin(2 * np.pi * t)                       # ±50 µm, two cycles
     >>> law = fk.Dahl(Fc=2.4, sigma0=2.4 / 2e-6)               # pre-sliding ~ a few µm
-    >>> F = fk.simulate(law, position=x, dt=1e-3).F
+    >>> F = fk.simulate(law, position=x, dt=1e-3).friction
     >>> res = fit_reversal(Recording(t=t, x=x, F=F))
     >>> round(res["F0"], 1), res.model.xs > 2e-6
     (2.4, True)

@@ -59,7 +59,7 @@ act on an open-loop plant and are ignored. An actuator's ``delay`` shifts its in
 whole samples (zeros before).
 
 Outputs at the samples ``t_k = k dt``: ``q, v`` of the degrees of freedom and the site
-forces ``F`` at ``t_k`` from the state there, with the motion rate of the interval that
+forces ``site_forces`` at ``t_k`` from the state there, with the motion rate of the interval that
 arrives at ``t_k`` (the first interval's at ``t_0``), as the compiled loop records them.
 """
 
@@ -227,7 +227,7 @@ class ReferenceResult(TraceAccess):
 
     Attributes
     ----------
-    t : ndarray (N,); q, v : ndarray (N, n); F : ndarray (N, n_sites) — site forces at ``t_k``.
+    t : ndarray (N,); q, v : ndarray (N, n); site_forces : ndarray (N, n_sites) — site forces at ``t_k``.
     u : ndarray (N, n_actuators) — applied actuator commands (clipped, delayed).
     states : ndarray (N, n_states) — friction states (LuGre ``z``, GMS element forces ``F_i``)
         in site order.
@@ -241,7 +241,7 @@ class ReferenceResult(TraceAccess):
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
-    F: np.ndarray
+    site_forces: np.ndarray
     u: np.ndarray
     states: np.ndarray
     dof_names: tuple
@@ -698,7 +698,7 @@ def reference_machine(machine: Machine, *, dt: float, inputs: dict | None = None
         _acc, F[k] = tw.accel(t[k], out[k], out_mode, (t[k], tw.P[k], rate))
         u[k] = tw.u_at(t[k])
     return ReferenceResult(
-        machine=machine, t=t, q=q, v=v, F=F, u=u, states=out[:, 2 * n:].copy(),
+        machine=machine, t=t, q=q, v=v, site_forces=F, u=u, states=out[:, 2 * n:].copy(),
         dof_names=tuple(machine._dof_names), site_names=tuple(s.name for s in machine.sites),
         actuator_names=tuple(a.name for a in machine.actuators), nfev=nfev, n_events=len(log),
         n_pieces=n_pieces, event_log=log, wall_s=time.perf_counter() - tic, method=method, rtol=rtol)

@@ -12,7 +12,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from .. import _validate as val
-from ..errors import DataError, ParameterError, SimulationError
+from ..errors import DataError, ParameterError, SimulationError, warn_renamed
 from ..kernels import machine as _k
 from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
@@ -156,8 +156,14 @@ def _pack_law(law) -> tuple[int, list[float], list[float]]:
 
 
 class TraceAccess:
-    """Named access to machine traces (``q``, ``v``, ``F`` and the name tuples), shared by
+    """Named access to machine traces (``q``, ``v``, ``site_forces`` and the name tuples), shared by
     :class:`MachineResult` and the twin's result."""
+
+    @property
+    def F(self) -> np.ndarray:
+        """Deprecated old name of ``site_forces`` (kept for one release)."""
+        warn_renamed(type(self).__name__, "F", "site_forces")
+        return self.site_forces
 
     def _index(self, names, name, what):
         if name not in names:
@@ -180,7 +186,7 @@ class TraceAccess:
 
     def force(self, site: str) -> np.ndarray:
         """Force of a friction site, compliance or load [N or N·m]."""
-        return self.F[:, self._index(self.site_names, site, "site")]
+        return self.site_forces[:, self._index(self.site_names, site, "site")]
 
     def _dof_lines(self) -> list[str]:
         """One summary line per degree of freedom: final position and largest speed."""
@@ -196,7 +202,8 @@ class MachineResult(TraceAccess):
     ----------
     t : ndarray (N,) — sample times [s].
     q, v : ndarray (N, n) — positions and velocities of the degrees of freedom at the samples.
-    F : ndarray (N, n_sites) — site forces at the samples: from the state for dynamic laws and
+    site_forces : ndarray (N, n_sites) — site forces at the samples (friction, compliance or load;
+        ``F`` is the deprecated old name): from the state for dynamic laws and
         compliances; for a static law (no state) the mean over the last sub-step before the sample.
     signals : ndarray (N, n_signals) — every controller signal after the sample's update.
     u : ndarray (N, n_actuators) — applied actuator commands (after saturation and delay).
@@ -207,7 +214,7 @@ class MachineResult(TraceAccess):
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
-    F: np.ndarray
+    site_forces: np.ndarray
     signals: np.ndarray
     u: np.ndarray
     dof_names: tuple
@@ -230,7 +237,7 @@ class MachineResult(TraceAccess):
                  f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})"]
         lines += self._dof_lines()
         for j, s in enumerate(self.site_names):
-            lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.F[:, j])) if self.F.shape[0] else 0:.4g}")
+            lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}")
         return "\n".join(lines)
 
     def plot(self, ax=None):
@@ -381,7 +388,7 @@ def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failu
     if r.status != 0 and raise_on_failure:
         raise SimulationError(r.message)
     names = (act.command, f"{act.name}.applied")
-    return MachineResult(machine=machine, t=r.t, q=r.x[:, None], v=r.v[:, None], F=r.F[:, None],
+    return MachineResult(machine=machine, t=r.t, q=r.x[:, None], v=r.v[:, None], site_forces=r.friction[:, None],
                          signals=np.column_stack([inputs[act.command], u]), u=u[:, None],
                          dof_names=(d.name,), site_names=(site.name,), signal_names=names,
                          actuator_names=(act.name,), substeps=0, status=int(r.status),
@@ -522,7 +529,7 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
                 dofs_of[st.name] = set(np.flatnonzero(machine.row(st.at)[0]).tolist())
             except Exception:  # a site without a coordinate row: judged on its own range
                 pass
-        spans = {name: float(np.ptp(fine.F[:, i])) for i, name in enumerate(res.site_names)}
+        spans = {name: float(np.ptp(fine.site_forces[:, i])) for i, name in enumerate(res.site_names)}
 
         def force_span(name: str, own: float) -> float:
             mine = dofs_of.get(name)
@@ -532,7 +539,7 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
 
         for arr, ref, names, what, tol in ((res.q, fine.q, res.dof_names, "position", CHECK_TOL_POSITION),
                                            (res.v, fine.v, res.dof_names, "velocity", CHECK_TOL_RATE),
-                                           (res.F, fine.F, res.site_names, "force", CHECK_TOL_RATE)):
+                                           (res.site_forces, fine.site_forces, res.site_names, "force", CHECK_TOL_RATE)):
             for i, name in enumerate(names):
                 if what == "force" and name in static:
                     continue
@@ -913,7 +920,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
         message = (f"ok, but the coupled site forces did not converge in {n_bad} sub-steps "
                    "(Gauss-Seidel over sites); raise substeps")
     t = np.arange(N) * dt
-    return MachineResult(machine=machine, t=t, q=q_out, v=v_out, F=F_out, signals=sig_out, u=u_out,
+    return MachineResult(machine=machine, t=t, q=q_out, v=v_out, site_forces=F_out, signals=sig_out, u=u_out,
                          dof_names=tuple(machine._dof_names), site_names=tuple(s.name for s in machine.sites),
                          signal_names=tuple(sig_names), actuator_names=tuple(act_names),
                          substeps=int(substeps), status=int(status), message=message)

@@ -12,12 +12,12 @@ def plot_result(res, ax=None):
     if ax is None:
         _, ax = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     ax = np.atleast_1d(ax)
-    ax[0].plot((res.x - res.x[0]) * 1e6, res.F, lw=1.0)
+    ax[0].plot((res.x - res.x[0]) * 1e6, res.friction, lw=1.0)
     ax[0].set_xlabel("displacement [µm]")
     ax[0].set_ylabel("friction force [N]")
     ax[0].set_title("force–displacement")
     if ax.size > 1:
-        ax[1].plot(res.t, res.F, lw=1.0)
+        ax[1].plot(res.t, res.friction, lw=1.0)
         ax[1].set_xlabel("time [s]")
         ax[1].set_ylabel("friction force [N]")
         ax[1].set_title("force over time")

@@ -165,7 +165,7 @@ def sections_from_result(result: Any, *, name: str | None = None) -> tuple[str, 
     if isinstance(result, pd.DataFrame):
         kind, secs = _table_kind(result, where)
         return kind, _named(secs, label, kind)
-    if hasattr(result, "states") and hasattr(result, "F") and hasattr(result, "t"):  # a SimulationResult
+    if hasattr(result, "states") and hasattr(result, "friction") and hasattr(result, "t"):  # a SimulationResult
         from ..simulation.traces import trace_table
 
         return "traces", _named(traces_sections(pd.DataFrame(trace_table(result))), label, "traces")
@@ -279,7 +279,7 @@ def _table_kind(df, where: str) -> tuple[str, list[Section]]:
         return "study", study_sections(df)
     if {"axis", "period", "ok"} <= cols:
         return "fleet", fleet_sections(df)
-    if "t [s]" in cols and any(str(c).startswith("F [") for c in cols):
+    if "t [s]" in cols and any(str(c).startswith(("friction [", "F [")) for c in cols):  # "F [": older files
         return "traces", traces_sections(df)
     shown = ", ".join(map(str, list(df.columns)[:8]))
     raise DataError(f"{where}: a table of no kind frictionkit report reads (columns: {shown}); expected the "
@@ -442,7 +442,7 @@ def _hysteresis_run(law) -> tuple[np.ndarray, np.ndarray, float] | None:
         return None
     if not res.success:
         return None
-    return res.x, res.F, amp
+    return res.x, res.friction, amp
 
 
 # --------------------------------------------------------------------------- reproductions
@@ -848,14 +848,15 @@ def fleet_sections(df) -> list[Section]:
 
 # --------------------------------------------------------------------------- simulated traces
 def traces_sections(df) -> list[Section]:
-    """Time histories (x, v, F) and the hysteresis loop F(x) of ``simulate --out`` traces."""
+    """Time histories (x, v, friction) and the hysteresis loop F(x) of ``simulate --out`` traces
+    (older files name the friction column ``F [N]``: read too)."""
     plt = _plt()
     cols = list(map(str, df.columns))
 
     def col(prefix: str) -> str | None:
         return next((c for c in cols if c.startswith(prefix + " [")), None)
 
-    t, x, v, F = col("t"), col("x"), col("v"), col("F")
+    t, x, v, F = col("t"), col("x"), col("v"), col("friction") or col("F")
     tt = df[t].to_numpy(float)
     sec = Section(f"Simulated traces: {len(df)} samples over {fmt(tt[-1] - tt[0] if tt.size else 0)} s")
     over = [["column", "min", "max"]] + [[c, fmt(df[c].min()), fmt(df[c].max())]

@@ -74,10 +74,10 @@ def section_laws(out: Path) -> _Section:
         wall = time.perf_counter() - t0
         rev = simulate(model, position=xr, dt=DT)
         axs[0, 0].plot(res.t, res.x * 1e3, label=name, lw=1)
-        axs[0, 1].plot(res.t, res.F, label=name, lw=1)
-        axs[1, 0].plot(rev.x * 1e6, rev.F, label=name, lw=1)
+        axs[0, 1].plot(res.t, res.friction, label=name, lw=1)
+        axs[1, 0].plot(rev.x * 1e6, rev.friction, label=name, lw=1)
         rows.append([name, f"{wall * 1e3:.1f} ms", f"{wall / (u.size - 1) * 1e9:.0f}",
-                     f"{np.abs(res.x).max() * 1e3:.2f}", f"{rev.F.min():.3f} … {rev.F.max():.3f}"])
+                     f"{np.abs(res.x).max() * 1e3:.2f}", f"{rev.friction.min():.3f} … {rev.friction.max():.3f}"])
     axs[0, 0].set(xlabel="time [s]", ylabel="x [mm]", title="Stick–slip run: 1 kg, u = 2 sin(πt) N")
     axs[0, 1].set(xlabel="time [s]", ylabel="F [N]", title="Friction force in the stick–slip run")
     axs[1, 0].set(xlabel="x [µm]", ylabel="F [N]", title="Reversal run: ±30 µm sinusoid (hysteresis)")
@@ -87,7 +87,7 @@ def section_laws(out: Path) -> _Section:
     xn = nested_loop_position(major=20e-6, minor=8e-6, dt=1e-3, speed=1e-5)
     for name in ("LuGre", "GMS-3"):
         r = simulate(laws[name], position=xn, dt=1e-3)
-        axs[1, 1].plot(r.x * 1e6, r.F, label=name, lw=1)
+        axs[1, 1].plot(r.x * 1e6, r.friction, label=name, lw=1)
     axs[1, 1].set(xlabel="x [µm]", ylabel="F [N]", title="Minor loop inside a major loop (memory)")
     for a in axs.flat:
         a.grid(alpha=0.3)
@@ -114,7 +114,7 @@ def section_parity() -> _Section:
         wall = time.perf_counter() - t0
         ref = reference_force_driven(model, 1.0, u, DT, method="LSODA", rtol=1e-11, atol=1e-13)
         rows.append([name, f"{wall * 1e3:.1f} ms", f"{ref['wall_s']:.2f} s",
-                     f"{np.abs(res.x - ref['x']).max() * 1e6:.3f}", f"{np.abs(res.F - ref['F']).max():.2e}"])
+                     f"{np.abs(res.x - ref['x']).max() * 1e6:.3f}", f"{np.abs(res.friction - ref['friction']).max():.2e}"])
     sec.table = rows
     return sec
 

@@ -279,14 +279,14 @@ def acim_experiments(design: Design = FULL, *, assumptions=None, truth=None, see
     t = np.arange(v.size) * Z.DT
     out = {}
     for name, law in laws.items():
-        F = simulate(law, velocity=v, dt=Z.DT).F + sig * rng.standard_normal(v.size)
+        F = simulate(law, velocity=v, dt=Z.DT).friction + sig * rng.standard_normal(v.size)
         rec = Recording(t=t, v=v, F=F, name=f"ACIM bench: {name}")
         pts = steady_state_points(rec, plateaus=[Segment(start=s0, stop=s1, direction=1 if v[s1 - 1] > 0 else -1)
                                                  for s0, s1 in segs])
         A = strokes[name]
         ref = _turns_reference([0.0, A, -A], A / design.micro_time, "different")
         x = ref.th1 * R
-        Fp = simulate(law, position=x, dt=Z.DT).F + sig * rng.standard_normal(x.size)
+        Fp = simulate(law, position=x, dt=Z.DT).friction + sig * rng.standard_normal(x.size)
         out[name] = {"static": pts, "presliding": Recording(t=ref.t, x=x, F=Fp, name=f"ACIM bench µm: {name}")}
     return out
 
@@ -316,7 +316,7 @@ def _as_lugre(law, J):
 
 def _drive(law, position, dt) -> np.ndarray:
     """Motion-driven friction of a law along a commanded coordinate (from its initial value)."""
-    return simulate(law, position=position - position[0], dt=dt).F
+    return simulate(law, position=position - position[0], dt=dt).friction
 
 
 @dataclass(frozen=True, eq=False)
@@ -531,7 +531,7 @@ def fit_gms_one_stiffness(records: dict, statics: dict, *, elements: int, max_nf
 
     def resid(p):
         g = model(p)
-        r = np.concatenate([simulate(g, position=x[lab], dt=records[lab].dt).F - F[lab]
+        r = np.concatenate([simulate(g, position=x[lab], dt=records[lab].dt).friction - F[lab]
                             for lab in labs])
         r[~np.isfinite(r)] = 1e3
         return r

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .. import _validate as val
-from ..errors import DataError, ParameterError
+from ..errors import DataError, ParameterError, warn_renamed
 from ..kernels import gms as _gms
 from ..kernels import lugre as _lugre
 from ..models.pack import kind_of, pack_gms, pack_lugre
@@ -106,9 +106,9 @@ class SimulationResult:
 
     Attributes
     ----------
-    t, x, v, F : ndarray
+    t, x, v, friction : ndarray
         Time [s], position [m], velocity [m/s], friction force [N] (including
-        the viscous term). For a motion-driven run ``x`` is the input and ``v``
+        the viscous term; ``F`` is its deprecated old name, see the README conventions). For a motion-driven run ``x`` is the input and ``v``
         the velocity of the interval ending at ``t_k`` (``v[0]``: the first interval).
     states : dict
         Internal friction states: ``"z"`` (LuGre bristle deflection [m]) or
@@ -125,7 +125,7 @@ class SimulationResult:
     t: np.ndarray
     x: np.ndarray
     v: np.ndarray
-    F: np.ndarray
+    friction: np.ndarray
     states: dict[str, np.ndarray]
     status: int
     message: str
@@ -137,16 +137,22 @@ class SimulationResult:
     def success(self) -> bool:
         return self.status == 0
 
+    @property
+    def F(self) -> np.ndarray:
+        """Deprecated old name of :attr:`friction` (kept for one release)."""
+        warn_renamed("SimulationResult", "F", "friction")
+        return self.friction
+
     def summary(self) -> str:
         """One paragraph: run length, status, travel, peak speed and friction, sub-steps taken."""
         n = int(self.t.size)
         head = (f"simulation: {n} samples over {float(self.t[-1]) if n else 0.0:.6g} s"
                 f"{'' if self.model is None else f' of {type(self.model).__name__}'}; status {self.status} "
                 f"({self.message})")
-        ok = np.isfinite(self.x) & np.isfinite(self.v) & np.isfinite(self.F)
+        ok = np.isfinite(self.x) & np.isfinite(self.v) & np.isfinite(self.friction)
         if not ok.any():
             return head
-        x, v, F = self.x[ok], self.v[ok], self.F[ok]
+        x, v, F = self.x[ok], self.v[ok], self.friction[ok]
         body = (f"travel {float(x.max() - x.min()):.4g} m, peak |v| {float(np.abs(v).max()):.4g} m/s, "
                 f"friction {float(F.min()):.4g} … {float(F.max()):.4g} N")
         if self.substeps:
@@ -237,15 +243,45 @@ def _times(N: int, dt: float) -> np.ndarray:
     return t
 
 
-def _finish(t, x, v, F, states, status, at, substeps, model) -> SimulationResult:
+#: Pre-sliding ringing this much faster than the samples (``sqrt(sigma0 / m) dt``) is named as the
+#: likely cause when a LuGre/Dahl run fails (issue 13; assumption: at 1e3 the ROS2 sub-steps that
+#: cover every velocity reversal need ~1e3 sub-steps per sample before they resolve one period).
+RINGING_LIMIT = 1e3
+
+
+def lugre_failure_detail(sigma0: float, sigma1: float, F_max: float, m: float, dt: float) -> str:
+    """Why a force-driven LuGre/Dahl run may have failed, in the model's own numbers (issue 13).
+
+    Names ``sigma0``, the mass, the pre-sliding ringing ``omega dt = sqrt(sigma0 / m) dt`` with its
+    damping ratio ``sigma1 / (2 sqrt(sigma0 m))`` (``sigma1`` here includes ``sigma2``) and the
+    bristle deflection ``max(Fc, Fs) / sigma0``; past :data:`RINGING_LIMIT` it says that the
+    contact is stiffer than the integrator can follow and what to check.
+    """
+    wdt = math.sqrt(sigma0 / m) * dt
+    zeta = sigma1 / (2.0 * math.sqrt(sigma0) * math.sqrt(m))
+    text = (f"sigma0 = {sigma0:.3g} N/m on a mass of {m:.3g} kg: the pre-sliding spring rings at "
+            f"omega·dt = sqrt(sigma0/m)·dt = {wdt:.3g} (damping ratio {zeta:.3g}), the bristle deflection "
+            f"max(Fc, Fs)/sigma0 is {F_max / sigma0:.3g} m")
+    if not math.isfinite(wdt) or wdt > RINGING_LIMIT:
+        text += (f"; that ringing is far faster than the samples and must be followed through every velocity "
+                 f"reversal, which the integrator cannot do (omega·dt > {RINGING_LIMIT:g}): sigma0 is too stiff "
+                 "for this mass and dt — LuGre sigma0 is typically 1e4 … 1e8 N/m (check the units), "
+                 "or shorten dt")
+    return text
+
+
+def _finish(t, x, v, F, states, status, at, substeps, model, detail: str = "") -> SimulationResult:
     failed = None
+    message = _MESSAGES[int(status)]
     if status != 0:
         failed = int(at)
+        if detail:
+            message = f"{message}. {detail}"
         for arr in (x, v, F, *states.values()):
             if arr.dtype.kind == "f":
                 arr[failed + 1 :] = np.nan
-        warnings.warn(f"simulation stopped at t = {t[failed]:.6g} s: {_MESSAGES[status]}", RuntimeWarning, stacklevel=3)
-    return SimulationResult(t, x, v, F, states, int(status), _MESSAGES[int(status)], int(substeps), failed, model)
+        warnings.warn(f"simulation stopped at t = {t[failed]:.6g} s: {message}", RuntimeWarning, stacklevel=3)
+    return SimulationResult(t, x, v, F, states, int(status), message, int(substeps), failed, model)
 
 
 def simulate(
@@ -341,6 +377,9 @@ def simulate(
                 int(options.max_substeps), x, v, F, z, _v_floor(options),
             )
             states = {"z": z}
+            if st != 0:
+                return _finish(t, x, v, F, states, st, at, nsub, model, lugre_failure_detail(
+                    sigma0, float((pk.dyn[:, 1] + pk.static[:, 4]).max()), F_scale, plant.m, dt))
         else:
             F0, stick0, Fel, stick = _gms_buffers(pk, state0, N)
             st, at, nsub = _gms.gms_force(

@@ -51,13 +51,14 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from .. import _validate as val
-from ..errors import ParameterError, SimulationError
+from ..errors import FrictionKitDeprecationWarning, ParameterError, SimulationError
 from ..models.pack import PackedGMS, kind_of, pack_gms, pack_lugre
 
 __all__ = ["reference_force_driven", "reference_motion_driven"]
@@ -72,6 +73,18 @@ _MAX_STALLS = 64
 
 
 # --------------------------------------------------------------------------- helpers
+class _TwinOutput(dict):
+    """The twins' output dict; the old key ``"F"`` still reads ``"friction"`` for one release, with a
+    :class:`~frictionkit.errors.FrictionKitDeprecationWarning`."""
+
+    def __getitem__(self, key):
+        if key == "F" and not dict.__contains__(self, "F"):
+            warnings.warn('the twin\'s output key "F" is deprecated: use "friction" (the old key goes in the '
+                          "next release)", FrictionKitDeprecationWarning, stacklevel=2)
+            key = "friction"
+        return dict.__getitem__(self, key)
+
+
 def _smag(row: np.ndarray, v: float, floor: float) -> float:
     """``|s(v)|`` for one packed static row (magnitude, evaluated at ``|v|``)."""
     Fc, Fs, vs, delta, _sigma2, shape = row
@@ -237,8 +250,8 @@ def reference_force_driven(
     Returns
     -------
     dict
-        ``t`` (N,) [s]; ``x`` (N,) [m]; ``v`` (N,) [m/s]; ``F`` (N,) friction [N] at
-        the samples (LuGre ``sigma0 z + sigma1 dz/dt + sigma2 v``, GMS
+        ``t`` (N,) [s]; ``x`` (N,) [m]; ``v`` (N,) [m/s]; ``friction`` (N,) friction force [N] at
+        the samples (``"F"``: deprecated old key) (LuGre ``sigma0 z + sigma1 dz/dt + sigma2 v``, GMS
         ``sum F_i + sigma2 v``); ``states`` (N, 1) ``z`` or (N, M) ``F_i``;
         ``nfev`` right-hand-side evaluations; ``wall_s`` wall time [s];
         ``n_events``, ``n_breakaway``, ``n_reversal`` (GMS switching events; 0 for LuGre);
@@ -304,8 +317,8 @@ def reference_force_driven(
             raise _fail(owner, sol, 0.0)
         x, v, z = sol.y
         F = np.array([_lugre_force(static, dyn, floor, vi, zi) for vi, zi in zip(v, z)])
-        return dict(
-            t=t, x=x, v=v, F=F, states=z[:, None], nfev=int(sol.nfev),
+        return _TwinOutput(
+            t=t, x=x, v=v, friction=F, states=z[:, None], nfev=int(sol.nfev),
             wall_s=time.perf_counter() - tic, n_events=0, n_breakaway=0, n_reversal=0,
         )
 
@@ -504,8 +517,8 @@ def reference_force_driven(
     Fi[:, keep] = out[:, 2:]
     sig2 = np.where(v < 0.0, p.static[1, 4], p.static[0, 4])
     F = Fi.sum(axis=1) + sig2 * v
-    return dict(
-        t=t, x=x, v=v, F=F, states=Fi, nfev=nfev, wall_s=time.perf_counter() - tic,
+    return _TwinOutput(
+        t=t, x=x, v=v, friction=F, states=Fi, nfev=nfev, wall_s=time.perf_counter() - tic,
         n_events=n_break + n_rev, n_breakaway=n_break, n_reversal=n_rev,
         event_log=[(te, kind_, int(np.flatnonzero(keep)[j]) if j >= 0 else -1) for te, kind_, j in log],
     )
@@ -543,7 +556,7 @@ def reference_motion_driven(
     Returns
     -------
     dict
-        ``t`` (N,) [s]; ``F`` (N,) friction [N] from the state at ``t_k`` and the
+        ``t`` (N,) [s]; ``friction`` (N,) friction force [N] (``"F"``: deprecated old key) from the state at ``t_k`` and the
         velocity of the interval ending at ``t_k`` (the first interval's for
         ``k = 0``); ``v`` (N,) that velocity; ``states`` (N, 1) ``z`` or (N, M)
         ``F_i``; for GMS also ``slipping`` (N, M) flags at ``t_k`` and
@@ -565,7 +578,7 @@ def reference_motion_driven(
     >>> law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
     >>> gms = fk.GMS(law, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
     >>> out = reference_motion_driven(gms, np.array([0.0, 1e-7]), 1e-3)
-    >>> round(float(out["F"][1]), 6)          # all sticking: (sum k) * x + sigma2 * v
+    >>> round(float(out["friction"][1]), 6)          # all sticking: (sum k) * x + sigma2 * v
     0.11104
     """
     owner = "reference_motion_driven"
@@ -602,7 +615,7 @@ def reference_motion_driven(
                 raise _fail(owner, sol, t[k])
             z[k + 1] = sol.y[0, -1]
         F = np.array([_lugre_force(static, dyn, floor, v, zk) for v, zk in zip(vs_, z)])
-        return dict(t=t, F=F, v=vs_, states=z[:, None], nfev=nfev, wall_s=time.perf_counter() - tic)
+        return _TwinOutput(t=t, friction=F, v=vs_, states=z[:, None], nfev=nfev, wall_s=time.perf_counter() - tic)
 
     p = pack_gms(model)
     M = p.k.shape[1]
@@ -671,7 +684,7 @@ def reference_motion_driven(
 
     sig2 = np.where(vs_ < 0.0, p.static[1, 4], p.static[0, 4])
     Ftot = Fi.sum(axis=1) + sig2 * vs_
-    return dict(
-        t=t, F=Ftot, v=vs_, states=Fi, slipping=flags, n_breakaway=n_break, nfev=nfev,
+    return _TwinOutput(
+        t=t, friction=Ftot, v=vs_, states=Fi, slipping=flags, n_breakaway=n_break, nfev=nfev,
         wall_s=time.perf_counter() - tic,
     )

@@ -1,9 +1,14 @@
 """A simulation's samples as a table, written to CSV or Parquet (atomically).
 
-Columns, with the unit in the name: ``t [s]``, ``x [m]``, ``v [m/s]``, ``F [N]`` (the
-friction force), then the friction states — ``z [m]`` (LuGre, Dahl) or ``F_1 [N]`` ...
-``F_M [N]`` and ``stick_1`` ... ``stick_M`` (GMS elements; 1 sticking, 0 slipping).
-Rotary axes pass ``units={"F": "N·m", "v": "rad/s"}`` (labels only; the numbers are SI).
+Columns, with the unit in the name: ``t [s]``, ``x [m]``, ``v [m/s]``, ``friction [N]`` (the
+friction force), then the friction states — ``z [m]`` (LuGre, Dahl) or ``friction_1 [N]`` ...
+``friction_M [N]`` and ``stick_1`` ... ``stick_M`` (GMS elements; 1 sticking, 0 slipping).
+Rotary axes pass ``units={"F": "N·m", "v": "rad/s"}`` (labels only; the numbers are SI; ``"F"``
+is the force unit's key, as in model files).
+
+Older files (before the 2026-11-23 rename, README conventions) named the friction column ``F [N]`` (GMS
+elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]``; the report reads
+both spellings.
 """
 
 from __future__ import annotations
@@ -32,21 +37,21 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
     >>> law = fk.Dahl(Fc=1.0, sigma0=1e5)
     >>> res = fk.simulate(law, position=1e-5 * np.sin(np.linspace(0, 6, 61)), dt=1e-3)
     >>> list(trace_table(res))
-    ['t [s]', 'x [m]', 'v [m/s]', 'F [N]', 'z [m]']
+    ['t [s]', 'x [m]', 'v [m/s]', 'friction [N]', 'z [m]']
     """
     from ..models.files import _axis_units
 
     if hasattr(result, "dof_names"):  # a MachineResult
         return machine_trace_table(result)
     u = _axis_units(units)
-    out = {"t [s]": result.t, f"x [{u['x']}]": result.x, f"v [{u['v']}]": result.v, f"F [{u['F']}]": result.F}
+    out = {"t [s]": result.t, f"x [{u['x']}]": result.x, f"v [{u['v']}]": result.v, f"friction [{u['F']}]": result.friction}
     states = result.states or {}
     if "z" in states:
         out[f"z [{u['x']}]"] = states["z"]
     if "F_elements" in states:
         Fel = np.asarray(states["F_elements"])
         for i in range(Fel.shape[1]):
-            out[f"F_{i + 1} [{u['F']}]"] = Fel[:, i]
+            out[f"friction_{i + 1} [{u['F']}]"] = Fel[:, i]
     if "stick" in states:
         st = np.asarray(states["stick"])
         for i in range(st.shape[1]):
@@ -56,7 +61,7 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
 
 def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
     """``{column: samples}`` of a :class:`~frictionkit.machines.MachineResult`: ``t [s]``, per
-    degree of freedom ``x.<dof> [m|rad]`` and ``v.<dof> [m/s|rad/s]``, per site ``F.<site>``
+    degree of freedom ``x.<dof> [m|rad]`` and ``v.<dof> [m/s|rad/s]``, per site ``force.<site>``
     (N on a linear coordinate, N·m on an angle: labelled ``[N|N·m]`` as the site's coordinate
     may mix both), per actuator ``u.<actuator>`` (applied command), then every controller
     signal by its name (units as the machine's blocks define them)."""
@@ -65,7 +70,7 @@ def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
         out[f"x.{d.name} [{d.unit}]"] = result.q[:, i]
         out[f"v.{d.name} [{d.unit}/s]"] = result.v[:, i]
     for j, name in enumerate(result.site_names):
-        out[f"F.{name} [N|N·m]"] = result.F[:, j]
+        out[f"force.{name} [N|N·m]"] = result.site_forces[:, j]
     for j, name in enumerate(result.actuator_names):
         out[f"u.{name}"] = result.u[:, j]
     for j, name in enumerate(result.signal_names):

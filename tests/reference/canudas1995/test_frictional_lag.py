@@ -20,7 +20,7 @@ def test_loop_widens_with_frequency(tmp_path, example):
     # measured: areas 1.07e-5, 8.74e-5, 1.40e-4 N m/s; widest gaps 0.014, 0.105, 0.147 N
     assert np.all(np.diff(area) > 0) and np.all(np.diff(width) > 0)
     assert width[0] < 0.03 and width[-1] > 0.1
-    for v, F in zip(d["v"], d["F"]):
+    for v, F in zip(d["v"], d["friction"]):
         v, F = np.asarray(v), np.asarray(F)
         assert v.min() > 0.0  # always sliding forward, through the Stribeck region
         assert np.all((F > 0.99 * ex.LAW.static.Fc) & (F < ex.LAW.static.Fs))
@@ -40,4 +40,4 @@ def test_stiff_coupling_reproduces_the_prescribed_velocity_loop(example):
     t = np.arange(n + 1) * dt
     s = fk.simulate(ex.LAW, position=ex.position(t, w), dt=dt)
     # measured 2.1e-6 N
-    assert np.abs(lp["F"] - s.F[n - per:n + 1]).max() < 2e-5
+    assert np.abs(lp["friction"] - s.friction[n - per:n + 1]).max() < 2e-5

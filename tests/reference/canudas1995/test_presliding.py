@@ -15,7 +15,7 @@ def test_presliding_follows_the_closed_form_and_never_slides(tmp_path, example):
     out = tmp_path / "presliding.json"
     ex.main(["--json", str(out)])
     d = json.loads(out.read_text())
-    u, x, F = (np.asarray(d[k], dtype=float) for k in ("u", "x", "F"))
+    u, x, F = (np.asarray(d[k], dtype=float) for k in ("u", "x", "friction"))
     rise = int(np.argmax(u))
     xc = np.asarray(d["x_closed_form"][:rise + 1], dtype=float)
     assert all(v is None for v in d["x_closed_form"][rise + 1:])
@@ -41,4 +41,4 @@ def test_presliding_agrees_with_the_twin(example):
     ref = reference_machine(ex.machine(), dt=dt, inputs={"u": u})
     # measured at dt = 1 ms: 0.2 nm, 2.6e-5 N
     assert np.abs(res.q - ref.q).max() <= 1e-9
-    assert np.abs(res.F - ref.F).max() <= 1e-4
+    assert np.abs(res.site_forces - ref.site_forces).max() <= 1e-4

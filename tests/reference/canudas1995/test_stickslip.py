@@ -32,18 +32,18 @@ def trace(tmp_path_factory):
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     data = json.loads(out.read_text())
-    assert set(data) == {"t", "x", "F"}
+    assert set(data) == {"t", "x", "friction"}
     return {k: np.asarray(v, dtype=float) for k, v in data.items()}
 
 
 def test_json_covers_20_s_at_the_sample_rate(trace):
-    assert trace["t"].size == trace["x"].size == trace["F"].size == 20001
+    assert trace["t"].size == trace["x"].size == trace["friction"].size == 20001
     assert trace["t"][0] == 0.0 and trace["t"][-1] == pytest.approx(20.0)
 
 
 def test_stick_phases_are_periodic_and_break_away_near_Fs(trace, example):
     ex = example("canudas1995_stickslip")
-    t, x, F = trace["t"], trace["x"], trace["F"]
+    t, x, F = trace["t"], trace["x"], trace["friction"]
     phases = ex.stick_phases(t, x, DT)
     # measured: 0.00-7.44 s, 10.26-13.80 s, 16.63-20.00 s
     assert len(phases) >= 3
@@ -70,4 +70,4 @@ def test_stickslip_agrees_with_the_twin(trace, example):
     ref = reference_machine(ex.machine(), dt=DT, inputs=ex.inputs(20.0, DT))
     # measured at the default 10 sub-steps: 0.53 um (of a 1.27 m run), 2.5e-4 N; bound 3x
     assert np.abs(trace["x"] - ref.position("x")).max() <= 1.6e-6
-    assert np.abs(trace["F"] - ref.force("friction")).max() <= 7.6e-4
+    assert np.abs(trace["friction"] - ref.force("friction")).max() <= 7.6e-4

@@ -92,7 +92,7 @@ def test_truth_does_not_ratchet_under_reciprocation(site):
     dt = 1e-3
     turns = [0.0, 2e-6] + [-2e-6, 2e-6] * 4
     x = np.concatenate([np.linspace(a, b, 400, endpoint=False) for a, b in zip(turns[:-1], turns[1:])] + [[2e-6]])
-    F = fk.simulate(law, position=x, dt=dt).F
+    F = fk.simulate(law, position=x, dt=dt).friction
     at_top = F[400::800]
     assert np.ptp(at_top[1:]) < 1e-3 * np.max(np.abs(F)), at_top
 

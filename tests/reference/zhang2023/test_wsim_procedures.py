@@ -81,7 +81,7 @@ def test_step2_recovers_gms_breakpoints_eq19():
     A, v = 20e-6 / R, 4e-6 / R
     seg = np.arange(0.0, A, v * DT)
     th = np.r_[np.zeros(40), seg, A - 2 * seg]
-    F = fk.simulate(gms, position=th, dt=DT).F + 1e-4 * np.random.default_rng(1).standard_normal(th.size)
+    F = fk.simulate(gms, position=th, dt=DT).friction + 1e-4 * np.random.default_rng(1).standard_normal(th.size)
     t = np.arange(th.size) * DT
     run = W.TDMSRun(t=t, theta1=th, theta2=-th, T1=F, T2=np.zeros_like(F), R=R)
     step = W.cospeed_presliding({"screw +": run}, {"screw": static})

@@ -5,6 +5,10 @@
 2. Every documented parameter (numpydoc ``Parameters`` section) exists in the signature.
 3. Unit factors are defined once, in :mod:`frictionkit.units`.
 4. Unknown keywords raise, also where a function forwards ``**kwargs``.
+5. ``F`` is the force on the axis (recorded/applied); a simulated friction force is ``friction``,
+   a machine's site forces ``site_forces`` (old spellings warn for one release).
+6. The viscous coefficient is ``sigma2`` (``Fv`` only as the EMPS paper's symbol, in listed
+   modules); a public ``M`` is a mass (listed), a GMS element count is ``elements``.
 
 The lists of exceptions below are a ratchet: the test fails when a listed object comes into line
 (remove it from the list) and when a new object breaks a rule.

@@ -299,7 +299,9 @@ def zhang2023(
         tab.add_column("finding")
         tab.add_column("holds", justify="right")
         for k, v in out["holds_fraction"].items():
-            tab.add_row(k, f"{v:.2f}")
+            miss = out.get("not_evaluated", {}).get(k, {})   # e.g. a fit that failed in a variant
+            tab.add_row(k, ("n/a" if v is None else f"{v:.2f}")
+                        + (f" (not evaluated in {len(miss)}: {', '.join(miss)})" if miss else ""))
         Console().print(tab)
         Console().print("sensitivity ranking: " + ", ".join(out["ranking"]))
         Console().print(f"{out['computed']} variant(s) run, {out['skipped']} done before (skipped)"

@@ -481,7 +481,8 @@ def table8(wsim_result, design: Design = FULL, *, assumptions=None, truth=None, 
 M7_KEYS = {3: "GMS M=3 (one k set)", 7: "GMS M=7"}
 
 
-def fit_gms_one_stiffness(records: dict, statics: dict, *, elements: int, max_nfev: int = 60) -> Directional:
+def fit_gms_one_stiffness(records: dict, statics: dict, *, elements: int, max_nfev: int = 60,
+                          notes: list | None = None) -> Directional:
     """A direction-dependent GMS whose elements have ONE stiffness set ``k_i`` for both
     directions (per direction: its static map and weights ``xi_i``), fitted jointly to the
     step-4 records of both directions (``records``: ``{"positive": Recording, "negative":
@@ -499,25 +500,40 @@ def fit_gms_one_stiffness(records: dict, statics: dict, *, elements: int, max_nf
     :mod:`frictionkit.presets.zhang2023.truth`).
 
     Procedure: eq. 19 breakpoints per direction (:func:`~frictionkit.identify.presliding.fit_presliding`,
-    no refinement); start ``k`` = the geometric mean of both directions' stiffnesses sorted
+    no refinement; where a direction's record does not give ``M`` breakpoints — a virgin branch
+    that is not concave at that resolution, e.g. the ``table_mass x1.2`` robustness variant at
+    M = 7: slope -1.7 -> 43 N/m at breakpoint 2 — WSIM's own retries apply: heavier block
+    means, then fewer elements padded to ``M`` by splitting the last one, named in ``notes``);
+    start ``k`` = the geometric mean of both directions' stiffnesses sorted
     stiffest first, ``xi_i = k_i d_i / s`` from each direction's sorted breakpoints ``d_i``;
     ``C`` the geometric mean of the two fits' ``C`` (the records do not determine it); then
     least squares on the motion-driven simulation error of both records together (log
-    parameters, ``3 M`` unknowns). Raises IdentificationError if it does not improve on the start.
+    parameters, ``3 M`` unknowns). Raises IdentificationError (naming the direction) if no start
+    is found, or if the fit does not improve on the start. ``notes``: a list that receives how
+    each direction's start was found when it was not the plain eq. 19 fit.
     """
     from scipy.optimize import least_squares
 
     M = int(elements)
     labs = ("positive", "negative")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GMSWeightWarning)
-        f0 = {lab: fit_presliding(records[lab], elements=M, static=statics[lab], branch="virgin", refine=False)
-              for lab in labs}
+    f0, breaks = {}, {}
+    for lab in labs:
+        try:
+            fit, how, _ = W._fit_micro(records[lab], None, elements=M, static=statics[lab], refine=False,
+                                       max_nfev=max_nfev)
+        except (IdentificationError, DataError) as exc:
+            raise IdentificationError(f"fit_gms_one_stiffness (M = {M}): no eq. 19 start for the {lab} "
+                                      f"record: {exc}") from exc
+        if how and notes is not None:
+            notes.append(f"{lab}: {'; '.join(how)}")
+        f0[lab] = fit
+        g = fit.model
+        # breakpoint of element i: where k_i x reaches xi_i s (a padded element repeats its parent's)
+        breaks[lab] = np.sort(np.asarray(g.xi, float) * fit.diagnostics["s_level"] / np.asarray(g.k, float))
     side = {lab: (statics[lab].positive if lab == "positive" else statics[lab].negative)
             if isinstance(statics[lab], Directional) else statics[lab] for lab in labs}
     k0 = np.sqrt(np.sort(f0["positive"].model.k)[::-1] * np.sort(f0["negative"].model.k)[::-1])
-    xi0 = [np.maximum(k0 * np.sort(f0[lab].diagnostics["breakpoints"]) / f0[lab].diagnostics["s_level"], 1e-6)
-           for lab in labs]
+    xi0 = [np.maximum(k0 * breaks[lab] / f0[lab].diagnostics["s_level"], 1e-6) for lab in labs]
     C = float(np.sqrt(f0["positive"].model.C * f0["negative"].model.C))
     x = {lab: np.asarray(records[lab].x, float) for lab in labs}
     F = {lab: np.asarray(records[lab].force(), float) for lab in labs}
@@ -623,16 +639,18 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
     L6 = wsim_result.steps["table6"].laws
     gms3 = _pair(L6, "positive", "negative")
     models = {"LuGre": _as_lugre(gms3, Z.PAPER_TABLES["table2"]["J_s"] + a.table_mass * R * R), "GMS M=3": gms3}
-    msgs = []
+    msgs, infos = [], []
     fits = wsim_result.steps["table6"].fits
     if all(fits.get(lab) is not None and (micro_runs or {}).get(lab) is not None for lab in ("positive", "negative")):
         recs = {lab: W._thin(micro_runs[lab].shaft("screw"), design.m7_samples) for lab in ("positive", "negative")}
         statics = {lab: fits[lab].model.static for lab in recs}
         for M in (3, 7):
+            how: list = []
             try:
-                models[M7_KEYS[M]] = fit_gms_one_stiffness(recs, statics, elements=M)
+                models[M7_KEYS[M]] = fit_gms_one_stiffness(recs, statics, elements=M, notes=how)
             except (IdentificationError, DataError) as exc:   # reported; the row is then missing
                 msgs.append(f"{M7_KEYS[M]}: {exc}")
+            infos += [f"{M7_KEYS[M]} start: {h}" for h in how]
     else:
         msgs.append("GMS M=7 not identified: step 4's fits or runs missing")
     pred = {k: _drive(m, rel, dt) / R for k, m in models.items()}
@@ -654,7 +672,8 @@ def fig16(wsim_result, design: Design = FULL, *, micro_runs: dict | None = None,
     rms_log = {k: {"reciprocating": _rms(F, logged, inner), "unidirectional": _rms(F, logged, outer)}
                for k, F in pred.items()}
     return Fig16Result(x_um=R * rel / UM, plant_N=plant, logged_N=logged, models_N=pred, outer=outer, rms=rms,
-                       rms_vs_log=rms_log, status=1 if msgs else 0, message="; ".join(msgs) or "ok")
+                       rms_vs_log=rms_log, status=1 if msgs else 0,
+                       message="; ".join(msgs + infos) if msgs else "; ".join(["ok"] + infos))
 
 
 # =========================================================================== truth of the lumped curves
@@ -775,7 +794,8 @@ class Zhang2023Result:
                  f"status {self.status} ({self.message})"]
         for name, f in findings(self.to_dict()).items():
             nums = "  ".join(f"{k} {_fmt(v)}" for k, v in f.items() if k != "holds")
-            lines.append(f"  {'holds' if f['holds'] else 'DOES NOT HOLD':<14} {name}  {nums}")
+            verdict = "NOT EVALUATED" if f["holds"] is None else "holds" if f["holds"] else "DOES NOT HOLD"
+            lines.append(f"  {verdict:<14} {name}  {nums}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -957,7 +977,8 @@ def findings(summary: dict) -> dict:
     """The issue's findings as booleans (and their numbers) from a :meth:`Zhang2023Result.to_dict`.
 
     "Better" needs an improvement beyond :data:`TIE_UM` in both |mean| and std; "no larger"
-    allows a tie within it."""
+    allows a tie within it. A finding whose numbers are missing because a fit failed has
+    ``holds`` None and the reason under ``not_evaluated``."""
     def cell(tab, key, speeds, base, structure):
         for r in summary[tab]:
             if (r.get("method", r.get("model")) == key and r["speeds"] == speeds and r["base_speed_mm_s"] == base
@@ -987,11 +1008,14 @@ def findings(summary: dict) -> dict:
                                                  **h["reciprocating"]}
         out["fig16_unidirectional_lugre_better"] = {
             "holds": bool(h["unidirectional"]["LuGre"] < h["unidirectional"]["GMS"]), **h["unidirectional"]}
+        # ref. [30] via §5.3: 6-7 elements beat 3 (both with one stiffness set, fit_gms_one_stiffness)
         if "GMS_M7" in h["reciprocating"] and "GMS_M3_one_k_set" in h["reciprocating"]:
-            # ref. [30] via §5.3: 6-7 elements beat 3 (both with one stiffness set, fit_gms_one_stiffness)
             out["fig16_reciprocating_m7_better"] = {
                 "holds": bool(h["reciprocating"]["GMS_M7"] < h["reciprocating"]["GMS_M3_one_k_set"]),
                 **h["reciprocating"]}
+        else:   # a fit that failed is named, not dropped (holds = None: not evaluated)
+            why = (h.get("detail") or {}).get("message") or "a one-stiffness-set GMS fit is missing"
+            out["fig16_reciprocating_m7_better"] = {"holds": None, "not_evaluated": why, **h["reciprocating"]}
     cr = summary.get("crawling") or []
     if cr:
         out["crawling_tdms_smoother"] = {"holds": bool(all(r["tdms_ripple_percent"] < 0.5 * r["cdfs_ripple_percent"]
@@ -1031,7 +1055,10 @@ def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names
     (findings and metrics as JSON text), parts beside it; a rerun computes only the variants
     missing there. ``progress``: True for a progress bar, or a callable given each finished
     variant's label. A variant that fails is listed under ``failed`` (label -> error) and left
-    out of the fractions."""
+    out of the fractions; a finding a variant could not evaluate (``holds`` None in
+    :func:`findings`, e.g. the GMS M = 7 fit failed) is left out of that finding's fraction and
+    listed under ``not_evaluated`` (finding -> variant -> reason); ``evaluated`` counts the
+    variants behind each fraction."""
     from pathlib import Path
 
     from ..errors import SimulationError
@@ -1052,9 +1079,18 @@ def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names
             failed[row["variant"]] = row["error"]
     if not per:
         raise SimulationError(f"robustness: every variant failed ({res.message}); first: {next(iter(failed.values()))}")
-    keys = next(iter(per.values()))["findings"].keys()
-    holds = {k: float(np.mean([v["findings"][k]["holds"] for v in per.values() if k in v["findings"]]))
-             for k in keys}
+    keys = list(dict.fromkeys(k for v in per.values() for k in v["findings"]))
+    # a finding a variant could not evaluate (holds None, e.g. a fit that failed) or does not list
+    # is left out of its fraction and named under not_evaluated (variant -> reason)
+    holds, evaluated, not_evaluated = {}, {}, {}
+    for k in keys:
+        got = [v["findings"][k]["holds"] for v in per.values() if v["findings"].get(k, {}).get("holds") is not None]
+        evaluated[k] = len(got)
+        holds[k] = float(np.mean(got)) if got else None
+        miss = {lab: v["findings"].get(k, {}).get("not_evaluated", "finding not in this variant's results")
+                for lab, v in per.items() if v["findings"].get(k, {}).get("holds") is None}
+        if miss:
+            not_evaluated[k] = miss
     base = per.get("seed=0", next(iter(per.values())))["metrics"]
     sens = {}
     for n in names:
@@ -1068,6 +1104,7 @@ def robustness(*, quick: bool = True, seeds=(0, 1, 2), factors=(0.8, 1.2), names
     ranking = sorted(sens, key=lambda n: -sens[n] if np.isfinite(sens[n]) else 0.0)
     return W._plain({"format": ROBUSTNESS_FORMAT, "reproduction": "zhang2023",
                      "runtime_s": time.perf_counter() - t_start, "variants": per, "holds_fraction": holds,
+                     "evaluated": evaluated, "not_evaluated": not_evaluated,
                      "sensitivity": sens, "ranking": ranking, "quick": quick, "failed": failed,
                      "computed": res.computed, "skipped": res.skipped,
                      "out": None if res.out is None else str(res.out)})

@@ -275,6 +275,7 @@ def test_fit_gms_one_stiffness_starts_where_eq19_fails_at_m7():
     at 91 virgin samples (measured: M = 3 is the first that fits there); 8 evaluations."""
     import frictionkit as fk
     from frictionkit.data.recording import Recording
+    from frictionkit.errors import IdentificationError
     from frictionkit.identify.presliding import fit_presliding
 
     st = fk.Directional(positive=fk.Stribeck(Fc=1.0, Fs=1.2, vs=1e-3), negative=fk.Stribeck(Fc=1.1, Fs=1.3, vs=1e-3))
@@ -286,7 +287,7 @@ def test_fit_gms_one_stiffness_starts_where_eq19_fails_at_m7():
     for lab, s in (("positive", 1.0), ("negative", -1.0)):
         x = s * np.r_[np.linspace(0, A, nv), np.linspace(A, -A, 2 * nv - 1)[1:]]
         recs[lab] = Recording(t=np.arange(x.size) * dt, x=x, F=fk.simulate(true, position=x, dt=dt).friction)
-    with pytest.raises(zr.IdentificationError, match="not concave"):
+    with pytest.raises(IdentificationError, match="not concave"):
         fit_presliding(recs["negative"], elements=7, static=st, branch="virgin", refine=False)
     notes = []
     g = zr.fit_gms_one_stiffness(recs, {"positive": st, "negative": st}, elements=7, max_nfev=8, notes=notes)

@@ -1,20 +1,23 @@
 """Two-step estimation of one SDSS axis (seed 002): frictionkit vs the same procedure over peers.
 
-The azimuth axis's quick experiments (``frictionkit.reproduce.sdss``, seed 0): constant-velocity
-points (eq. 10) and the sub-breakaway triangle run (eq. 12). The same procedure three ways:
+The azimuth axis's quick experiments (``frictionkit.reproduce.sdss``, seed 0), what
+``reproduce sdss --quick`` estimates from: constant-velocity runs (screened, eq. 10) and the
+sub-breakaway triangle (0.9 Ts) and sine (0.8 Ts) runs fitted jointly, each from rest (eq. 12;
+§3.1 "sine and triangle torques"). The same procedure three ways:
 
-* ``frictionkit``: :func:`frictionkit.identify.fit_two_step` (static map, start values from the
-  triangle, output error on the single-axis kernel);
-* ``RK45``: the same static map and start values, then ``scipy.optimize.least_squares`` (trf,
-  log parameters, forward differences 1e-3) over ``solve_ivp(method="RK45")`` — seed 002's
-  "Runge-Kutta routine";
+* ``frictionkit``: :func:`frictionkit.identify.fit_two_step` as ``run_azimuth`` calls it (screen,
+  static map, start values from the triangle, joint output error on the single-axis kernel);
+* ``RK45``: the same screened static map and start values, then ``scipy.optimize.least_squares``
+  (trf, log parameters, forward differences 1e-3) over ``solve_ivp(method="RK45")`` on both runs —
+  seed 002's "Runge-Kutta routine";
 * ``numbalsoda``: the same over ``numbalsoda.lsoda`` with a ``numba.cfunc`` right-hand side
   (the strongest peer), skipped when numbalsoda is not importable.
 
 Peers run "at matching accuracy": the loosest rtol (1e-3 … 1e-10, atol = rtol × 1e-6 rad/s)
 whose max |Δω| against a tight reference (numbalsoda or scipy LSODA, rtol 1e-11) at the true
 parameters is at or below frictionkit's at its identification tolerances. Times are wall
-clock, best of ``--repeat``, after a warm-up (compilation excluded for every contender).
+clock, best of ``--repeat`` interleaved (each repeat times every contender once; RK45 once), after
+a warm-up (compilation excluded for every contender).
 
 Run: ``python benchmarks/sdss.py [--repeat 3] [--json OUT]``.
 """
@@ -34,7 +37,7 @@ import frictionkit as fk
 from frictionkit.identify.initial_guess import initial_guess_lugre
 from frictionkit.identify.output_error import OUTPUT_ERROR_OPTIONS
 from frictionkit.identify.static_map import fit_static_map
-from frictionkit.identify.two_step import _static_law, fit_two_step
+from frictionkit.identify.two_step import _static_law, fit_two_step, screen_constant_velocity
 from frictionkit.presets import sdss
 from frictionkit.reproduce import sdss as rep
 
@@ -48,10 +51,13 @@ def _rows(law):
 
 
 def _data():
+    """The quick azimuth runs exactly as ``rep.run_azimuth(quick=True, seed=0)`` makes them."""
     ax = sdss.AzimuthAxis()
+    Ts = min(ax.friction.static.positive.Fs, ax.friction.static.negative.Fs)
     steady = rep.constant_velocity_runs(ax, rep.speed_grid(True), seed=0)
-    tri = rep.torque_run(ax, "triangle", 0.9 * 160.0, 2.0, 3, seed=11)
-    return ax, steady, tri
+    tri = rep.torque_run(ax, "triangle", 0.9 * Ts, 2.0, 3, seed=11)
+    sine = rep.torque_run(ax, "sine", 0.8 * Ts, 2.0, 3, seed=12)
+    return ax, steady, tri, sine
 
 
 # --------------------------------------------------------------------------- simulators
@@ -115,36 +121,32 @@ def make_numbalsoda():
 
 
 # --------------------------------------------------------------------------- the procedure over a peer
-def two_step_over(sim, rtol, ax, steady, tri):
-    """Static map (eq. 10) + least_squares over ``sim`` for sigma0, sigma1 (eq. 12)."""
-    res = fit_static_map(steady["v"], steady["F"], model="exponential", delta=2.0, direction="both")
+def two_step_over(sim, rtol, ax, steady, tri, sine):
+    """Screen + static map (eq. 10) + least_squares over ``sim`` for sigma0, sigma1 on the
+    triangle and the sine jointly, each from rest (eq. 12)."""
+    used = screen_constant_velocity(steady).steady()
+    res = fit_static_map(used["v"], used["F"], model="exponential", delta=2.0, direction="both",
+                         covariance="run_robust")
     rows = _rows(_static_law(res, "exponential", 2.0))
     g = initial_guess_lugre({"t": tri["t"], "x": tri["x"], "F": tri["F"]}, mass=ax.inertia, zeta=1.0)
     p0 = np.log([g["sigma0"], max(g["sigma1"], 1e-6 * g["sigma0"])])
-    t, u, v = tri["t"], tri["F"], tri["v"]
     nsim = [0]
 
     def resid(p):
-        nsim[0] += 1
-        try:
-            r = sim(rows, math.exp(p[0]), math.exp(p[1]), ax.inertia, t, u, rtol) - v
-        except Exception:  # noqa: BLE001  (a failed solve is a bad point)
-            r = np.full(v.size, 1.0)
-        r[0] = 0.0
-        return r
+        out = []
+        for run in (tri, sine):
+            nsim[0] += 1
+            try:
+                r = sim(rows, math.exp(p[0]), math.exp(p[1]), ax.inertia, run["t"], run["F"], rtol) - run["v"]
+            except Exception:  # noqa: BLE001  (a failed solve is a bad point)
+                r = np.full(run["v"].size, 1.0)
+            r[0] = 0.0
+            out.append(r)
+        return np.concatenate(out)
 
     sol = least_squares(resid, p0, method="trf", diff_step=1e-3, ftol=1e-8, xtol=1e-8, gtol=1e-12, max_nfev=200)
     return {"sigma0": math.exp(sol.x[0]), "sigma1": math.exp(sol.x[1]), "simulations": nsim[0],
             "cost": float(sol.cost), "status": int(sol.status)}
-
-
-def _best(fn, repeat):
-    out, best = None, math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def main(argv=None) -> dict:
@@ -152,10 +154,11 @@ def main(argv=None) -> dict:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--json", default=None)
     a = ap.parse_args(argv)
-    ax, steady, tri = _data()
+    ax, steady, tri, sine = _data()
     truth = ax.friction
     rows_true = _rows(truth)
     t, u = tri["t"], tri["F"]
+    runs = (tri, sine)
     try:
         nbs = make_numbalsoda()
         nbs(rows_true, truth.sigma0, truth.sigma1, ax.inertia, t, u, 1e-6)  # compile
@@ -163,50 +166,77 @@ def main(argv=None) -> dict:
         nbs = None
         skipped = str(exc)
 
-    # accuracy at the true parameters against a tight reference
-    if nbs is not None:
-        ref = nbs(rows_true, truth.sigma0, truth.sigma1, ax.inertia, t, u, 1e-11)
-        ref_name = "numbalsoda LSODA rtol 1e-11"
-    else:
-        sol = solve_ivp(_rhs_numpy(rows_true, truth.sigma0, truth.sigma1, ax.inertia, t, u), (t[0], t[-1]),
-                        [0, 0, 0], method="LSODA", t_eval=t, rtol=1e-11, atol=1e-17)
-        ref, ref_name = sol.y[1], "scipy LSODA rtol 1e-11"
-    fk_v = fk.simulate(truth, plant=fk.Mass(ax.inertia), force=u, dt=float(t[1] - t[0]),
-                       options=OUTPUT_ERROR_OPTIONS).v
-    fk_err = float(np.max(np.abs(fk_v - ref)))
+    # accuracy at the true parameters against a tight reference, on both fitted runs
+    refs = []
+    for run in runs:
+        if nbs is not None:
+            refs.append(nbs(rows_true, truth.sigma0, truth.sigma1, ax.inertia, run["t"], run["F"], 1e-11))
+            ref_name = "numbalsoda LSODA rtol 1e-11"
+        else:
+            sol = solve_ivp(_rhs_numpy(rows_true, truth.sigma0, truth.sigma1, ax.inertia, run["t"], run["F"]),
+                            (run["t"][0], run["t"][-1]), [0, 0, 0], method="LSODA", t_eval=run["t"], rtol=1e-11,
+                            atol=1e-17)
+            refs.append(sol.y[1])
+            ref_name = "scipy LSODA rtol 1e-11"
+    fk_err = max(float(np.max(np.abs(fk.simulate(truth, plant=fk.Mass(ax.inertia), force=run["F"],
+                                                  dt=float(run["t"][1] - run["t"][0]),
+                                                  options=OUTPUT_ERROR_OPTIONS).v - ref)))
+                 for run, ref in zip(runs, refs))
 
     def matching(sim):
         for r in RTOLS:
             try:
-                e = float(np.max(np.abs(sim(rows_true, truth.sigma0, truth.sigma1, ax.inertia, t, u, r) - ref)))
+                e = max(float(np.max(np.abs(sim(rows_true, truth.sigma0, truth.sigma1, ax.inertia, run["t"],
+                                                run["F"], r) - ref))) for run, ref in zip(runs, refs))
             except RuntimeError:
                 continue
             if e <= fk_err:
                 return r, e
         return RTOLS[-1], e
 
-    out = {"axis": "azimuth", "samples": int(t.size), "reference": ref_name,
+    out = {"axis": "azimuth", "samples": int(sum(run["t"].size for run in runs)), "reference": ref_name,
            "frictionkit_max_dv_rad_s": fk_err, "contenders": {}}
-    fit_two_step(inertia=ax.inertia, steady=steady, triangle=tri)  # warm-up
-    wall, res = _best(lambda: fit_two_step(inertia=ax.inertia, steady=steady, triangle=tri), a.repeat)
-    sims = res.dynamic.diagnostics["simulations"]
-    out["contenders"]["frictionkit"] = {"wall_s": wall, "sigma0": res.model.sigma0, "sigma1": res.model.sigma1,
-                                        "simulations": sims}
+
+    def fk_fit():  # as rep.run_azimuth calls it (without the validation runs' NRMSE)
+        return fit_two_step(inertia=ax.inertia, steady=steady, triangle=tri, also_below=[sine])
+
+    fk_fit()  # warm-up
     peers = [("RK45", sim_rk45)] + ([("numbalsoda LSODA", nbs)] if nbs is not None else [])
+    rtols = {name: matching(sim) for name, sim in peers}
+    fns = {"frictionkit": fk_fit}
     for name, sim in peers:
-        rtol, err = matching(sim)
-        wall, r = _best(lambda: two_step_over(sim, rtol, ax, steady, tri), 1 if name == "RK45" else a.repeat)
-        out["contenders"][name] = {"wall_s": wall, "rtol": rtol, "max_dv_rad_s": err, **r,
-                                   "ratio_vs_frictionkit": wall / out["contenders"]["frictionkit"]["wall_s"]}
+        fns[name] = (lambda sim=sim, rtol=rtols[name][0]: two_step_over(sim, rtol, ax, steady, tri, sine))
+    fns["numbalsoda LSODA"]() if nbs is not None else None  # warm-up
+    # interleaved (each repeat times every contender once; RK45 once: it takes seconds), min of repeats
+    walls = {name: math.inf for name in fns}
+    outs = {}
+    for k in range(a.repeat):
+        for name, fn in fns.items():
+            if name == "RK45" and k > 0:
+                continue
+            t0 = time.perf_counter()
+            outs[name] = fn()
+            walls[name] = min(walls[name], time.perf_counter() - t0)
+    res = outs["frictionkit"]
+    d = res.dynamic.diagnostics
+    out["contenders"]["frictionkit"] = {"wall_s": walls["frictionkit"], "sigma0": res.model.sigma0,
+                                        "sigma1": res.model.sigma1, "simulations": d["simulations"],
+                                        "sensitivity_runs": d.get("sensitivity_runs", 0)}
+    for name, _ in peers:
+        rtol, err = rtols[name]
+        out["contenders"][name] = {"wall_s": walls[name], "rtol": rtol, "max_dv_rad_s": err, **outs[name],
+                                   "ratio_vs_frictionkit": walls[name] / walls["frictionkit"]}
     if nbs is None:
         out["numbalsoda"] = f"skipped: {skipped}"
-    print(f"two-step estimation of the azimuth ({t.size} samples in the eq. 12 fit), best of {a.repeat}:")
+    print(f"two-step estimation of the azimuth (triangle + sine jointly, {out['samples']} samples in the eq. 12 "
+          f"fit), best of {a.repeat}:")
     for name, c in out["contenders"].items():
         extra = f", rtol {c['rtol']:.0e} (max|dω| {c['max_dv_rad_s']:.2e})" if "rtol" in c else \
             f" (max|dω| {fk_err:.2e} rad/s vs {ref_name})"
         ratio = f", {c['ratio_vs_frictionkit']:.1f}x frictionkit" if "ratio_vs_frictionkit" in c else ""
         print(f"  {name:18s} {c['wall_s']:.3f} s, sigma0 {c['sigma0']:.5g}, sigma1 {c['sigma1']:.5g}, "
-              f"{c['simulations']} simulations{extra}{ratio}")
+              f"{c['simulations']} simulations"
+              + (f" + {c['sensitivity_runs']} sensitivity runs" if c.get("sensitivity_runs") else "") + f"{extra}{ratio}")
     if a.json:
         with open(a.json, "w") as f:
             json.dump(out, f, indent=2)

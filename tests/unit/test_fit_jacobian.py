@@ -96,3 +96,58 @@ def test_motion_drive_exact_jacobian_equal_or_lower_cost():
     assert ex.rms <= fd.rms * (1 + 1e-9)
     assert ex["sigma0"] == pytest.approx(1e5, rel=0.05)
     np.testing.assert_allclose(ex.stderr, fd.stderr, rtol=0.05)
+
+
+@pytest.mark.parametrize("cond", [1e2, 1e9], ids=["cholesky", "qr"])
+def test_reduced_problem_keeps_cost_gradient_and_gauss_newton_matrix(cond):
+    """What trf reads from (f, J) is unchanged by the (p + 1)-row reduction (issue 11 part 6,
+    goal 2): 0.5 |f|^2, J^T f and J^T J, checked against numpy on the full problem; the
+    second case is conditioned beyond the Gram/Cholesky limit and takes the QR path."""
+    from frictionkit.identify._jacobian import reduce_lsq
+
+    rng = np.random.default_rng(5)
+    U, _ = np.linalg.qr(rng.standard_normal((3000, 5)))
+    V, _ = np.linalg.qr(rng.standard_normal((5, 5)))
+    J = U @ np.diag(np.geomspace(1.0, 1.0 / cond, 5)) @ V * 40.0
+    r = rng.standard_normal(3000)
+    sc = np.array([1.0, 2.0, 0.5, 3.0, 1e-3])
+    f, Jr = reduce_lsq(np.column_stack([J, r]), sc)
+    Js = J * sc
+    assert f.shape == (6,) and Jr.shape == (6, 5)
+    assert f @ f == pytest.approx(r @ r, rel=1e-12)
+    np.testing.assert_allclose(Jr.T @ f, Js.T @ r, rtol=1e-6, atol=1e-9 * np.abs(Js.T @ r).max())
+    np.testing.assert_allclose(Jr.T @ Jr, Js.T @ Js, rtol=1e-9, atol=1e-12 * np.abs(Js.T @ Js).max())
+
+
+def test_cli_jacobian_flag(tmp_path):
+    """``identify output-error --jacobian auto|fd`` reaches the fitter (the JSON names the
+    Jacobian used) and a wrong value is one line, exit 2."""
+    import json
+
+    from typer.testing import CliRunner
+
+    import frictionkit.cli.identify  # noqa: F401  (registers the identify group)
+    from frictionkit.cli import app
+
+    dt = 1e-3
+    t = np.arange(2001) * dt
+    u = 2.0 * np.sin(np.pi * t)
+    v = fk.simulate(TRUE, plant=fk.Mass(1.0), force=u, dt=dt).v
+    csv = tmp_path / "d.csv"
+    np.savetxt(csv, np.column_stack([t, u, v]), delimiter=",", header="t,F,v", comments="", fmt="%.17g")
+    base = ["identify", "output-error", str(csv), "--time", "t", "--velocity", "v", "--force", "F", "--mass", "1",
+            "--Fc", "1", "--Fs", "1.5", "--vs", "1e-3", "--sigma2", "0.4", "--sigma0", "5e4", "--sigma1", "100"]
+    runner = CliRunner()
+    got = {}
+    for jac in ("auto", "fd"):
+        res = runner.invoke(app, [*base, "--jacobian", jac, "--json", str(tmp_path / f"{jac}.json")])
+        assert res.exit_code == 0, res.output
+        got[jac] = json.loads((tmp_path / f"{jac}.json").read_text(encoding="utf-8"))
+    assert "exact Jacobian" in got["auto"]["provenance"]["procedure"]["optimiser"]
+    assert "forward-difference" in got["fd"]["provenance"]["procedure"]["optimiser"]
+    for name in ("sigma0", "sigma1"):
+        a, b = (got[j]["parameters"][name]["value"] for j in ("auto", "fd"))
+        assert a == pytest.approx(b, rel=1e-3), name
+    res = runner.invoke(app, [*base, "--jacobian", "exact"])
+    assert res.exit_code == 2
+    assert "--jacobian" in res.output and "exact" in res.output

@@ -304,6 +304,8 @@ def output_error(
                                                    "encoder count; bounds sigma0 and k from below."),
     no_profile: bool = typer.Option(False, "--no-profile", help="Motion drive: skip the likelihood profiles "
                                     "(intervals then from the log-scale Jacobian only)."),
+    jacobian: str = typer.Option("auto", "--jacobian", help="auto: exact Jacobians from forward sensitivities "
+                                 "where the law has them (LuGre, Dahl; GMS differences); fd: forward differences."),
     validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
                                             "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
@@ -343,6 +345,7 @@ def output_error(
     if C is not None:
         C = chk.positive(C, "--C")
     chk.choice(rests, "--rests", ("auto", "none"))
+    chk.choice(jacobian, "--jacobian", ("auto", "fd"))
     chk.choice(velocity_integration, "--velocity-integration", ("held", "trapezoidal"))
     min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS)
@@ -375,7 +378,8 @@ def output_error(
                                    rests=rests, mask=mask, min_rest=min_rest, integration=velocity_integration,
                                    inertia=inertia, offset=offset, sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C,
                                    elements=elements, starts=starts, profile=not no_profile,
-                                   max_presliding=max_presliding, mask_loader=mask_loader, path=recording)
+                                   max_presliding=max_presliding, mask_loader=mask_loader, path=recording,
+                                   jacobian=jacobian)
         d = res.diagnostics
         Fu = res.provenance["units"]["F"]
         typer.echo(res.summary())
@@ -399,7 +403,8 @@ def output_error(
     res = _output_error_force(loader(recording), law, model=model, names=names, mass=mass, offset=offset,
                               compare=compare or ("v" if velocity is not None else "x"),
                               rest=_rest_option(rests, mask, mask_loader, recording), min_rest=min_rest,
-                              sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C, elements=elements, starts=starts)
+                              sigma0=sigma0, sigma1=sigma1, k=k, xi=xi, C=C, elements=elements, starts=starts,
+                              jacobian=jacobian)
     d = res.diagnostics
     ini = d.get("initial") or {}
     if "sigma0" in ini and "branches" in ini:
@@ -421,7 +426,7 @@ def output_error(
 
 
 def _output_error_force(data, law, *, model, names, mass, offset, compare, rest, min_rest, sigma0, sigma1, k, xi,
-                        C, elements, starts):
+                        C, elements, starts, jacobian="auto"):
     """The ``--drive force`` branch: the given start values, the rest computed by the library."""
     from rich.console import Console
 
@@ -440,7 +445,7 @@ def _output_error_force(data, law, *, model, names, mass, offset, compare, rest,
     with Console(stderr=True).status("output-error fit: starting") as status:
         return fit_output_error(
             data, model, static=law, initial=given or "auto", free=names or None, inertia=mass, offset=offset,
-            compare=compare, rests=rest, min_rest=min_rest, elements=elements, starts=starts or 1,
+            compare=compare, rests=rest, min_rest=min_rest, elements=elements, starts=starts or 1, jacobian=jacobian,
             progress=lambda nfev, nsim, cost: status.update(
                 f"output-error fit: evaluation {nfev}, {nsim} simulations, cost {cost:.6g}"),
         )
@@ -462,7 +467,7 @@ def _rest_option(rests: str, mask: Optional[str], mask_loader, path: Path):
 
 def _output_error_motion(data, law, *, model, names, position, rests, mask, min_rest, integration, inertia, offset,
                          sigma0, sigma1, k, xi, C, elements, starts, profile, mask_loader, path,
-                         max_presliding=None):
+                         max_presliding=None, jacobian="auto"):
     """The ``--drive motion`` branch: segments, the start model from the library (given values kept), fit."""
     from ..errors import ParameterError
     from ..identify.motion_error import fit_motion_error, motion_data
@@ -478,7 +483,7 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
                                "dahl": (("sigma0", sigma0),)}[model] if v is not None}
     return fit_motion_error(md, model, static=law, initial=given or "auto", elements=elements, free=names or None,
                             inertia=inertia or 0.0, offset=offset, starts=starts if starts is not None else "auto",
-                            profile=profile, max_presliding=max_presliding)
+                            profile=profile, max_presliding=max_presliding, jacobian=jacobian)
 
 
 @identify_app.command("reversal")

@@ -321,7 +321,9 @@ class SdssReproduction:
                 scr = o.extra.get(key)
                 if scr is not None:  # ours: runs whose speed was not constant, rejected before eq. 10
                     axes[name][label] = {"max_ripple_percent": scr.max_ripple_percent, "runs": int(scr.v.size),
-                                         "kept": int(scr.accepted.sum()), "rejected": scr.rejected()}
+                                         "kept": int(scr.accepted.sum()), "rejected": scr.rejected(),
+                                         "not_resolvable_rad_s": [] if scr.resolvable is None else
+                                         [float(v) for v, ok in zip(scr.v, scr.resolvable) if not ok]}
             if o.fit is not None:
                 axes[name]["initial_guess"] = {k: v for k, v in o.fit.initial_guess.items() if k.startswith("sigma")}
                 axes[name]["status"] = o.fit.status

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import json
+import math
 
+import numpy as np
 from typer.testing import CliRunner
 
 import frictionkit.cli.reproduce  # noqa: F401  (registers the command group)
 from frictionkit.cli import app
+from frictionkit.presets import sdss
 from frictionkit.reproduce import sdss as rep
 
 
@@ -33,6 +36,13 @@ def test_summary_layout(azimuth, altitude, rotator):
         scr = doc["axes"][name][key]
         assert scr["kept"] + len(scr["rejected"]) == scr["runs"] == 16
         assert all(r["ripple_percent"] > scr["max_ripple_percent"] for r in scr["rejected"])
+        # where the encoder alone scatters the 50 ms window velocities by more than the threshold
+        # (sqrt(2 (noise^2 + q^2/12)) / Tw / v: 15 % at 2e-5 rad/s), the screen says it cannot judge
+        axis = {"azimuth": sdss.AzimuthAxis, "rotator": sdss.RotatorAxis}[name]()
+        enc, tw = axis.encoder, 0.1 / axis.bandwidth_hz
+        floor = 100 * math.sqrt(2 * (enc.noise**2 + enc.resolution**2 / 12)) / tw / np.abs(rep.speed_grid(True))
+        expect = rep.speed_grid(True)[floor > scr["max_ripple_percent"]]
+        assert expect.size == 2 and np.allclose(sorted(scr["not_resolvable_rad_s"]), sorted(expect), rtol=0.01)
     assert "constant_velocity_screen" not in doc["axes"]["altitude"]  # no constant-velocity runs (paper §3.2)
 
 

@@ -32,6 +32,12 @@ from .. import _validate as val
 from ..errors import ParameterError
 from ..models.rolling import coulomb_compensation, sigmoid_compensation, sinc_compensation
 from .zero_speed import find_crossings
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..control.trajectories import Reference
+    from ..control.zero_speed import Crossing
+    from collections.abc import Sequence
 
 LAWS = ("sinc", "coulomb", "sigmoid", "sigmoid_post_only", "hold", "none")
 
@@ -57,7 +63,7 @@ class RollingCompensator:
         object.__setattr__(self, "xs", val.positive(o, "xs", self.xs))
         object.__setattr__(self, "sigma", val.positive(o, "sigma", self.sigma))
 
-    def signal(self, reference, law="sinc", crossings=None) -> np.ndarray:
+    def signal(self, reference: Reference, law: str="sinc", crossings: Sequence[Crossing] | None=None) -> np.ndarray:
         """Compensation torque [N·m] along ``reference``.
 
         Parameters

@@ -23,6 +23,12 @@ from .dob import DisturbanceObserver
 from .pid import PID
 from .ptc import PerfectTrackingControl
 from .trajectories import Reference
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -145,7 +151,7 @@ class ClosedLoopResult:
                 f"RMS {float(np.sqrt(np.nanmean(e * e))) * 1e6:.4g} µm; measured: max |e| "
                 f"{float(np.nanmax(np.abs(m))) * 1e6:.4g} µm")
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """True and measured tracking error [µm] over time; returns the Axes."""
         import matplotlib.pyplot as plt
 
@@ -160,8 +166,8 @@ class ClosedLoopResult:
         return ax
 
 
-def simulate_closed_loop(plant, controller: TwoDofController, reference: Reference, *,
-                         compensation=None, sensors: Sensors | None = None, seed: int | None = 0,
+def simulate_closed_loop(plant: Any, controller: TwoDofController, reference: Reference, *,
+                         compensation: ArrayLike | None=None, sensors: Sensors | None = None, seed: int | None = 0,
                          n_substeps: int = 10, raise_on_failure: bool = False) -> ClosedLoopResult:
     """Run ``plant`` under ``controller`` along ``reference`` (sampled at ``controller.T``).
 

@@ -16,6 +16,10 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import DataError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -61,7 +65,7 @@ class PerfectTrackingControl:
     def T_input(self) -> float:
         return self.T_frame / self.n
 
-    def discrete_model(self):
+    def discrete_model(self) -> tuple[np.ndarray, np.ndarray]:
         """ZOH ``(A, B)`` of the nominal plant at the input period ``T_frame / n``."""
         from scipy.linalg import expm
 
@@ -73,7 +77,7 @@ class PerfectTrackingControl:
         E = expm(aug)
         return E[:2, :2], E[:2, 2]
 
-    def feedforward(self, theta_ref, omega_ref):
+    def feedforward(self, theta_ref: ArrayLike, omega_ref: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Feed-forward current and nominal output at the input rate.
 
         Parameters

@@ -18,6 +18,10 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import DataError, ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +76,7 @@ def cosine_reference(*, amplitude: float = 25e-3, period: float = 1.0, duration:
                      a=A * w * w * np.cos(w * t), T=T)
 
 
-def piecewise_reference(segments, *, x0: float = 0.0, v0: float = 0.0, T: float = 0.5e-3) -> Reference:
+def piecewise_reference(segments: Sequence[tuple[float, float]], *, x0: float = 0.0, v0: float = 0.0, T: float = 0.5e-3) -> Reference:
     """Exact position/velocity for piecewise-constant acceleration.
 
     Parameters

@@ -20,6 +20,12 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import DataError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..control.trajectories import Reference
+    from collections.abc import Sequence
+    from numpy.typing import ArrayLike
 
 #: Seed 001 Table 2: motion type -> (deformation patterns, compensation law).
 #: Laws: ``sinc`` = compensation after the zero-speed point (eq. 6, refs. 8, 11-14),
@@ -69,7 +75,7 @@ class Crossing:
         return ("fast_" if self.fast else "slow_") + ("reverse" if self.reverse else "non_reverse")
 
 
-def find_crossings(t, v, x=None, *, v_tol: float = 1e-12) -> list[Crossing]:
+def find_crossings(t: ArrayLike, v: ArrayLike, x: ArrayLike | None=None, *, v_tol: float = 1e-12) -> list[Crossing]:
     """Zero-speed points of a sampled velocity ``v`` [m/s] (starts and stops at rest excluded).
 
     A crossing is a sign change of ``v``, a run of samples with ``|v| <= v_tol`` between
@@ -118,7 +124,7 @@ def find_crossings(t, v, x=None, *, v_tol: float = 1e-12) -> list[Crossing]:
     return out
 
 
-def classify_crossings(reference, *, table_mass: float, guide_friction: float,
+def classify_crossings(reference: Reference, *, table_mass: float, guide_friction: float,
                        guide_viscosity: float = 0.0, window: float = 10e-3) -> list[Crossing]:
     """Find and classify the zero-speed points of ``reference`` (seed 001 §3.2).
 
@@ -162,7 +168,7 @@ class Selection:
     needs_new_reference: bool
 
 
-def select_compensators(crossings, *, fallback: str = "hold") -> list[Selection]:
+def select_compensators(crossings: Sequence[Crossing], *, fallback: str = "hold") -> list[Selection]:
     """Seed 001 Table 2 as a rule: slow reverse -> ``sinc``, fast reverse -> ``sigmoid``,
     slow non-reverse -> ``hold``; fast non-reverse is flagged ``needs_new_reference`` and gets
     ``fallback``.
@@ -191,7 +197,7 @@ class DeformationRatio:
         return self.ld / self.R
 
 
-def deformation_ratio(t, x_t, theta_m, *, R: float, Tp: float, min_displacement: float = 10e-6) -> DeformationRatio:
+def deformation_ratio(t: ArrayLike, x_t: ArrayLike, theta_m: ArrayLike, *, R: float, Tp: float, min_displacement: float = 10e-6) -> DeformationRatio:
     """Seed 001 eqs. 3-4: ``l_d = Δx_t / Δθ_m`` over windows of length ``Tp`` [s].
 
     Parameters

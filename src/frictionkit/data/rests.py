@@ -12,6 +12,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import DataError, ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["find_rests", "motion_segments"]
 
@@ -23,7 +27,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist()))
 
 
-def find_rests(F, *, min_run: int = 3, max_blip: int = 1, tol: float = 0.0) -> np.ndarray:
+def find_rests(F: ArrayLike, *, min_run: int = 3, max_blip: int = 1, tol: float = 0.0) -> np.ndarray:
     """Samples where the drive is disabled: ``|F| <= tol`` over at least ``min_run`` samples.
 
     A burst of at most ``max_blip`` non-zero samples between two rests (or between a
@@ -78,7 +82,7 @@ def find_rests(F, *, min_run: int = 3, max_blip: int = 1, tol: float = 0.0) -> n
     return rest
 
 
-def motion_segments(rest, *, min_length: int = 2) -> list[tuple[int, int]]:
+def motion_segments(rest: ArrayLike, *, min_length: int = 2) -> list[tuple[int, int]]:
     """``(start, stop)`` of the runs between rests, each at least ``min_length`` samples long.
 
     Examples

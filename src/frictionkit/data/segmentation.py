@@ -18,6 +18,10 @@ from .. import _validate as val
 from ..errors import DataError, ParameterError
 from .recording import Recording
 from .signals import derivative
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -63,7 +67,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def find_plateaus(
-    v,
+    v: ArrayLike,
     dt: float,
     *,
     window: int = 11,
@@ -175,7 +179,7 @@ def _find_plateaus(
     return found[0], found[1], float(min_speed)
 
 
-def find_reversals(v, *, deadband: float = 0.0) -> np.ndarray:
+def find_reversals(v: ArrayLike, *, deadband: float = 0.0) -> np.ndarray:
     """Indices where the velocity changes sign.
 
     Samples with ``|v| <= deadband`` keep the previous sign, so noise around zero
@@ -209,7 +213,7 @@ def find_reversals(v, *, deadband: float = 0.0) -> np.ndarray:
     return nz[changes].astype(int)
 
 
-def find_cycles(x, dt: float, *, v=None, deadband: float = 0.0,
+def find_cycles(x: ArrayLike, dt: float, *, v: ArrayLike | None=None, deadband: float = 0.0,
                 max_amplitude: float | None = None) -> list[Segment]:
     """Back-and-forth cycles between every other reversal (pre-sliding cycles).
 

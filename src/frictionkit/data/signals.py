@@ -12,9 +12,13 @@ from scipy import signal as _sig
 
 from .. import _validate as val
 from ..errors import DataError, ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
-def lowpass(y, fs: float, cutoff: float, *, order: int = 4) -> np.ndarray:
+def lowpass(y: ArrayLike, fs: float, cutoff: float, *, order: int = 4) -> np.ndarray:
     """Zero-phase Butterworth low-pass filter (``scipy.signal.butter`` + ``filtfilt``).
 
     Parameters
@@ -56,7 +60,7 @@ def lowpass(y, fs: float, cutoff: float, *, order: int = 4) -> np.ndarray:
     return _sig.filtfilt(b, a, x)
 
 
-def derivative(y, dt: float, *, order: int = 1, method: str = "central",
+def derivative(y: ArrayLike, dt: float, *, order: int = 1, method: str = "central",
                window: int = 11, polyorder: int = 3) -> np.ndarray:
     """Numerical time derivative of a uniformly sampled signal.
 
@@ -108,7 +112,7 @@ def derivative(y, dt: float, *, order: int = 1, method: str = "central",
     raise ParameterError(f"derivative.method = {method!r}: must be 'central' or 'savgol'")
 
 
-def decimate(y, q: int, *, ftype: str = "iir", zero_phase: bool = True) -> np.ndarray:
+def decimate(y: ArrayLike, q: int, *, ftype: str = "iir", zero_phase: bool = True) -> np.ndarray:
     """Anti-alias filter and keep every ``q``-th sample (``scipy.signal.decimate``).
 
     Parameters

@@ -117,7 +117,7 @@ def _candidates(dataset) -> tuple[Path, list[Path]]:
     return root.absolute(), paths
 
 
-def discover(dataset, config: FleetConfig, *, exclude: Iterable[str | Path] = ()) -> tuple[list[LogFile], list[str]]:
+def discover(dataset: str | Path, config: FleetConfig, *, exclude: Iterable[str | Path] = ()) -> tuple[list[LogFile], list[str]]:
     """Log files of a dataset with axis, period and fingerprint.
 
     Parameters

@@ -63,6 +63,11 @@ from typing import Any
 import numpy as np
 
 from ..errors import DataError, ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pathlib import Path
+    import pandas as pd
 
 #: Parameters tracked by default.
 TRACKED = ("Fc_pos", "Fc_neg", "Fs_pos", "Fs_neg", "sigma2_pos", "sigma2_neg")
@@ -426,7 +431,7 @@ def _detail(res: dict, periods: np.ndarray) -> str | None:
 
 
 def monitor_drift(
-    results,
+    results: pd.DataFrame | str | Path,
     *,
     alpha: float = 0.01,
     min_periods: int = 5,
@@ -438,7 +443,7 @@ def monitor_drift(
     weights: str = "pooled",
     scale: str = "log",
     seed: int = 0,
-):
+) -> pd.DataFrame:
     """Trend of each friction parameter per axis; flag axes whose change the intervals do not explain.
 
     Parameters
@@ -568,7 +573,7 @@ def monitor_drift(
     return pd.concat([df, new], axis=1)
 
 
-def drift_summary(results):
+def drift_summary(results: pd.DataFrame | str | Path) -> pd.DataFrame:
     """One row per axis: flag, alarm period, detail, and per tracked parameter the wear slope
     (per day and relative, with standard errors), the scheduling coefficients and the p-value.
 

@@ -38,6 +38,11 @@ from ..errors import DataError, ParameterError
 from .config import FleetConfig, load_config
 from .dataset import LogFile, discover, parts_dir
 from .task import _blank_row, identify_log, result_schema
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    from matplotlib.axes import Axes
 
 #: Environment of the worker processes of the default LocalCluster: one thread per library.
 PIN_ENV = {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS",
@@ -116,7 +121,7 @@ class FleetRun:
             text += f"\n  drift flagged on {len(d['flagged_axes'])} axis/axes: {', '.join(d['flagged_axes'][:10])}"
         return text
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """Identified Coulomb level (mean of both directions) of each axis over its periods; axes
         flagged by the drift monitor drawn in red. Returns the Axes."""
         import matplotlib.pyplot as plt
@@ -175,7 +180,7 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def local_cluster(workers: int | None = None, **kwargs):
+def local_cluster(workers: int | None = None, **kwargs: Any) -> Any:
     """A ``LocalCluster`` of single-threaded worker processes with BLAS/numba pinned to one thread."""
     from dask.distributed import LocalCluster
 
@@ -287,7 +292,7 @@ def _run_dask(todo: list[LogFile], config: FleetConfig, parts: Path, bar: _Progr
 
 
 def consolidate(logs: list[LogFile], parts: Path, config: FleetConfig, extra_rows: list[dict] = (),
-                previous: Path | None = None):
+                previous: Path | None = None) -> Any:
     """The results table of ``logs``, deduplicated and sorted.
 
     Rows come from ``extra_rows`` (this run's results and its failed tasks), then from the
@@ -379,11 +384,11 @@ def write_table(df, out: Path) -> None:
 
 
 def identify_fleet(
-    dataset,
+    dataset: str | Path,
     *,
     out: str | Path,
     config: FleetConfig | str | Path | None = None,
-    scheduler=None,
+    scheduler: str | None=None,
     workers: int | None = None,
     progress: bool = True,
     monitor: bool = True,

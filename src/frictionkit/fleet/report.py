@@ -13,6 +13,11 @@ import html
 import io
 from pathlib import Path
 from typing import Any
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    import pandas as pd
 
 #: Parameters drawn for each flagged axis, and in the distribution panel.
 HISTORY = ("Fc_pos", "Fs_pos", "sigma2_pos", "Fc_neg")
@@ -32,7 +37,7 @@ def _table(header: list[str], rows: list[list[Any]]) -> str:
     return "\n".join(out)
 
 
-def fleet_report(results, out: str | Path, *, max_axes: int = 20, parameters=HISTORY) -> dict[str, Any]:
+def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axes: int = 20, parameters: Sequence[str]=HISTORY) -> dict[str, Any]:
     """Write the fleet page.
 
     Parameters

@@ -26,6 +26,10 @@ import numpy as np
 from ..errors import DataError
 from .config import FleetConfig
 from .dataset import LogFile
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import pyarrow as pa
 
 #: Static-map parameters reported per direction (NaN where the chosen structure has none).
 PARAMS = ("Fc", "Fs", "vs", "delta", "sigma2")
@@ -40,7 +44,7 @@ DYNAMIC_COLUMNS = ("mass", "mass_se", *(f"{p}{s}" for p in ("sigma0", "sigma1") 
 PARAM_COLUMNS = STATIC_COLUMNS + DYNAMIC_COLUMNS
 
 
-def result_schema(config: FleetConfig):
+def result_schema(config: FleetConfig) -> pa.Schema:
     """The pyarrow schema of a results row for ``config`` (scheduling columns included)."""
     import pyarrow as pa
 

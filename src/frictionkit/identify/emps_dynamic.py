@@ -26,13 +26,18 @@ from ..machines import simulate_machine
 from ..models.static import CoulombViscous, Directional
 from ..presets.emps import EMPS_CONSTANTS, PUBLISHED, PUBLISHED_ASYMMETRIC, emps_machine
 from .rigid_body import fit_rigid_body
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from numpy.typing import ArrayLike
 
 __all__ = ["emps_closed_loop", "emps_closed_loop_errors", "emps_stribeck_fit", "emps_compare",
            "EMPS_CONSTANTS"]
 
 
-def emps_closed_loop(qg, *, M: float, friction, offset: float = 0.0, substeps: int = 40,
-                     constants: dict | None = None, disturbance=None, q0: float = 0.0,
+def emps_closed_loop(qg: ArrayLike, *, M: float, friction: FrictionLaw, offset: float = 0.0, substeps: int = 40,
+                     constants: dict | None = None, disturbance: ArrayLike | None=None, q0: float = 0.0,
                      v0: float = 0.0) -> dict[str, np.ndarray]:
     """Simulate the EMPS position loop with a rigid load and any friction law.
 
@@ -155,7 +160,7 @@ def emps_stribeck_fit(rec: Recording, *, delta: float = 2.0) -> dict:
             "result": res}
 
 
-def emps_closed_loop_errors(rec: Recording, *, M: float, friction, offset: float = 0.0,
+def emps_closed_loop_errors(rec: Recording, *, M: float, friction: FrictionLaw, offset: float = 0.0,
                             substeps: int = 40) -> dict[str, float]:
     """Closed-loop simulation errors of one model on an EMPS record.
 

@@ -13,6 +13,10 @@ import numpy as np
 from .. import _validate as val
 from ..data.recording import Recording
 from ..errors import DataError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["initial_guess_lugre"]
 
@@ -37,7 +41,7 @@ def _arrays(data) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray
 
 
 # --------------------------------------------------------------------------- initial guess
-def initial_guess_lugre(data, *, mass: float = 0.0, zeta: float = 1.0, sigma2: float = 0.0,
+def initial_guess_lugre(data: Mapping[str, ArrayLike] | Recording, *, mass: float = 0.0, zeta: float = 1.0, sigma2: float = 0.0,
                         load_fraction: float = 0.3) -> dict[str, float]:
     """Initial ``sigma0``, ``sigma1`` of a LuGre model from a sub-breakaway test (seed 002 §3.1).
 

@@ -20,6 +20,11 @@ from ..data.recording import Recording
 from ..data.rests import find_rests, motion_segments
 from ..errors import DataError, ParameterError
 from ..simulation.core import simulate
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from typing import Any
 
 __all__ = ["INTEGRATIONS", "MotionData", "evaluate_motion", "motion_data"]
 
@@ -142,7 +147,7 @@ def _rest_masks(rests, recs: list[Recording], min_rest: int) -> list[np.ndarray]
     return out
 
 
-def motion_data(data, *, drive: str = "auto", integration: str = "held", rests="auto",
+def motion_data(data: Any, *, drive: str = "auto", integration: str = "held", rests: Any="auto",
                 min_rest: int = 3) -> MotionData:
     """Cut one or several records into the motion segments a motion-driven fit simulates.
 
@@ -267,9 +272,9 @@ def _simulate_segments(model, md: MotionData) -> list[np.ndarray] | None:
     return out
 
 
-def evaluate_motion(model, data, *, inertia: float = 0.0, offset: float = 0.0, drive: str = "auto",
-                    integration: str = "held", rests="auto", min_rest: int = 3,
-                    static=None) -> dict:
+def evaluate_motion(model: FrictionLaw, data: Any, *, inertia: float = 0.0, offset: float = 0.0, drive: str = "auto",
+                    integration: str = "held", rests: Any="auto", min_rest: int = 3,
+                    static: Any=None) -> dict:
     """Error of a dynamic law driven by recorded motion, beside its static map's.
 
     The force predicted by ``model`` (motion-driven from the unloaded state after

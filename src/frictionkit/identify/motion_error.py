@@ -45,6 +45,11 @@ from ._law_params import LawTemplate, base_name, is_log
 from .fit_options import MOTION_ERROR_FIT, FitOptions, fit_settings
 from .motion_data import MotionData, _errors, _simulate_segments, _typical, evaluate_motion, motion_data
 from .result import IdentificationResult
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from typing import Any
 
 __all__ = ["MOTION_EXTRAS", "MotionData", "default_free", "evaluate_motion", "fit_motion_error", "motion_data",
            "motion_start"]
@@ -55,8 +60,8 @@ _DYNAMIC = {"sigma0", "sigma1", "k", "C"}  # scaled together by the start grid
 _START_FACTORS = (1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4)
 
 
-def motion_start(kind: str, static, data, *, elements: int = 3, max_presliding: float | None = None,
-                 drive: str = "auto", integration: str = "held", rests="auto", min_rest: int = 3):
+def motion_start(kind: str, static: Any, data: Any, *, elements: int = 3, max_presliding: float | None = None,
+                 drive: str = "auto", integration: str = "held", rests: Any="auto", min_rest: int = 3) -> FrictionLaw:
     """Start values of a motion-driven fit from the static map and the record.
 
     The dynamic stiffness is set so that the pre-sliding time constant
@@ -290,23 +295,23 @@ def _inertia_start(md: MotionData, static, off: float) -> float:
 
 
 def fit_motion_error(
-    data,
-    model0,
+    data: Any,
+    model0: str | FrictionLaw,
     *,
-    static=None,
-    initial="auto",
+    static: Any=None,
+    initial: Any="auto",
     elements: int = 3,
     free: Sequence[str] | None = None,
     drive: str = "auto",
     integration: str = "held",
-    rests="auto",
+    rests: Any="auto",
     min_rest: int = 3,
     inertia: float = 0.0,
     offset: float = 0.0,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     max_presliding: float | None = None,
     fit: FitOptions | None = None,
-    **settings,
+    **settings: Any,
 ) -> IdentificationResult:
     """Fit a dynamic friction law with the recorded motion as input and the force as output.
 

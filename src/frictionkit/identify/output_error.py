@@ -75,6 +75,12 @@ from .initial_guess import initial_guess_lugre
 from .motion_data import _as_records, _describe_rests, _rest_masks, irregular, no_motion_cause, segment_bounds
 from .result import IdentificationResult, parameter_statistics
 from .start_values import FORCE_DRIVE_FREE, output_error_start, static_law
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 __all__ = ["evaluate_output_error", "fit_output_error", "initial_guess_lugre", "OUTPUT_ERROR_OPTIONS"]
 
@@ -157,25 +163,25 @@ def _relative_percent(resid, y) -> float:
 
 
 def fit_output_error(
-    data,
-    model0="lugre",
+    data: Any,
+    model0: str | FrictionLaw="lugre",
     *,
-    static=None,
-    initial="auto",
+    static: Any=None,
+    initial: Any="auto",
     free: Sequence[str] | None = None,
     inertia: float,
     offset: float = 0.0,
-    external_load=None,
+    external_load: Any=None,
     compare: str = "v",
     bounds: Mapping[str, tuple[float, float]] | None = None,
-    weight=None,
-    rests="auto",
+    weight: ArrayLike | None=None,
+    rests: Any="auto",
     min_rest: int = 3,
     elements: int = 3,
     options: SimOptions | None = None,
     fit: FitOptions | None = None,
     progress: Callable[[int, int, float], None] | None = None,
-    **settings,
+    **settings: Any,
 ) -> IdentificationResult:
     """Fit dynamic-friction parameters by simulated-vs-measured output error (seed 002 eq. 12).
 

@@ -34,6 +34,11 @@ from ..models.static import CoulombViscous
 from ..simulation.core import simulate
 from .motion_data import MotionData, motion_data
 from .result import IdentificationResult, parameter_statistics
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 __all__ = ["fit_presliding", "piecewise_linear_fit"]
 
@@ -50,7 +55,7 @@ def _pl_sse(u, f, d) -> tuple[float, np.ndarray]:
     return float(r @ r), coef
 
 
-def piecewise_linear_fit(u, f, n_breaks: int, *, grid: int = 80) -> dict:
+def piecewise_linear_fit(u: ArrayLike, f: ArrayLike, n_breaks: int, *, grid: int = 80) -> dict:
     """Continuous piecewise-linear least-squares fit with ``n_breaks`` free breakpoints.
 
     Parameters
@@ -160,15 +165,15 @@ MAX_ELEMENTS = 32
 
 
 def fit_presliding(
-    data,
+    data: Any,
     *,
     elements: int,
-    static=None,
+    static: Any=None,
     branch: str = "auto",
     C: float | None = None,
     refine: bool = True,
     max_nfev: int = 60,
-    rests="auto",
+    rests: Any="auto",
     min_rest: int = 3,
 ) -> IdentificationResult:
     """Identify a GMS model's ``k_i``, ``xi_i`` (and ``C``) from pre-sliding data (seed 000 eq. 19).

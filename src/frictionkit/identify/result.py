@@ -25,13 +25,18 @@ from ..errors import DataError, FrictionKitError, ParameterError
 from ..models.base import law_from_dict, law_to_dict, registered_laws
 from ..control.compensators import RollingCompensator
 from ..plants.rigid_body import RigidBody
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
 
 #: Version of the JSON layout written by :meth:`IdentificationResult.save_json`.
 JSON_FORMAT = "frictionkit.identification/1"
 
 
 # --------------------------------------------------------------------------- statistics
-def parameter_statistics(values, cov, dof: int, *, level: float = 0.95) -> dict[str, np.ndarray]:
+def parameter_statistics(values: ArrayLike, cov: ArrayLike, dof: int, *, level: float = 0.95) -> dict[str, np.ndarray]:
     """Standard errors, t-distribution confidence intervals and correlations from a covariance.
 
     Parameters
@@ -368,7 +373,7 @@ class IdentificationResult:
         return f"IdentificationResult({self.kind}, {self.model_name}: {vals})"
 
     # ------------------------------------------------------------------ presentation
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """Fitted curve over the data points (static map) or measured vs predicted (rigid body).
 
         Parameters

@@ -40,6 +40,10 @@ from ..errors import DataError, IdentificationError, ParameterError
 from ..models.rolling import sigmoid_compensation, sinc_compensation
 from .identifiability import analyse
 from .result import IdentificationResult
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
 
 __all__ = ["MIN_TRAVEL_FRACTION", "fit_reversal", "reversal_samples", "turning_points"]
 
@@ -138,7 +142,7 @@ def reversal_samples(recordings, *, min_travel: float | None = None, inertia: fl
 
 
 def fit_reversal(
-    recording,
+    recording: Recording | Sequence[Recording] | Mapping[str, Recording],
     *,
     window: float | None = None,
     min_travel: float | None = None,

@@ -31,6 +31,12 @@ from ..data.segmentation import SteadyStatePoints, steady_state_points
 from ..errors import DataError, IdentificationError, ParameterError
 from ..models.static import CoulombViscous, Directional, Stribeck
 from .result import IdentificationResult, parameter_statistics
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 #: Model structures :func:`fit_static_map` can fit.
 MODELS = ("coulomb_viscous", "exponential", "lorentzian")
@@ -351,15 +357,15 @@ def _check_magnitudes(va: np.ndarray, Fa: np.ndarray) -> None:
 
 
 def fit_static_map(
-    v,
-    F=None,
+    v: ArrayLike | Recording,
+    F: ArrayLike | None=None,
     *,
     model: str = "auto",
     direction: str = "both",
     delta: float | None = None,
     loss: str = "linear",
     f_scale: float | None = None,
-    sigma=None,
+    sigma: ArrayLike | None=None,
     criterion: str = "aic",
     units: dict | None = None,
     covariance: str = "residual",
@@ -614,7 +620,7 @@ def stribeck_model(result: IdentificationResult) -> Directional:
     return Directional(positive=_as_stribeck(laws[0]), negative=_as_stribeck(laws[1]))
 
 
-def fit_static_records(records, *, trim: float = 0.0, **kwargs) -> IdentificationResult:
+def fit_static_records(records: Sequence[Recording] | Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
     """Average each record whole (one steady-state point per record) and fit the map.
 
     Parameters

@@ -46,6 +46,10 @@ from .initial_guess import initial_guess_lugre
 from .output_error import fit_output_error
 from .result import IdentificationResult
 from .static_map import COVARIANCES, fit_static_map
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = ["TwoStepResult", "ConstantVelocityScreen", "fit_two_step", "velocity_nrmse", "simulate_run",
            "constant_velocity_ripple", "screen_constant_velocity", "ripple_rejection_limit", "MAX_RIPPLE_PERCENT",
@@ -217,7 +221,7 @@ class ConstantVelocityScreen:
                          + f"  {'kept' if a else 'REJECTED'}" + ("" if ok else ", not resolvable"))
         return "\n".join(lines)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """Ripple against |speed| per run, the threshold as a line."""
         import matplotlib.pyplot as plt
 
@@ -365,7 +369,7 @@ class TwoStepResult:
                 lines.append(f"  [{label}] {w}")
         return "\n".join(lines)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """The identified steady-state map over the static points (or the static fit's data)."""
         import matplotlib.pyplot as plt
 

@@ -13,6 +13,11 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 
 # --------------------------------------------------------------------------- coordinates
@@ -36,7 +41,7 @@ class Coord:
 
     __slots__ = ("_owner", "dofs", "motions")
 
-    def __init__(self, owner, dofs: dict[int, float], motions: dict[int, float]):
+    def __init__(self, owner: Any, dofs: dict[int, float], motions: dict[int, float]):
         self._owner = owner
         self.dofs = {i: float(c) for i, c in dofs.items() if c != 0.0}
         self.motions = {i: float(c) for i, c in motions.items() if c != 0.0}
@@ -184,7 +189,7 @@ class HertzContact:
     def linear_stiffness(self) -> float:
         return self.stiffness
 
-    def force(self, d):
+    def force(self, d: ArrayLike) -> np.ndarray:
         """Net contact force [N] at deflection ``d`` [m] (NumPy)."""
         d = np.asarray(d, dtype=float)
         a = np.clip(self.d0 + d, 0.0, None)
@@ -244,7 +249,7 @@ class PiecewiseLinearSpring:
     def linear_stiffness(self) -> float:
         return self.stiffness[0]
 
-    def force(self, d):
+    def force(self, d: ArrayLike) -> np.ndarray:
         d = np.asarray(d, dtype=float)
         ad = np.abs(d)
         f = np.zeros_like(ad)
@@ -278,7 +283,7 @@ class SineLoad:
     def linear_stiffness(self) -> float:
         return 0.0
 
-    def force(self, s):
+    def force(self, s: ArrayLike) -> np.ndarray:
         return self.amplitude * np.sin(np.asarray(s, dtype=float) + self.phase)
 
     def pack(self) -> list[float]:

@@ -16,6 +16,11 @@ import numpy as np
 from .. import _validate as val
 from ..errors import ParameterError
 from .elements import BLOCK_TYPES, Coord, CoordSignal, HertzContact, NormalLoad, PiecewiseLinearSpring, SineLoad
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from typing import Any
 
 KINDS = {"translational": "m", "rotational": "rad"}
 QUANTITIES = ("position", "velocity")
@@ -200,7 +205,7 @@ class Machine:
         """Linear damper on ``a - b``."""
         self.spring(a, b, c=c, name=name)
 
-    def friction(self, name: str, a: Coord, b: Coord | None = None, *, law,
+    def friction(self, name: str, a: Coord, b: Coord | None = None, *, law: FrictionLaw,
                  load: NormalLoad | None = None, schedule: CoordSignal | None = None) -> None:
         """A friction site on the motion of ``a`` relative to ``b`` (ground when None).
 
@@ -239,7 +244,7 @@ class Machine:
         name = self._new_name("friction", name)
         self.sites.append(Site(name, at, law, "friction", load, schedule))
 
-    def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law, c: float = 0.0) -> None:
+    def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law: Any, c: float = 0.0) -> None:
         """A nonlinear spring on ``a - b``: :class:`HertzContact` or :class:`PiecewiseLinearSpring`
         (a harmonic drive's torque-dependent stiffness), with an optional linear damper ``c``."""
         if not isinstance(law, (HertzContact, PiecewiseLinearSpring)):
@@ -293,7 +298,7 @@ class Machine:
         self.sensors.append(Sensor(name, at, quantity, val.nonnegative(o, "resolution", resolution),
                                    val.nonnegative(o, "noise", noise), _int(o, "delay", delay)))
 
-    def add(self, *blocks) -> None:
+    def add(self, *blocks: Any) -> None:
         """Append controller blocks (:class:`Sum`, :class:`PID`, :class:`StateSpace`,
         :class:`Saturation`, :class:`FrictionFeedforward`); they run in this order each sample."""
         for b in blocks:

@@ -18,6 +18,11 @@ from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
                        StateSpace, Sum)
 from .machine import Machine
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
 
 
 def law_family(law, where: str = "law") -> str:
@@ -240,7 +245,7 @@ class MachineResult(TraceAccess):
             lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}")
         return "\n".join(lines)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """Positions of the degrees of freedom over time; returns the (left) Axes.
 
         Translational DOFs [m] on the left axis; rotational ones [rad] on a twin right axis
@@ -295,7 +300,7 @@ def _expm_cached(Z: np.ndarray) -> np.ndarray:
     return E
 
 
-def discretise(machine: Machine, h: float, *, site_damping=None):
+def discretise(machine: Machine, h: float, *, site_damping: ArrayLike | None=None) -> tuple:
     """Exact discretisation of the linear chain over a sub-step ``h``.
 
     Returns ``(Phi, G0, G1, Gf, parts)``: ``X+ = Phi X + G0 w0 + G1 (w1 - w0) + Gf Fbar`` for

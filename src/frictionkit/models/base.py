@@ -22,6 +22,10 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from ..errors import DataError, ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 #: The kernel families: how a law is packed and which state it carries.
 FAMILIES = ("static", "lugre", "gms")
@@ -142,7 +146,7 @@ class FrictionLaw(Protocol):
     'Stribeck'
     """
 
-    def steady_state(self, v) -> np.ndarray: ...
+    def steady_state(self, v: ArrayLike) -> np.ndarray: ...
 
 
 # --------------------------------------------------------------------------- registry

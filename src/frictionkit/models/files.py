@@ -65,6 +65,10 @@ from typing import Any
 
 from ..errors import DataError, FrictionKitError, ParameterError
 from .base import is_law_dict, law_entry, law_from_dict, law_to_dict
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = ["MACHINE_UNITS", "MODEL_FORMAT", "ModelFile", "load_model", "parameter_units", "save_model"]
 
@@ -402,7 +406,7 @@ class ModelFile:
                 lines.append(f"  {key}: {self.provenance[key]}")
         return "\n".join(lines)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """The steady-state map ``Fss(v)``; returns the matplotlib Axes."""
         import matplotlib.pyplot as plt
         import numpy as np

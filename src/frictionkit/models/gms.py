@@ -25,6 +25,10 @@ from .. import _validate as val
 from ..errors import ParameterError
 from .base import register_law
 from .static import check_static
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 #: Weight sums outside this band draw a :class:`GMSWeightWarning` (assumption, issue 13:
@@ -103,7 +107,7 @@ class GMS:
         """Initial stiffness ``sum k_i`` [N/m] when every element sticks."""
         return float(self.k.sum())
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v: ArrayLike) -> np.ndarray:
         v = np.asarray(v, dtype=float)
         s = self.static.stribeck(v)
         return float(self.xi.sum()) * s + (self.static.steady_state(v) - s)

@@ -21,6 +21,10 @@ import numpy as np
 from .. import _validate as val
 from .base import register_law
 from .static import CoulombViscous, check_static
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True)
@@ -56,7 +60,7 @@ class LuGre:
         object.__setattr__(self, "sigma0", val.positive(o, "sigma0", self.sigma0))
         object.__setattr__(self, "sigma1", val.nonnegative(o, "sigma1", self.sigma1))
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v: ArrayLike) -> np.ndarray:
         return self.static.steady_state(v)
 
     def dynamic_rows(self) -> np.ndarray:
@@ -96,7 +100,7 @@ class Dahl:
     def sigma1(self) -> float:
         return 0.0
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v: ArrayLike) -> np.ndarray:
         return self.static.steady_state(v)
 
     def dynamic_rows(self) -> np.ndarray:

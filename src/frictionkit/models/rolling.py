@@ -18,9 +18,13 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _validate as _check
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
-def sigmoid_compensation(x, *, F0: float, sigma: float) -> np.ndarray:
+def sigmoid_compensation(x: ArrayLike, *, F0: float, sigma: float) -> np.ndarray:
     """Seed 001 eq. 5: ``F0 (x/sigma) / sqrt(1 + (x/sigma)^2)``.
 
     Parameters
@@ -44,7 +48,7 @@ def sigmoid_compensation(x, *, F0: float, sigma: float) -> np.ndarray:
     return F0 * r / np.sqrt(1.0 + r * r)
 
 
-def sinc_compensation(x, *, F0: float, xs: float) -> np.ndarray:
+def sinc_compensation(x: ArrayLike, *, F0: float, xs: float) -> np.ndarray:
     """Seed 001 eq. 6: sinc-shaped rise from ``-F0`` at ``x = 0`` to ``F0`` at ``x = xs``.
 
     ``-F0`` for ``x < 0``; ``2 F0 sinc(sqrt(x/xs) - 1) - F0`` on ``[0, xs)`` (normalised
@@ -65,7 +69,7 @@ def sinc_compensation(x, *, F0: float, xs: float) -> np.ndarray:
     return np.where(x < 0.0, -F0, np.where(x >= xs, F0, mid))
 
 
-def coulomb_compensation(v, *, F0: float) -> np.ndarray:
+def coulomb_compensation(v: ArrayLike, *, F0: float) -> np.ndarray:
     """Seed 001 eq. 7 with the sign of a friction *compensation*: ``F0 sgn(v)``.
 
     The paper prints ``u = F0`` for ``v < 0`` and ``-F0`` for ``v >= 0``, which is the

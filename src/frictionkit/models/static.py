@@ -17,6 +17,11 @@ import numpy as np
 from .. import _validate as val
 from ..errors import ParameterError
 from .base import kernel_family, register_law
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from typing import Any
 
 #: Shape codes used by the kernels.
 SHAPE_CODES = {"exponential": 0, "lorentzian": 1}
@@ -107,11 +112,11 @@ class Stribeck:
         row = [self.Fc, self.Fs, self.vs, self.delta, self.sigma2, float(SHAPE_CODES[self.shape])]
         return np.array([row, row], dtype=float)
 
-    def stribeck(self, v) -> np.ndarray:
+    def stribeck(self, v: ArrayLike) -> np.ndarray:
         """``s(v)`` without the viscous term."""
         return _stribeck_eval(self.static_rows(), v, viscous=False)
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v: ArrayLike) -> np.ndarray:
         """``Fss(v) = s(v) + sigma2 v`` for an array of velocities."""
         return _stribeck_eval(self.static_rows(), v, viscous=True)
 
@@ -141,10 +146,10 @@ class CoulombViscous:
         row = [self.Fc, self.Fc, 1.0, 1.0, self.sigma2, 0.0]
         return np.array([row, row], dtype=float)
 
-    def stribeck(self, v) -> np.ndarray:
+    def stribeck(self, v: ArrayLike) -> np.ndarray:
         return _stribeck_eval(self.static_rows(), v, viscous=False)
 
-    def steady_state(self, v) -> np.ndarray:
+    def steady_state(self, v: ArrayLike) -> np.ndarray:
         return _stribeck_eval(self.static_rows(), v, viscous=True)
 
 
@@ -196,10 +201,10 @@ class Directional:
     def static_rows(self) -> np.ndarray:
         return np.array([self.positive.static_rows()[0], self.negative.static_rows()[1]])
 
-    def stribeck(self, v) -> np.ndarray:
+    def stribeck(self, v: ArrayLike) -> np.ndarray:
         return _stribeck_eval(self.static_rows(), v, viscous=False)
 
-    def steady_state(self, v, **kw) -> np.ndarray:
+    def steady_state(self, v: ArrayLike, **kw: Any) -> np.ndarray:
         """Each side's ``steady_state``; keywords (``schedule=`` of a ``TDMSSC``) go to both."""
         v = np.asarray(v, dtype=float)
         return np.where(v < 0.0, self.negative.steady_state(v, **kw), self.positive.steady_state(v, **kw))

@@ -59,6 +59,10 @@ import numpy as np
 from .. import _validate as val
 from ..errors import ParameterError
 from .base import register_law
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 #: Columns of one row of :meth:`TDMSSC.schedule_rows` (and of every static law's, see
 #: :func:`schedule_rows`): levels affine in the schedule, Stribeck shape, viscous, quadratic.
@@ -131,7 +135,7 @@ class TDMSSC:
         row = [self.Fc0, self.Fc1, self.Fs0, self.Fs1, self.vs, self.delta, self.sigma2, 0.0, self.eps]
         return np.array([row, row], dtype=float)
 
-    def steady_state(self, v, *, schedule=None) -> np.ndarray:
+    def steady_state(self, v: ArrayLike, *, schedule: ArrayLike | None=None) -> np.ndarray:
         """``F(v; s)`` for an array of velocities ``v`` at schedule ``s`` (scalar or broadcastable).
 
         ``schedule`` is required (a :class:`ParameterError` without it): a TDMSSC has no level

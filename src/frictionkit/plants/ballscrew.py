@@ -73,6 +73,10 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 #: ``sigma0 = DAHL_SPAN * Fc / presliding_length``: the Dahl curve goes from ``-Fc`` to
 #: ``0.9 Fc`` over ``presliding_length`` (``1 - 2 exp(-u) = 0.9`` -> ``u = ln 20``).
@@ -234,7 +238,7 @@ class RigidBallScrew:
         """Screw ratio ``L_p / 2 pi`` [m/rad]."""
         return self.L_p / (2.0 * math.pi)
 
-    def transfer_function(self):
+    def transfer_function(self) -> tuple[np.ndarray, np.ndarray]:
         """``(num, den)`` of eq. 1 in descending powers of ``s``."""
         return np.array([self.K_tau]), np.array([self.J, self.B, 0.0])
 
@@ -357,7 +361,7 @@ class ElasticBallScrew:
         d0 = 3.0 * P / self.k_nut
         return P / d0**1.5, d0
 
-    def contact_force(self, d) -> np.ndarray:
+    def contact_force(self, d: ArrayLike) -> np.ndarray:
         """Static drive force through the balls ``F_bn`` [N] at contact deflection ``d`` [m].
 
         Linear ``k_nut d`` for ``"sliding"``/``"flank"``; for ``"hertz"``
@@ -406,7 +410,7 @@ class ElasticBallScrew:
         lam = eigh(K[1:, 1:], M[1:, 1:], eigvals_only=True)
         return np.sqrt(np.clip(np.sort(lam), 0.0, None))
 
-    def frequency_response(self, f, *, output: str = "motor", presliding: bool = False) -> np.ndarray:
+    def frequency_response(self, f: ArrayLike, *, output: str = "motor", presliding: bool = False) -> np.ndarray:
         """Complex frequency response from motor current [A] at frequencies ``f`` [Hz].
 
         ``output = "motor"``: motor angle ``theta_m`` [rad/A] (what seed 001 Fig. 2 plots);

@@ -12,6 +12,10 @@ import numpy as np
 
 from .. import _validate as val
 from ..errors import ParameterError
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -45,7 +49,7 @@ class RigidBody:
         if not hasattr(self.friction, "steady_state"):
             raise ParameterError(f"RigidBody.friction = {type(self.friction).__name__}: must be a friction law")
 
-    def force(self, a, v) -> np.ndarray:
+    def force(self, a: ArrayLike, v: ArrayLike) -> np.ndarray:
         """Actuator force [N] for acceleration ``a`` [m/s²] and velocity ``v`` [m/s]."""
         a = np.asarray(a, dtype=float)
         v = np.asarray(v, dtype=float)

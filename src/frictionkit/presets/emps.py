@@ -29,6 +29,10 @@ from __future__ import annotations
 from .. import _validate as val
 from ..errors import ParameterError
 from ..machines import Machine, Saturation, Sum
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
 
 __all__ = ["EMPS_CONSTANTS", "PUBLISHED", "PUBLISHED_ASYMMETRIC", "emps_machine"]
 
@@ -47,7 +51,7 @@ PUBLISHED_ASYMMETRIC = {"M": 95.1540, "Fv_pos": 166.7061, "Fc_pos": 20.1440,
                         "Fv_neg": 240.4236, "Fc_neg": 20.6277}
 
 
-def emps_machine(*, M: float, friction, offset: float = 0.0, constants: dict | None = None,
+def emps_machine(*, M: float, friction: FrictionLaw, offset: float = 0.0, constants: dict | None = None,
                  encoder_resolution: float = 0.0) -> Machine:
     """The EMPS rigid axis in its position loop, as a :class:`~frictionkit.machines.Machine`.
 

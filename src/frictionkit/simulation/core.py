@@ -15,6 +15,13 @@ from ..kernels import gms as _gms
 from ..kernels import lugre as _lugre
 from ..models.pack import kind_of, pack_gms, pack_lugre
 from ..plants.mass import Mass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..models.base import FrictionLaw
+    from collections.abc import Sequence
+    from matplotlib.axes import Axes
+    from numpy.typing import ArrayLike
 
 _MESSAGES = {
     0: "ok",
@@ -159,7 +166,7 @@ class SimulationResult:
             body += f", {self.substeps} sub-steps ({self.substeps / max(n - 1, 1):.2f} per sample)"
         return head + "\n  " + body
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """Friction force over displacement (hysteresis) and over time.
 
         Returns the array of two matplotlib axes.
@@ -285,16 +292,16 @@ def _finish(t, x, v, F, states, status, at, substeps, model, detail: str = "") -
 
 
 def simulate(
-    model,
+    model: FrictionLaw,
     *,
     dt: float,
     plant: Mass | None = None,
-    force=None,
-    position=None,
-    velocity=None,
+    force: ArrayLike | None=None,
+    position: ArrayLike | None=None,
+    velocity: ArrayLike | None=None,
     x0: float = 0.0,
     v0: float = 0.0,
-    state0=None,
+    state0: float | ArrayLike | None=None,
     options: SimOptions | None = None,
     velocity_integration: str = "trapezoidal",
 ) -> SimulationResult:
@@ -449,7 +456,7 @@ class BatchResult:
                  for c in np.unique(st[bad])]
         return f"{int(bad.sum())} of {st.size} parameter sets failed (sse = inf): " + "; ".join(parts)
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """RMS error of each parameter set (failed sets marked at the top); returns the Axes."""
         import matplotlib.pyplot as plt
 
@@ -477,14 +484,14 @@ class BatchResult:
 
 
 def simulate_batch(
-    models,
+    models: Sequence[FrictionLaw],
     *,
-    masses,
-    force,
+    masses: ArrayLike,
+    force: ArrayLike,
     dt: float,
-    target,
+    target: ArrayLike,
     compare: str = "x",
-    weight=None,
+    weight: ArrayLike | None=None,
     options: SimOptions | None = None,
     method: str = "adaptive",
 ) -> BatchResult:

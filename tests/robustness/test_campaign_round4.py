@@ -54,3 +54,19 @@ def test_dash_for_a_file_only_output_is_refused_not_written_as_a_file(runner, st
     assert res.exit_code != 0
     assert f"{option} -: this verb writes {option} to a file, not to stdout" in one_error_line(res)
     assert not (tmp_path / "-").exists()
+
+
+@pytest.mark.parametrize("section, key, value", [("segmentation", "min_duration", "m"),
+                                                 ("segmentation", "window", 2.5),
+                                                 ("monitor", "min_periods", ""),
+                                                 ("monitor", "alpha", "rad"),
+                                                 ("fit", "f_scale", float("nan"))])
+def test_fleet_config_numbers_are_checked_naming_the_key(section, key, value):
+    """Were: every log failed with "TypeError: '>=' not supported ..." (exit 1), or
+    "invalid literal for int() with base 10: ''" / "could not convert string to float: 'rad'"
+    naming neither the key nor the file."""
+    from frictionkit.fleet.config import config_from_dict
+
+    doc = {"columns": {"time": "t", "velocity": "v", "force": "F"}, section: {key: value}}
+    with pytest.raises(DataError, match=re.escape(f"[{section}] {key} = {value!r}: must be a finite")):
+        config_from_dict(doc, source="f.toml")

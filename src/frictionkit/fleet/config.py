@@ -210,6 +210,17 @@ class FleetConfig:
             bad = set(getattr(self, sec)) - keys
             if bad:
                 raise DataError(f"{where}: [{sec}] unknown key(s) {sorted(bad)}; allowed: {sorted(keys)}")
+        # numbers checked here, naming the key (issue 13 round 4: min_duration = "m" failed in every log
+        # as "TypeError: '>=' not supported"; monitor min_periods = "" as "invalid literal for int()")
+        for sec, keys in (("segmentation", _SEGMENTATION_KEYS), ("fit", {"f_scale", "delta"}),
+                          ("monitor", {"alpha", "min_periods", "n_null", "seed", "se_floor"})):
+            for key in sorted(keys & set(getattr(self, sec))):
+                val = getattr(self, sec)[key]
+                whole = key in {"min_samples", "min_periods", "n_null", "seed", "window"}
+                if (isinstance(val, bool) or not isinstance(val, (int, float)) or not math.isfinite(val)
+                        or (whole and val != int(val))):
+                    raise DataError(f"{where}: [{sec}] {key} = {val!r}: must be a finite "
+                                    + ("whole number" if whole else "number"))
 
     # ------------------------------------------------------------------ identity
     def to_dict(self) -> dict[str, Any]:

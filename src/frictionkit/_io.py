@@ -16,7 +16,9 @@ command's input files.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -102,6 +104,13 @@ def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | No
         raise ValueError(f"atomic_open: mode = {mode!r}: must be 'wb' or 'w'")
     target = Path(path)
     folder = target.parent
+    try:  # renaming over a device or pipe would replace it (as root: --json /dev/null deleted the device)
+        st = os.stat(target)
+    except OSError:
+        st = None
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise OSError(errno.EINVAL, f"cannot write '{target}': not a regular file (a device, pipe or socket); "
+                                    "refusing to replace it")
     try:
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
     except OSError as exc:
@@ -236,6 +245,8 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
         raise DataError(f"{option} '{path}': not a file name")
     if out.is_dir():
         raise DataError(f"{option} '{out}' is a folder; give a file name")
+    if out.exists() and not out.is_file():
+        raise DataError(f"{option} '{out}' is not a regular file (a device, pipe or socket); give a file name")
     folder = out.parent
     if make_parents and not folder.exists():
         base = _nearest_existing(folder)

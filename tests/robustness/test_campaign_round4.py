@@ -70,3 +70,24 @@ def test_fleet_config_numbers_are_checked_naming_the_key(section, key, value):
     doc = {"columns": {"time": "t", "velocity": "v", "force": "F"}, section: {key: value}}
     with pytest.raises(DataError, match=re.escape(f"[{section}] {key} = {value!r}: must be a finite")):
         config_from_dict(doc, source="f.toml")
+
+
+def test_the_atomic_writer_never_replaces_a_device_or_pipe(runner, tmp_path):
+    """Found as root: `frictionkit models --json /dev/full` renamed its temporary file over the
+    device node (/dev/null the same). A FIFO stands in for the device here."""
+    import os
+    import stat
+
+    from frictionkit._io import atomic_write_text
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    with pytest.raises(OSError, match="not a regular file"):
+        atomic_write_text(fifo, "x")
+    import frictionkit.cli.models  # noqa: F401  (registers the verb)
+
+    res = runner.invoke(app, ["models", "--json", str(fifo)])
+    assert res.exit_code != 0
+    assert "is not a regular file (a device, pipe or socket)" in one_error_line(res)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]  # no temporary file left

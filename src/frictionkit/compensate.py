@@ -40,6 +40,15 @@ Presets (:data:`PRESETS`)
     arcsec) over the whole run (the start from rest is the test: nothing skipped); there is no
     reversal (``reversal_error`` is None).
 
+A machine model file (``fk.save_model(machine)``) runs with a **compensation test**
+(:class:`CompensationTest`, a small TOML or JSON file, ``compensate MACHINE.json --test
+SPEC.toml``): the machine's input arrays (``NAME = "FILE:COLUMN"`` or a number), which degree of
+freedom is scored against which input (``error = input - position``), the input holding the
+reference velocity (reversals; the feed-forward reads it) and the site along whose coordinate a
+compensator's force acts (a :class:`~frictionkit.machines.FrictionFeedforward` block driving an
+extra actuator there, as on ``emps``); its compensators are ``none``, ``model`` and the named
+law files of the spec. ``quick`` runs the first half of the inputs.
+
 ``model`` (every preset) is the static feed-forward of an identified model,
 ``F_model(v_ref)`` (a dynamic law's steady-state map), from a model file
 (:func:`frictionkit.load_model`). Named assumption: the file's law acts on the *table*
@@ -74,13 +83,20 @@ import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Sequence
 from typing import Any, Callable
 
 import numpy as np
 
 from .errors import DataError, ParameterError
 
-__all__ = ["PRESETS", "COMPENSATORS", "REVERSAL_WINDOW", "CompensationResult", "compensate"]
+__all__ = ["PRESETS", "COMPENSATORS", "REVERSAL_WINDOW", "TEST_FORMAT", "CompensationResult", "CompensationTest",
+           "compensate"]
+
+#: ``format`` of a compensation-test spec for a machine file (:class:`CompensationTest`).
+TEST_FORMAT = "frictionkit.compensation-test/1"
+#: ``format`` of :meth:`CompensationResult.to_dict` (``compensate --json``).
+RESULT_FORMAT = "frictionkit.compensation/1"
 
 #: Compensators each preset supports (the first is the default order of the table).
 COMPENSATORS = {"ballscrew": ("none", "coulomb", "sinc", "sigmoid", "model"),
@@ -159,7 +175,7 @@ class CompensationResult:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: preset, motion, the per-compensator errors [m], status and message."""
-        return {"preset": self.preset, "quick": self.quick, "model": self.model,
+        return {"format": RESULT_FORMAT, "preset": self.preset, "quick": self.quick, "model": self.model,
                 "duration_s": float(self.t[-1]) if self.t.size else 0.0,
                 "reversals_s": [round(x, 6) for x in self.reversals], "reversal_window_s": list(REVERSAL_WINDOW),
                 "units": {"error": self.unit}, "compensators": {k: dict(r) for k, r in self.rows.items()},
@@ -240,23 +256,233 @@ def _emps(names, law, quick, seed, each):
 
 
 def _refuse_file(path: Path) -> None:
-    """A model file in place of a preset: say in one line what compensate would need from it.
-
-    A machine file holds the machine and its controller, not a compensation test: the test
-    motion (reference arrays are inputs, not part of the file), which coordinate's error is
-    scored, and the input the compensation enters by. Until machine files carry those, only
-    the presets run here.
-    """
+    """A law file in place of a preset, or a machine file without ``test``: say in one line what to do."""
     from .models.files import ModelFile
 
     mf = ModelFile.load(path, kind=None)
     if mf.kind == "law":
         raise ParameterError(f"'{path}' is a friction law, not a machine: give it as --model to a preset "
                              f"({', '.join(PRESETS)})")
-    raise ParameterError(f"machine file '{path}' ({mf.model.name}) carries no compensation test: compensate needs "
-                         "its test motion, the coordinate whose error is scored and the input a compensator "
-                         f"enters by, which machine files do not hold; run a preset ({', '.join(PRESETS)}) or "
-                         f"'frictionkit simulate {path} --input ...' with a FrictionFeedforward block")
+    raise ParameterError(f"machine file '{path}' ({mf.model.name}) carries no compensation test: give one with "
+                         "--test SPEC.toml (its test motion as input files, the coordinate whose error is scored, "
+                         "the input holding the reference velocity and the site a compensator acts at; README "
+                         f"'Compensation'), or run a preset ({', '.join(PRESETS)})")
+
+
+@dataclass(frozen=True, eq=False)
+class CompensationTest:
+    """A compensation test for a machine file: what :func:`compensate` needs beyond the machine.
+
+    Attributes
+    ----------
+    inputs : dict of str -> ndarray — every input array of the run (SI), one sample per ``dt``.
+    dt : float — sample period [s].
+    position : str — the degree of freedom whose position is scored.
+    reference : str — the input holding that position's reference; error = reference - position.
+    velocity : str — the input holding the reference velocity: the feed-forward's input and
+        where the reversals are (sign changes).
+    site : str — the site along whose coordinate a compensator's force acts (an extra actuator
+        with gain 1 commanded by a :class:`~frictionkit.machines.FrictionFeedforward` on ``velocity``).
+    compensators : dict of str -> friction law — named compensators besides ``none`` and ``model``.
+    settle_fraction : float — fraction of the run left out of ``max_error`` / ``rms_error``.
+    source : str or None — the spec file.
+    """
+
+    inputs: dict
+    dt: float
+    position: str
+    reference: str
+    velocity: str
+    site: str
+    compensators: dict = field(default_factory=dict)
+    settle_fraction: float = SETTLE_FRACTION
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        w = f"compensation test '{self.source}'" if self.source else "compensation test"
+        if not (isinstance(self.dt, (int, float)) and not isinstance(self.dt, bool) and math.isfinite(self.dt)
+                and self.dt > 0):
+            raise ParameterError(f"{w}: dt = {self.dt!r}: must be a finite number > 0 [s]")
+        for k in ("position", "reference", "velocity", "site"):
+            v = getattr(self, k)
+            if not isinstance(v, str) or not v:
+                raise ParameterError(f"{w}: {k} = {v!r}: must be a name")
+        if not isinstance(self.inputs, dict) or not self.inputs:
+            raise ParameterError(f"{w}: inputs: give the machine's input arrays")
+        n = {np.asarray(a).shape for a in self.inputs.values()}
+        if len(n) != 1 or len(next(iter(n))) != 1 or next(iter(n))[0] < 2:
+            raise DataError(f"{w}: inputs must be 1-D arrays of one length (>= 2 samples); got shapes {sorted(n)}")
+        for k in ("reference", "velocity"):
+            if getattr(self, k) not in self.inputs:
+                raise ParameterError(f"{w}: {k} = {getattr(self, k)!r} is not one of the inputs "
+                                     f"({', '.join(self.inputs)})")
+        for name, law in self.compensators.items():
+            if name in ("none", "model"):
+                raise ParameterError(f"{w}: compensator name {name!r} is reserved (none and model always exist)")
+            if not hasattr(law, "steady_state"):
+                raise ParameterError(f"{w}: compensator {name!r} = {type(law).__name__}: must be a friction law")
+        f = self.settle_fraction
+        if not (isinstance(f, (int, float)) and not isinstance(f, bool) and 0.0 <= f < 1.0):
+            raise ParameterError(f"{w}: settle_fraction = {f!r}: must be in [0, 1)")
+
+    @property
+    def n(self) -> int:
+        """Samples of the run."""
+        return int(np.asarray(next(iter(self.inputs.values()))).size)
+
+    @classmethod
+    def load(cls, path: str | Path) -> CompensationTest:
+        """Read a spec (``.toml`` or ``.json``; file names in it are relative to the spec).
+
+        Keys: ``format`` (optional, :data:`TEST_FORMAT`), ``dt`` and ``duration`` [s] (only
+        when no input comes from a file: files give both), ``settle_fraction``;
+        ``[inputs]`` ``NAME = "FILE:COLUMN"`` or a number; ``[score]`` ``position`` (a degree
+        of freedom), ``reference`` (an input); ``[compensation]`` ``velocity`` (an input),
+        ``site``; ``[compensators]`` ``NAME = "LAW_OR_MODEL_FILE"``. Unknown keys are refused.
+        """
+        p = Path(path)
+        w = f"compensation test '{p}'"
+        try:
+            text = p.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise DataError(f"{w}: cannot be read ({exc.strerror or exc})") from None
+        except UnicodeDecodeError:
+            raise DataError(f"{w}: not UTF-8 text") from None
+        try:
+            if p.suffix.lower() == ".json":
+                import json
+
+                doc = json.loads(text)
+            else:
+                import tomllib
+
+                doc = tomllib.loads(text)
+        except ValueError as exc:
+            raise DataError(f"{w}: not valid {'JSON' if p.suffix.lower() == '.json' else 'TOML'} "
+                            f"({' '.join(str(exc).split())[:160]})") from None
+        if not isinstance(doc, dict):
+            raise DataError(f"{w}: must be a table of keys")
+        fmt = doc.get("format", TEST_FORMAT)
+        if fmt != TEST_FORMAT:
+            raise DataError(f"{w}: format {fmt!r}; this frictionkit reads {TEST_FORMAT!r}")
+        allowed = {"format", "dt", "duration", "settle_fraction", "inputs", "score", "compensation", "compensators"}
+        extra = sorted(set(doc) - allowed)
+        if extra:
+            raise DataError(f"{w}: unknown key(s) {', '.join(extra)}; expected {', '.join(sorted(allowed))}")
+
+        def table(key: str, keys: tuple[str, ...] | None) -> dict:
+            t = doc.get(key, {} if keys is None else None)
+            if not isinstance(t, dict):
+                raise DataError(f"{w}: [{key}] missing or not a table" + (f" (keys {', '.join(keys)})" if keys else ""))
+            if keys is not None:
+                miss = [k for k in keys if k not in t]
+                bad = sorted(set(t) - set(keys))
+                if miss or bad:
+                    raise DataError(f"{w}: [{key}] needs exactly {', '.join(keys)}"
+                                    + (f"; missing {', '.join(miss)}" if miss else "")
+                                    + (f"; unknown {', '.join(bad)}" if bad else ""))
+            return t
+
+        inputs_spec = table("inputs", None)
+        if not inputs_spec:
+            raise DataError(f"{w}: [inputs] missing: give the machine's inputs (NAME = \"FILE:COLUMN\" or a number)")
+        score, comp = table("score", ("position", "reference")), table("compensation", ("velocity", "site"))
+        inputs, dt = _read_inputs(inputs_spec, p.parent, doc.get("dt"), doc.get("duration"), w)
+        laws = {}
+        for name, f in table("compensators", None).items():
+            if not isinstance(f, str):
+                raise DataError(f"{w}: [compensators] {name} = {f!r}: must be a law or model file name")
+            from .models.files import ModelFile
+
+            q = Path(f) if Path(f).is_absolute() else p.parent / f
+            laws[name] = ModelFile.load(q, kind="law").model
+        return cls(inputs=inputs, dt=dt, position=score["position"], reference=score["reference"],
+                   velocity=comp["velocity"], site=comp["site"], compensators=laws,
+                   settle_fraction=doc.get("settle_fraction", SETTLE_FRACTION), source=str(p))
+
+
+#: Largest run of a compensation test [samples] (the traces of every compensator stay in memory).
+MAX_TEST_SAMPLES = 10_000_000
+
+
+def _read_inputs(spec: dict, base: Path, dt: Any, duration: Any, w: str) -> tuple[dict, float]:
+    """``[inputs]`` of a spec -> (arrays on one grid, dt); files give the grid, else ``dt``/``duration``."""
+    from .data import read_table
+    from .data.loaders import _column
+
+    arrays, consts, grid, tables = {}, {}, None, {}
+    for name, value in spec.items():
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            if not math.isfinite(value):
+                raise DataError(f"{w}: [inputs] {name} = {value!r}: not finite")
+            consts[name] = float(value)
+            continue
+        if not isinstance(value, str) or ":" not in value:
+            raise DataError(f"{w}: [inputs] {name} = {value!r}: expected \"FILE:COLUMN\" or a number")
+        f, _, col = value.rpartition(":")
+        path = Path(f) if Path(f).is_absolute() else base / f
+        if path not in tables:
+            tables[path] = read_table(path)
+        tab = tables[path]
+        tcol = next(iter(tab))
+        t = _column(tab, path, "the time (first column)", tcol)
+        steps = np.diff(t)
+        if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
+            raise DataError(f"file '{path}': time column {tcol!r} is not uniformly sampled; the test runs on one grid")
+        h = float(np.mean(steps))
+        if grid is None:
+            grid = (t.size, h, path)
+        elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
+            raise DataError(f"{w}: [inputs] {name}: '{path}' has {t.size} samples at {h:.6g} s, '{grid[2]}' "
+                            f"{grid[0]} at {grid[1]:.6g} s; all inputs share one grid")
+        arrays[name] = _column(tab, path, f"input {name}", col)
+        if not np.all(np.isfinite(arrays[name])):
+            bad = int(np.flatnonzero(~np.isfinite(arrays[name]))[0])
+            raise DataError(f"file '{path}': column '{col}' (input {name}) is not finite at row {bad}")
+    if grid is not None:
+        if duration is not None or dt is not None:
+            raise DataError(f"{w}: dt/duration come from the input files here; drop them")
+        n, h = grid[0], grid[1]
+    else:
+        ok = all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0
+                 for x in (dt, duration))
+        if not ok:
+            raise DataError(f"{w}: without input files give dt and duration [s] (numbers > 0); got dt = {dt!r}, "
+                            f"duration = {duration!r}")
+        h, n = float(dt), int(round(duration / dt)) + 1
+    if n > MAX_TEST_SAMPLES:
+        raise DataError(f"{w}: {n} samples; at most {MAX_TEST_SAMPLES:,}")
+    for name, value in consts.items():
+        arrays[name] = np.full(n, value)
+    return arrays, h
+
+
+def _machine_test(machine, test: CompensationTest, names, law, quick, seed, each):
+    """Run a machine file's compensation test once per compensator (see :class:`CompensationTest`)."""
+    import copy
+
+    from .machines import FrictionFeedforward, simulate_machine
+
+    n = test.n if not quick else max((test.n + 1) // 2, 2)
+    inputs = {k: np.asarray(v, dtype=float)[:n] for k, v in test.inputs.items()}
+    t = np.arange(n) * test.dt
+    for name in names:
+        m = copy.deepcopy(machine)
+        if name != "none":
+            ff = law if name == "model" else test.compensators[name]
+            m.add(FrictionFeedforward("compensation_ff", test.velocity, law=ff))
+            m.actuator("compensation_drive", _site(m, test.site).at, gain=1.0, command="compensation_ff")
+        res = simulate_machine(m, dt=test.dt, inputs=inputs, seed=seed)
+        each(name, t, inputs[test.velocity], inputs[test.reference] - res.position(test.position), res.status,
+             res.message)
+
+
+def _site(machine, name: str):
+    for s in machine.sites:
+        if s.name == name:
+            return s
+    raise ParameterError(f"compensation test: site {name!r} not in machine {machine.name!r} "
+                         f"(sites: {', '.join(s.name for s in machine.sites) or 'none'})")
 
 
 def _sdss(names, law, quick, seed, each):
@@ -282,17 +508,20 @@ def _sdss(names, law, quick, seed, each):
         each(name, t, w, r - res.position("theta"), res.status, res.message)
 
 
-def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool = False, seed: int = 0,
+def compensate(preset: str | Path, compensators: str | Sequence[str] | None = None, *, model: Any = None,
+               test: CompensationTest | str | Path | None = None, quick: bool = False, seed: int = 0,
                progress: Callable[[str], None] | None = None) -> CompensationResult:
     """Run a machine preset with each compensator; the tracking-error table.
 
     Parameters
     ----------
-    preset : str — one of :data:`PRESETS` (see the module docstring for each machine and motion).
-        A machine file in its place is refused in one line naming what it lacks (a test
-        motion, the scored coordinate, the compensation input).
+    preset : str or Path — one of :data:`PRESETS` (see the module docstring for each machine and
+        motion), or a machine model file run with ``test``.
     compensators : sequence of str, optional — default every compensator of the preset
-        (:data:`COMPENSATORS`) except ``model`` unless a model is given.
+        (:data:`COMPENSATORS`; a machine file: ``none``, the spec's, ``model``) except ``model``
+        unless a model is given.
+    test : CompensationTest, str or Path, optional — the compensation test of a machine file
+        (a spec file is read with :meth:`CompensationTest.load`); refused with a preset.
     model : friction law, str or Path, optional — the identified model (a law or a model file)
         for the ``model`` compensator (its static map on the reference velocity, table side, N).
     quick : bool — a short motion (ballscrew: the first reversal; emps: half the run).
@@ -311,18 +540,43 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
     (0, True)
     """
     t0 = time.perf_counter()
+    machine = None
     if isinstance(preset, (str, Path)) and str(preset) not in PRESETS and Path(preset).is_file():
-        _refuse_file(Path(preset))
-    if preset not in PRESETS:
-        raise ParameterError(f"preset {preset!r}: must be one of {', '.join(PRESETS)}")
-    allowed = COMPENSATORS[preset]
+        if test is None:
+            _refuse_file(Path(preset))
+        from .models.files import ModelFile
+
+        mf_machine = ModelFile.load(preset, kind=None)
+        if mf_machine.kind == "law":
+            _refuse_file(Path(preset))
+        machine, preset = mf_machine.model, str(preset)
+        if not isinstance(test, CompensationTest):
+            test = CompensationTest.load(test)
+        dof = next((d for d in machine.dofs if d.name == test.position), None)
+        if dof is None:
+            raise ParameterError(f"compensation test '{test.source}': position = {test.position!r} is not a degree "
+                                 f"of freedom of machine {machine.name!r} ({', '.join(d.name for d in machine.dofs)})")
+        _site(machine, test.site)
+        need = set(machine.input_names())
+        miss = sorted(need - set(test.inputs))
+        if miss:
+            raise ParameterError(f"compensation test '{test.source}': machine {machine.name!r} reads inputs "
+                                 f"{', '.join(sorted(need))}; missing {', '.join(miss)}")
+        allowed = ("none", *test.compensators, "model")
+        unit = dof.unit
+        want = ("N", "m/s") if unit == "m" else ("N·m", "rad/s")
+    elif test is not None:
+        raise ParameterError("test: only for a machine file (a preset has its own test motion)")
+    elif preset not in PRESETS:
+        raise ParameterError(f"preset {preset!r}: must be one of {', '.join(PRESETS)} or a machine model file")
+    else:
+        allowed, unit, want = COMPENSATORS[preset], ERROR_UNITS[preset][0], MODEL_UNITS[preset]
     model_name = None
     if model is not None:
         if isinstance(model, (str, Path)):
             from .models.files import ModelFile
 
             mf = ModelFile.load(model)
-            want = MODEL_UNITS[preset]
             if (mf.units.get("F"), mf.units.get("v")) != want:
                 where = "the table" if want[0] == "N" else "the axis"
                 raise DataError(f"model '{model}': units {dict(mf.units)}; the compensators act on {where} "
@@ -341,7 +595,8 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
         raise ParameterError("compensators: give at least one")
     for c in compensators:
         if c not in allowed:
-            raise ParameterError(f"compensator {c!r}: preset {preset!r} supports {', '.join(allowed)}")
+            raise ParameterError(f"compensator {c!r}: {'machine file' if machine is not None else 'preset'} "
+                                 f"{preset!r} supports {', '.join(allowed)}")
     if "model" in compensators and model is None:
         raise ParameterError("compensator 'model' needs a model (--model MODEL.json)")
     if isinstance(seed, bool) or int(seed) != seed or seed < 0:
@@ -354,7 +609,7 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
         ok = status == 0 and bool(np.all(np.isfinite(e)))
         errors[name] = e
         rows[name] = {"ok": ok, "message": message if status != 0 or ok else "non-finite error",
-                      **(_errors(t, e, _reversals(t, v), SETTLE_FRACTIONS.get(preset, SETTLE_FRACTION)) if ok else
+                      **(_errors(t, e, _reversals(t, v), settle) if ok else
                          {"max_error": None, "rms_error": None, "reversal_error": None})}
 
     def tracked(names):
@@ -363,9 +618,14 @@ def compensate(preset: str, compensators=None, *, model: Any = None, quick: bool
                 progress(n)
             yield n
 
-    run = {"ballscrew": _ballscrew, "emps": _emps, "sdss": _sdss}[preset]
-    run(tracked(compensators), model, bool(quick), int(seed), each)
+    if machine is not None:
+        settle = test.settle_fraction
+        _machine_test(machine, test, tracked(compensators), model, bool(quick), int(seed), each)
+    else:
+        settle = SETTLE_FRACTIONS.get(preset, SETTLE_FRACTION)
+        run = {"ballscrew": _ballscrew, "emps": _emps, "sdss": _sdss}[preset]
+        run(tracked(compensators), model, bool(quick), int(seed), each)
     t = store.get("t", np.zeros(0))
     revs = _reversals(t, store["v"]) if "v" in store else []
     return CompensationResult(preset=preset, rows=rows, t=t, errors=errors, reversals=revs, model=model_name,
-                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=ERROR_UNITS[preset][0])
+                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=unit)

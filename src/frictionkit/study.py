@@ -453,6 +453,10 @@ def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, A
     return row
 
 
+#: ``format`` of :meth:`StudyResult.to_dict` (``frictionkit study --json``).
+STUDY_FORMAT = "frictionkit.study/1"
+
+
 @dataclass(frozen=True, kw_only=True)
 class StudyResult:
     """Rows (one per run), what ran, and the summary per compensator."""
@@ -522,8 +526,8 @@ class StudyResult:
                          "rms_error_median_m": float(ok["rms_error"].median()) if len(ok) else None}
             if "reversal_error" in g:  # the ball-screw stage: the error around the reversals
                 per[comp]["reversal_error_median_m"] = float(ok["reversal_error"].median()) if len(ok) else None
-        return {"out": str(self.out), "runs": self.runs, "computed": self.computed, "skipped": self.skipped,
-                "other_version": self.other_version,
+        return {"format": STUDY_FORMAT, "out": str(self.out), "runs": self.runs, "computed": self.computed,
+                "skipped": self.skipped, "other_version": self.other_version,
                 "elapsed_s": round(self.elapsed, 3), "compensators": per}
 
 

@@ -1,4 +1,4 @@
-"""``frictionkit compensate PRESET``: friction compensators on a preset machine, the error table.
+"""``frictionkit compensate PRESET|MACHINE.json``: friction compensators on a machine, the error table.
 
 Thin: the runs and the errors are :func:`frictionkit.compensate.compensate`, the plot the
 result's ``.plot()``, the model file is read by :class:`frictionkit.models.files.ModelFile`.
@@ -20,11 +20,14 @@ Examples:
   frictionkit compensate emps --model fit.json --compensator none --compensator model --json -
   frictionkit compensate ballscrew --compensator none --compensator sinc --plot errors.png
   frictionkit compensate sdss --model azimuth_lugre.json --quick
+  frictionkit compensate emps.json --test test.toml --model fit.json
 \b
 Presets and their compensators:
   ballscrew  seed 001 stage, reversal test (25 mm, 1 s cosine): none, coulomb, sinc, sigmoid, model
   emps       EMPS axis, 0.1 m 0.2 Hz sine: none, coulomb (the true friction), model
   sdss       SDSS azimuth, sidereal tracking from rest: none, lugre (the true friction), model
+  MACHINE.json  a machine model file with --test SPEC.toml (inputs, scored position, reference
+                velocity, site; README "Compensation"): none, the spec's, model
 Errors are of the true position, r - x [µm; arcsec on sdss]: max and RMS after the first
 10 % of the run (sdss: the whole run), and the max within -50 ... +100 ms of each velocity
 reversal."""
@@ -32,14 +35,16 @@ reversal."""
 
 @app.command("compensate", epilog=_EPILOG)
 def compensate(
-    preset: str = typer.Argument(..., help="Machine preset: ballscrew, emps or sdss (a machine file is refused "
-                                 "with what it lacks)."),
+    preset: str = typer.Argument(..., help="Machine preset (ballscrew, emps, sdss) or a machine model file "
+                                 "(with --test)."),
     model: Optional[Path] = typer.Option(None, "--model", help="Identified model file (identify ... --json, "
                                          "fk.save_model) for the 'model' compensator: its static map as "
                                          "feed-forward on the reference velocity, table side [N] at [m/s] "
                                          "(sdss: axis [N·m] at [rad/s])."),
     compensator: Optional[list[str]] = typer.Option(None, "--compensator", help="Compensator (repeatable); "
                                                     "default: every one the preset supports ('model' if --model)."),
+    test: Optional[Path] = typer.Option(None, "--test", help="Compensation test of a machine file (.toml or "
+                                        ".json): inputs, scored position, reference velocity, site, compensators."),
     quick: bool = typer.Option(False, "--quick", help="A short motion (ballscrew: the first reversal only; "
                                "emps, sdss: half the run)."),
     seed: int = typer.Option(0, "--seed", help="Sensor-noise seed (the same for every compensator)."),
@@ -48,22 +53,34 @@ def compensate(
     json_out: Optional[str] = typer.Option(None, "--json", help="Write a JSON summary to a file (- for stdout, "
                                            "instead of the table)."),
 ) -> None:
-    """Run a machine preset with friction compensators and print the tracking-error table."""
+    """Run a machine preset (or a machine file with its --test) with friction compensators and print the
+    tracking-error table."""
     from ..compensate import COMPENSATORS, PRESETS
 
-    if preset not in PRESETS and Path(preset).is_file():  # a model file: the library says what it lacks
+    is_file = preset not in PRESETS and Path(preset).is_file()
+    if is_file and test is None:  # a model file without a test: the library says what it lacks
         from ..compensate import compensate as run
 
         run(preset)
-    chk.choice(preset, "PRESET", PRESETS)
-    for c in compensator or []:
-        chk.choice(c, "--compensator", COMPENSATORS[preset])
+    if test is not None and not is_file:
+        from ..errors import ParameterError
+
+        raise ParameterError(f"--test: for a machine model file; preset {preset!r} has its own test motion"
+                             if preset in PRESETS else f"PRESET '{preset}': no such file")
+    if test is not None and not test.is_file():
+        from ..errors import DataError
+
+        raise DataError(f"--test '{test}': no such file")
+    if not is_file:
+        chk.choice(preset, "PRESET", PRESETS)
+        for c in compensator or []:
+            chk.choice(c, "--compensator", COMPENSATORS[preset])
     chk.integer(seed, "--seed", lo=0)
     if model is not None and not model.is_file():
         from ..errors import DataError
 
         raise DataError(f"--model '{model}': no such file")
-    chk.outputs([model], plots={"--plot": plot},
+    chk.outputs([model, test, *([Path(preset)] if is_file else [])], plots={"--plot": plot},
                 files={"--json": Path(json_out)} if json_out not in (None, "-") else {})
 
     from rich.console import Console
@@ -72,7 +89,7 @@ def compensate(
 
     err = Console(stderr=True)
     with err.status(f"{preset}: starting (the first run compiles the kernels)") as status:
-        res = run(preset, compensator or None, model=model, quick=quick, seed=seed,
+        res = run(preset, compensator or None, model=model, test=test, quick=quick, seed=seed,
                   progress=lambda name: status.update(f"{preset}: running compensator '{name}'"))
     if plot is not None:
         chk.save_plot(res, plot)

@@ -20,10 +20,11 @@
 * CSV / Parquet traces of ``simulate --out`` (a ``t [s]`` column) -> time histories and
   the hysteresis loop F(x).
 
-The reproductions and robustness sweeps carry ``"format"`` (``frictionkit.reproduction/1``,
-``frictionkit.robustness/1``) and are dispatched on it; older files without it, and the
-compensation and study outputs (no ``format`` field of their own), are recognised by their fixed
-top-level keys (the ``paper`` string, Parquet columns).
+The reproductions, robustness sweeps, ``compensate --json`` and ``study --json`` carry
+``"format"`` (``frictionkit.reproduction/1``, ``frictionkit.robustness/1``,
+``frictionkit.compensation/1``, ``frictionkit.study/1``) and are dispatched on it; older files
+without it are recognised by their fixed top-level keys (the ``paper`` string, ``preset`` +
+``compensators``, ``compensators`` + ``runs``), tables by their Parquet/CSV columns.
 A file that is none of these, or is broken, raises ONE :class:`~frictionkit.DataError`
 naming the file and why.
 """
@@ -228,9 +229,17 @@ def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, li
         return f"reproduce-{which}", readers[which](doc)
     if fmt_ == ROBUSTNESS_FORMAT:
         return "robustness", robustness_sections(doc)
+    from ..compensate import RESULT_FORMAT as COMPENSATION_FORMAT
+    from ..study import STUDY_FORMAT
+
+    if fmt_ == COMPENSATION_FORMAT:
+        return "compensation", compensation_sections(doc)
+    if fmt_ == STUDY_FORMAT:
+        return "study-summary", study_summary_sections(doc)
     if fmt_ is not None:
+        known = (JSON_FORMAT, MODEL_FORMAT, REPRODUCTION_FORMAT, ROBUSTNESS_FORMAT, COMPENSATION_FORMAT, STUDY_FORMAT)
         raise DataError(f"{where}: \"format\" is {fmt_!r}, not one frictionkit report reads "
-                        f"({JSON_FORMAT!r}, {MODEL_FORMAT!r}, {REPRODUCTION_FORMAT!r}, {ROBUSTNESS_FORMAT!r})")
+                        f"({', '.join(map(repr, known))})")
     paper = doc.get("paper")   # files written before the reproductions carried a format (2026-11-23)
     if isinstance(paper, str):
         if "seed 001" in paper and "table3" in doc:
@@ -241,6 +250,7 @@ def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, li
             return "reproduce-zhang2023", zhang2023_sections(doc)
     if "holds_fraction" in doc:
         return "robustness", robustness_sections(doc)
+    # compensate / study --json written before they carried a format (2026-11-23): by their keys
     if "preset" in doc and isinstance(doc.get("compensators"), Mapping):
         return "compensation", compensation_sections(doc)
     if isinstance(doc.get("compensators"), Mapping) and "runs" in doc:

@@ -307,7 +307,7 @@ def matched(run, ex, eF, ref):
 def single(name, model, m, u, data, run_peer, repeat):
     t_k, res = best_of(lambda: fk.simulate(model, plant=fk.Mass(m), force=u, dt=DT), repeat)
     ref = reference_force_driven(model, m, u, DT, method="LSODA", rtol=1e-11, atol=1e-13)
-    ex, eF = errors(res.x, res.F, ref)
+    ex, eF = errors(res.x, res.friction, ref)
     N = u.size
     print(f"\n== {name}: kernel {t_k * 1e3:7.2f} ms ({t_k / (N - 1) * 1e9:5.1f} ns/sample, "
           f"{res.substeps / (N - 1):.2f} sub-steps/sample)  max|dx| {ex * 1e6:.3f} um  max|dF| {eF:.2e} N")

@@ -59,7 +59,7 @@ def main() -> None:
         fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT)  # compile
         t_k, res = best_of(lambda: fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT), repeat=25)
         ref = reference_force_driven(model, 1.0, u, DT, method="LSODA", rtol=1e-11, atol=1e-13)
-        ex, eF = errors({"x": res.x, "F": res.F}, ref)
+        ex, eF = errors({"x": res.x, "F": res.friction}, ref)
         print(f"\n== {name}")
         print(
             f"kernel: {t_k * 1e3:8.2f} ms  {t_k / (N - 1) * 1e9:7.1f} ns/step  "
@@ -141,9 +141,9 @@ def main() -> None:
         return x[::n], v[::n], F[::n]
 
     def maxerr(a, b):
-        return tuple(float(np.abs(p - q).max()) for p, q in zip(a, (b.x, b.v, b.F)))
+        return tuple(float(np.abs(p - q).max()) for p, q in zip(a, (b.x, b.v, b.friction)))
 
-    ex, ev, eF = maxerr((adapt.x, adapt.v, adapt.F), tight)
+    ex, ev, eF = maxerr((adapt.x, adapt.v, adapt.friction), tight)
     print(f"  adaptive (default tol) vs tight adaptive: |dx| {ex * 1e6:6.2f} um  |dv| {ev:.2e} m/s  |dF| {eF:.2e} N")
     for n in (1, 2, 4):
         tr = fixed_trace(n)

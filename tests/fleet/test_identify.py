@@ -178,7 +178,7 @@ def test_settle_removes_the_slow_plateau_transient():
     law = fk.Stribeck(Fc=20.0, Fs=30.0, vs=2e-3, delta=2.0, sigma2=200.0)
     t, v = daily_test_motion()
     res = fk.simulate(fk.LuGre(law, sigma0=5e5, sigma1=1000.0), velocity=v, dt=t[1] - t[0])
-    rec = Recording(t=t, v=v, F=res.F)
+    rec = Recording(t=t, v=v, F=res.friction)
 
     def slowest_error(seg):
         pts = _plateau_points(rec, seg)

@@ -7,8 +7,8 @@ Rotary axes pass ``units={"F": "N·m", "v": "rad/s"}`` (labels only; the numbers
 is the force unit's key, as in model files).
 
 Older files (before the 2026-11-23 rename, README conventions) named the friction column ``F [N]`` (GMS
-elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]``; the report reads
-both spellings.
+elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]``; ``frictionkit report``
+reads a single-axis trace file in either spelling (machine traces are not a report input).
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ What is exported, by kernel family (:func:`frictionkit.models.kernel_family`):
 Formats (:data:`FORMATS`):
 
 ``"csv"``
-    ``v [unit], F [unit]`` on an odd, uniform grid over ``[-v_max, v_max]`` (0 included;
+    ``v [unit], friction [unit]`` on an odd, uniform grid over ``[-v_max, v_max]`` (0 included;
     interpolating linearly across 0 smooths the sign step over one grid interval).
 ``"json"``
     A model file (``frictionkit.model/1``, :mod:`frictionkit.models.files`): the law, its
@@ -379,7 +379,7 @@ def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float 
     prov = dict(provenance or {})
     if fmt == "csv":
         v, F = lookup_table(model, v_max=v_max, points=201 if points is None else points)
-        lines = [f"v [{ax['v']}],F [{ax['F']}]"] + [f"{a!r},{b!r}" for a, b in zip(v.tolist(), F.tolist())]
+        lines = [f"v [{ax['v']}],friction [{ax['F']}]"] + [f"{a!r},{b!r}" for a, b in zip(v.tolist(), F.tolist())]
         return "\n".join(lines) + "\n"
     if fmt == "json":
         import json

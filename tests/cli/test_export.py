@@ -222,7 +222,7 @@ def test_csv_lookup_table(tmp_path):
     out = tmp_path / "table.csv"
     _export(_save(tmp_path, "directional_static"), "csv", out, "--v-max", "0.01", "--points", "2001")
     lines = out.read_text().splitlines()
-    assert lines[0] == "v [m/s],F [N]"
+    assert lines[0] == "v [m/s],friction [N]"
     data = np.array([[float(x) for x in ln.split(",")] for ln in lines[1:]])
     assert data.shape == (2001, 2)
     np.testing.assert_allclose(data[:, 0], np.linspace(-0.01, 0.01, 2001), rtol=0, atol=1e-18)

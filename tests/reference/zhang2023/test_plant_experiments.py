@@ -74,7 +74,7 @@ def test_nut_driving_sweep_moves_table_against_nut():
 def _measured_crawl_numbers(crawl):
     rows = {r["table_speed_um_s"]: r for r in crawl.rows}
     assert crawl.status == 0, crawl.message
-    # measured (seed 0, 1 s feed): true-velocity ripple CDFS 1006 % / TDMS 965 % at 1 µm/s and 116 / 123 %
+    # measured (seed 0, 1 s feed): true-velocity ripple CDFS 1001 % / TDMS 960 % at 1 µm/s and 115 / 123 %
     # at 10 µm/s (current-noise jitter of the table); 10 ms averages CDFS 120 / 23 %, TDMS 158 / 30 %
     for v in (1.0, 10.0):
         r = rows[v]

@@ -91,3 +91,25 @@ def test_the_atomic_writer_never_replaces_a_device_or_pipe(runner, tmp_path):
     assert "is not a regular file (a device, pipe or socket)" in one_error_line(res)
     assert stat.S_ISFIFO(os.stat(fifo).st_mode)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]  # no temporary file left
+
+
+@pytest.mark.parametrize("where", ["header", "row"])
+def test_a_csv_row_of_millions_of_fields_is_refused_before_parsing(tmp_path, where):
+    """A 60 MB CSV whose one data row had 30 million fields under a 3-name header grew to 13.5 GB
+    in pandas (a 30-million-level row index) and ran for 9 minutes. 3 million fields here (6 MB)."""
+    import tracemalloc
+
+    import pandas  # noqa: F401  (imported before tracing: the loader imports it lazily)
+
+    from frictionkit.data.loaders import MAX_CSV_COLUMNS, read_table
+
+    path = tmp_path / "wide.csv"
+    many = ",".join(["1"] * 3_000_000)
+    path.write_text(f"{many}\n1,2,3\n" if where == "header" else f"t,v,F\n{many}\n")
+    tracemalloc.start()
+    with pytest.raises(DataError, match=f"{'the header' if where == 'header' else 'data row 1'} has more than "
+                                        f"{MAX_CSV_COLUMNS:,} fields"):
+        read_table(path)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 50e6  # the counting reads 64 kB chunks; the file itself is 6 MB

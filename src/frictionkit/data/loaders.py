@@ -107,6 +107,37 @@ def _duplicates(names: Sequence[str]) -> dict[str, list[int]]:
     return {n: ix for n, ix in pos.items() if len(ix) > 1}
 
 
+#: Most columns a CSV row may have. A recording has a handful; a row of 30 million fields under a
+#: 3-name header made pandas build a 30-million-level row index (13.5 GB, 9 minutes, then killed).
+MAX_CSV_COLUMNS = 10_000
+
+
+def _check_field_counts(p: Path, delimiter: str) -> None:
+    """Refuse a header or first data row with more than :data:`MAX_CSV_COLUMNS` fields, counting
+    delimiters in 64 kB chunks (nothing is parsed or held; a quoted delimiter counts too, which
+    can only over-count)."""
+    if len(delimiter) != 1:
+        return
+    counts = [1]
+    with p.open("r", errors="replace", newline="") as fh:
+        while len(counts) <= 2 and counts[-1] <= MAX_CSV_COLUMNS:
+            chunk = fh.read(1 << 16)
+            if not chunk:
+                break
+            for k, piece in enumerate(chunk.split("\n")):
+                if k > 0:
+                    counts.append(1)
+                    if len(counts) > 2:
+                        break
+                counts[-1] += piece.count(delimiter)
+                if counts[-1] > MAX_CSV_COLUMNS:
+                    break
+    for what, n in zip(("the header", "data row 1"), counts):
+        if n > MAX_CSV_COLUMNS:
+            raise DataError(f"file '{p}': {what} has more than {MAX_CSV_COLUMNS:,} fields (delimiter "
+                            f"{delimiter!r}); a recording has one column per signal — is the delimiter right?")
+
+
 def _more_fields_than_names(p: Path, delimiter: str) -> bool:
     """True when the first data row has more fields than the header (pandas' index of 0, 1, 2 ... then
     looks like its own row numbers)."""
@@ -146,6 +177,7 @@ def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
     if delimiter is None:
         counts = {d: head.count(d) for d in (",", ";", "\t")}
         delimiter = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
+    _check_field_counts(p, delimiter)
     try:
         df = pd.read_csv(p, sep=delimiter)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:

@@ -316,7 +316,8 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
     for j in range(P):
         if coef[j, 0, C_DELTA] != 0.0 or coef[j, 1, C_DELTA] != 0.0:
             want_delta = True
-    K = _k_table(coef, dm, doff)
+    K, Ki, Kv = _k_table(coef, dm, doff)
+    AB = np.zeros((2, 9))
     sx = np.zeros(P)
     sv = np.zeros(P)
     sz = np.zeros(P)
@@ -454,7 +455,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                 if not ok or not math.isfinite(e):
                     e = 1e10
                 if e <= 1.0:
-                    _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, want_delta, want_x,
+                    _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, Ki, Kv, AB, want_delta, want_x,
                                E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv)
                     k += j
                     xs = x[k]
@@ -498,7 +499,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
 
 
 @njit(error_model="numpy")
-def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, want_x,
+def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, Ki, Kv, AB, want_delta, want_x,
                E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv):
     """Sensitivities over an accepted spanning step of ``n`` samples from sample ``k``.
 
@@ -507,8 +508,8 @@ def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, wan
     Jacobian along the path is ``B + w c^T`` exactly: the remainder is in ``dz/dt`` alone).
     Each sample interval is solved exactly for ``q`` linear between the samples (the
     exponential trapezoidal rule: ``S+ = E S + dt (phi1 - phi2) q + dt phi2 q+``), implicit in
-    ``c+ . S+`` (a scalar per column, closed form). ``K[row]`` (``9 x p``): the packed-row
-    derivatives per column (:func:`_k_table`).
+    ``c+ . S+`` (a scalar per column, closed form). ``K, Ki, Kv``: the packed-row derivatives
+    per column (:func:`_k_table`); ``AB`` ``(2, 9)`` scratch.
     """
     P = sv.size
     rs = 0 if sd > 0.0 else 1
@@ -545,17 +546,22 @@ def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, wan
         zd = vb - a * zb
         sg = 1.0 if vb > 0.0 else -1.0
         zdv = 1.0 - s0 * zb * sg * ig * (1.0 - av * gr * ig)
-        fv = (u[b] - (s0 * zb + s1 * zd + s2 * vb)) * im
         G = s0 * av * ig * ig * zb  # d(dz/dt)/dg
-        Z0 = -av * ig * zb  # d(dz/dt)/dsigma0
-        g1 = G * (1.0 - phi)
-        g2 = G * phi
-        g3 = G * dF * dpv
-        g4 = G * dF * dpd
+        # the forcing per unit change of each packed quantity: al along w, be along e_v
+        # [sigma0, sigma1, Fc, Fs, vs, delta, sigma2, m, offset]
+        AB[0, 0] = -av * ig * zb  # d(dz/dt)/dsigma0
+        AB[0, 2] = G * (1.0 - phi)
+        AB[0, 3] = G * phi
+        AB[0, 4] = G * dF * dpv
+        AB[0, 5] = G * dF * dpd
+        AB[1, 0] = -zb * im
+        AB[1, 1] = -zd * im
+        AB[1, 6] = -vb * im
+        AB[1, 7] = -(u[b] - (s0 * zb + s1 * zd + s2 * vb)) * im * im  # -v' / m
+        AB[1, 8] = -im
         if i == 0:  # forcing at the step's first sample (c = 0 there by construction)
             for j in range(P):
-                al = g1 * Kr[2, j] + g2 * Kr[3, j] + g3 * Kr[4, j] + g4 * Kr[5, j] + Z0 * Kr[0, j]
-                be = -(Kr[0, j] * zb + Kr[1, j] * zd + Kr[6, j] * vb + Kr[8, j] + fv * Kr[7, j]) * im
+                al, be = _forcing(Kr, Ki[rs, j], Kv[rs, j], j, AB)
                 qv[j] = be + wv * al
                 qz[j] = al
             continue
@@ -563,15 +569,15 @@ def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, wan
         cz = -a - b22
         den = 1.0 / (1.0 - (cv * omv + cz * omz))
         for j in range(P):
-            al = g1 * Kr[2, j] + g2 * Kr[3, j] + g3 * Kr[4, j] + g4 * Kr[5, j] + Z0 * Kr[0, j]
-            be = -(Kr[0, j] * zb + Kr[1, j] * zd + Kr[6, j] * vb + Kr[8, j] + fv * Kr[7, j]) * im
+            al, be = _forcing(Kr, Ki[rs, j], Kv[rs, j], j, AB)
             svo = sv[j]
             szo = sz[j]
             qvo = qv[j]
             qzo = qz[j]
             # dt phi2 ft+ with ft+ = be e_v + al w
-            av_ = E[0] * svo + E[1] * szo + q10 * qvo + q11 * qzo + q20 * be + omv * al
-            az_ = E[2] * svo + E[3] * szo + q12 * qvo + q13 * qzo + q22 * be + omz * al
+            # (parenthesised: short dependency chains through the recurrence)
+            av_ = ((E[0] * svo + E[1] * szo) + (q10 * qvo + q11 * qzo)) + (q20 * be + omv * al)
+            az_ = ((E[2] * svo + E[3] * szo) + (q12 * qvo + q13 * qzo)) + (q22 * be + omz * al)
             kap = (cv * av_ + cz * az_) * den
             nsv = av_ + omv * kap
             nqv = be + wv * (al + kap)
@@ -586,16 +592,44 @@ def _span_sens(k, n, sd, v0, z0, u, dt, dt2, im, static, dyn, K, want_delta, wan
             Sv[b, j] = nsv
 
 
+@njit(inline="always")
+def _forcing(Kr, c, kv, j, AB):
+    """``(al, be)`` of column ``j``: its forcing ``be e_v + al w`` from the per-quantity basis ``AB``.
+    A column that moves one packed quantity (``c >= 0``, factor ``kv``: every plain parameter)
+    takes one product each; tied or mapped ones (Dahl's ``Fc``) the full sums."""
+    if c >= 0:
+        return kv * AB[0, c], kv * AB[1, c]
+    al = 0.0
+    be = 0.0
+    for q in range(9):
+        al += Kr[q, j] * AB[0, q]
+        be += Kr[q, j] * AB[1, q]
+    return al, be
+
+
 @njit
 def _k_table(coef, dm, doff):
     """``K[row, :, j]`` = the derivatives of ``[sigma0, sigma1, Fc, Fs, vs, delta, sigma2, m, offset]``
-    (row ``row``) with respect to ``theta_j``, contiguous in ``j``."""
+    (row ``row``) with respect to ``theta_j``, contiguous in ``j``; ``Ki[row, j]`` the one quantity
+    column ``j`` moves in that row (-1: several or none) and ``Kv[row, j]`` its factor."""
     P = coef.shape[0]
     K = np.empty((2, 9, P))
+    Ki = np.full((2, P), -1, dtype=np.int64)
+    Kv = np.zeros((2, P))
     for r in range(2):
         for j in range(P):
             for c in range(N_COEF):
                 K[r, c, j] = coef[j, r, c]
             K[r, 7, j] = dm[j]
             K[r, 8, j] = doff[j]
-    return K
+            nz = 0
+            for c in range(9):
+                if K[r, c, j] != 0.0:
+                    nz += 1
+                    Ki[r, j] = c
+                    Kv[r, j] = K[r, c, j]
+            if nz == 0:  # not in this row (a per-direction parameter): a zero factor
+                Ki[r, j] = 0
+            elif nz > 1:
+                Ki[r, j] = -1
+    return K, Ki, Kv

@@ -180,3 +180,25 @@ def test_atol_picks_the_substeps_and_flags_a_miss():
         fk.simulate_machine(m, dt=DT, inputs=inp, substeps=2, atol=1e-6, max_substeps=1)
     with pytest.raises(ParameterError, match="atol = -1.0"):
         fk.simulate_machine(m, dt=DT, inputs=inp, atol=-1.0)
+
+
+def test_closed_loop_with_scheduled_sites_runs_and_is_screened():
+    """A feedback loop over a scheduled (TDMSSC) friction site and feed-forward: the loop screen reads
+    a scheduled law's sliding slope (it crashed with AttributeError 'static_rows' on TDMSSC)."""
+    from frictionkit.machines.stability import loop_stability
+
+    law = fk.TDMSSC(Fc0=1.0, Fs0=1.5, Fc1=0.5, Fs1=0.5, vs=1e-3, sigma2=3.0)
+    m = fk.Machine("scheduled loop")
+    b = m.dof("base", inertia=1.0, v0=0.5)  # coasts: the schedule is its velocity
+    x = m.dof("x", inertia=2.0)
+    m.friction("f", x, law=law, schedule=b.velocity)
+    m.sensor("v", x, quantity="velocity")
+    m.add(FrictionFeedforward("ff", "v", law, scale=1.0, schedule="p"), Sum("u", {"v": -100.0, "ff": 1.0}))
+    m.actuator("a", x, command="u")
+    st = loop_stability(m, DT)
+    # force held over the sample on a mass with the friction slope sigma2 and the feed-forward's
+    # slope: v_{k+1} = (1 - (100 + 3 - 3) dt / m) v_k exactly for the linearised loop
+    assert st.radius == pytest.approx(1.0, rel=1e-9) and not st.unstable  # the free positions
+    t = _t(0.2)
+    res = fk.simulate_machine(m, dt=DT, inputs={"p": np.full(t.size, 0.5)})
+    assert res.status == 0, res.message

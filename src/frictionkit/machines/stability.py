@@ -81,15 +81,23 @@ class LoopStability:
                 f"its viscous slope), a {f} {grow}, mostly in {self.dof!r}, through {who}")
 
 
+def _sigma2(law) -> np.ndarray:
+    """A law's sliding slope ``sigma2`` per direction (row 0: v >= 0, row 1: v < 0); scheduled
+    static laws (``TDMSSC``) through their schedule rows, whose slope does not depend on the schedule."""
+    from ..models.tdmssc import schedule_rows
+    from .simulate import _static_rows, law_family
+
+    if law_family(law) == "static":
+        return schedule_rows(law)[:, 6]
+    return _static_rows(law)[:, 4]
+
+
 def _site_viscous(machine: Machine) -> np.ndarray:
     """Per friction site its sliding slope ``sigma2`` (the larger of the two directions)."""
-    from .simulate import _static_rows
-
     out = np.zeros(len(machine.sites))
     for j, s in enumerate(machine.sites):
         if s.role == "friction":
-            r = _static_rows(s.law)
-            out[j] = float(np.max(np.abs(r[:, 4])))
+            out[j] = float(np.max(np.abs(_sigma2(s.law))))
     return out
 
 
@@ -197,9 +205,7 @@ def closed_loop_matrix(machine: Machine, dt: float, *, open_actuator: int | None
         elif isinstance(b, Saturation):
             cur[b.out] = cur[b.inp].copy()
         elif isinstance(b, FrictionFeedforward):
-            from .simulate import _static_rows
-
-            slope = float(np.mean(_static_rows(b.law)[:, 4]))
+            slope = float(np.mean(_sigma2(b.law)))
             cur[b.out] = b.scale * slope * cur[b.velocity]
     U = np.zeros((nact, dim))
     for i, a in enumerate(machine.actuators):

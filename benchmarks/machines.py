@@ -6,7 +6,9 @@ Run:  .venv/bin/python benchmarks/machines.py [--quick] [--json OUT]
 Workloads (each timed end to end — machine packing, exact discretisation and the compiled
 loop — best of ``--repeat`` runs after one warm-up run; real-time factor = simulated time /
 wall time; ``rt_cpu`` in the details = simulated time / CPU time of the simulating thread, the
-steadier number on a shared machine):
+steadier number on a shared machine; ``kernel CPU`` = the share of that CPU time spent inside
+the compiled loop ``kernels.machine.run``, the rest is the Python wrapper: packing, exact
+discretisation, result checks):
 
 * ``ballscrew_dahl``: the seed 001 elastic stage (``presets/ballscrew.py``) in closed loop at
   0.5 ms, 10 sub-steps, paper controller (PTC + dual PID + DOB) and sensors, sinc
@@ -31,6 +33,10 @@ Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is fas
   pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
   ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
   max |dx| against a tight reference is <= the core's. Skipped if numbalsoda is missing.
+
+Compile time: a fresh process with an empty ``NUMBA_CACHE_DIR`` runs the ball-screw stage
+twice (first call minus second = compile), then again with the filled cache; the cold run also
+lists the self CPU time of every compiled function (numba's compile events).
 
 Nothing is asserted; the numbers go to the issue notes. The machine these were measured on
 may be shared: the load average is printed with the results.
@@ -58,20 +64,49 @@ from frictionkit.reproduce.zhu_fujimoto import (_classify, paper_compensator, pa
                                                 paper_sensors)
 
 
+class _KernelClock:
+    """CPU time of the calling thread spent inside the machine kernel (``kernels.machine.run``),
+    so a workload's cost splits into the compiled loop and the Python wrapper around it
+    (packing, exact discretisation, the result checks). Installed by wrapping the module
+    attribute the wrapper calls through; adds one Python call per run."""
+
+    def __init__(self):
+        from frictionkit.kernels import machine as km
+
+        self.km = km
+        self.inner = km.run
+        self.cpu = 0.0
+        km.run = self
+
+    def __call__(self, *args):
+        c0 = time.thread_time()
+        try:
+            return self.inner(*args)
+        finally:
+            self.cpu += time.thread_time() - c0
+
+
+KERNEL_CLOCK = _KernelClock()
+
+
 def best_of(fn, repeat):
     """``(wall, cpu, result)``: the least wall time and the least CPU time of the calling thread
     (the one running the compiled loop; BLAS worker threads spinning after scipy's small matrix
     calls are not counted) of ``repeat`` runs after one warm-up run. On a shared machine the wall
     time includes the time other jobs held the cores; the CPU time does not (it is the steadier
-    number there)."""
+    number there). The least kernel CPU time of the same runs is left in ``best_of.kernel_cpu``
+    (see :class:`_KernelClock`)."""
     fn()  # warm-up (compile / caches)
-    best, best_cpu, out = math.inf, math.inf, None
+    best, best_cpu, best_kernel, out = math.inf, math.inf, math.inf, None
     for _ in range(repeat):
+        KERNEL_CLOCK.cpu = 0.0
         c0 = time.thread_time()
         t0 = time.perf_counter()
         out = fn()
         best = min(best, time.perf_counter() - t0)
         best_cpu = min(best_cpu, time.thread_time() - c0)
+        best_kernel = min(best_kernel, KERNEL_CLOCK.cpu)
+    best_of.kernel_cpu = best_kernel
     return best, best_cpu, out
 
 
@@ -94,14 +129,16 @@ def bench_ballscrew(duration, repeat):
         u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
         t_new, c_new, r_new = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens), repeat)
         assert r_new.success, r_new.message
-        out[nut_model] = {"core_s": t_new, "rt": duration / t_new, "cpu_s": c_new, "rt_cpu": duration / c_new}
+        out[nut_model] = {"core_s": t_new, "rt": duration / t_new, "cpu_s": c_new, "rt_cpu": duration / c_new,
+                          "kernel_cpu_s": best_of.kernel_cpu}
     plant = paper_plant()
     u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
     nut, guide = gms4(plant.nut_friction), gms4(plant.guide_friction)
     t_g, c_g, r_g = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens, nut_law=nut,
                                               guide_law=guide), repeat)
     assert r_g.success, r_g.message
-    out["gms4"] = {"core_s": t_g, "rt": duration / t_g, "cpu_s": c_g, "rt_cpu": duration / c_g, "message": r_g.message,
+    out["gms4"] = {"core_s": t_g, "rt": duration / t_g, "cpu_s": c_g, "rt_cpu": duration / c_g,
+                   "kernel_cpu_s": best_of.kernel_cpu, "message": r_g.message,
                    "max_err_um": float(np.abs(r_g.error).max() * 1e6)}
     return out
 
@@ -177,8 +214,8 @@ def bench_two_shaft(duration, repeat):
     t, c, r = best_of(lambda: simulate_machine(m, dt=dt, inputs=inp, substeps=10), repeat)
     x = r.position(R0 * (m.coord("screw") + m.coord("nut")))
     x_ref = R0 * (inp["th1_ref"] + inp["th2_ref"])
-    return {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c, "message": r.message,
-            "max_table_err_um": float(np.abs(x - x_ref)[int(0.5 / dt):].max() * 1e6)}
+    return {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c, "kernel_cpu_s": best_of.kernel_cpu,
+            "message": r.message, "max_table_err_um": float(np.abs(x - x_ref)[int(0.5 / dt):].max() * 1e6)}
 
 
 # --------------------------------------------------------------------------- EMPS
@@ -196,7 +233,8 @@ def bench_emps(repeat, csv=EMPS_CSV):
     out = {}
     for n_sub in (40, 10):
         t, c, r = best_of(lambda: simulate_machine(m, dt=1e-3, inputs={"qg": qg}, substeps=n_sub), repeat)
-        out[n_sub] = {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c, "message": r.message}
+        out[n_sub] = {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c,
+                      "kernel_cpu_s": best_of.kernel_cpu, "message": r.message}
     return out
 
 
@@ -283,7 +321,24 @@ def bench_lugre_peer(repeat):
 
 # --------------------------------------------------------------------------- compile time
 CHILD = r"""
-import time, sys
+import json, time, sys
+from numba.core import event
+# self CPU time of every compiled function (its own typing, lowering, LLVM optimisation and code
+# generation, including the re-optimisation of the callees linked into it; nested compiles of
+# callees excluded), from numba's compile events
+stack, self_cpu = [], {}
+class Clock(event.Listener):
+    def on_start(self, ev):
+        stack.append([time.thread_time(), 0.0])
+    def on_end(self, ev):
+        c0, inner = stack.pop()
+        d = time.thread_time() - c0
+        if stack:
+            stack[-1][1] += d
+        f = ev.data["dispatcher"].py_func
+        name = f.__module__.rsplit(".", 1)[-1] + "." + f.__name__
+        self_cpu[name] = self_cpu.get(name, 0.0) + d - inner
+event.register("numba:compile", Clock())
 t0 = time.perf_counter()
 import numpy as np
 import frictionkit as fk
@@ -304,6 +359,7 @@ if which == "core":
     inp = two_shaft_reference(0.01, 250e-6)
     t3 = time.perf_counter(); fk.simulate_machine(m, dt=250e-6, inputs=inp); extra = time.perf_counter() - t3
 print(t_import, (t1 - t0) - (t2 - t1), t2 - t1, extra, (c1 - c0) - (c2 - c1))
+print(json.dumps(self_cpu))
 """
 
 
@@ -319,11 +375,18 @@ def compile_times():
             for label in ("cold", "cached"):
                 p = subprocess.run([sys.executable, "-c", CHILD, which, here], env=env, capture_output=True,
                                    text=True, check=True)
-                t_imp, t_comp, t_run, t_other, c_comp = map(float, p.stdout.split())
+                lines = p.stdout.strip().splitlines()
+                t_imp, t_comp, t_run, t_other, c_comp = map(float, lines[-2].split())
                 row[label] = {"import_s": t_imp, "first_call_minus_second_s": t_comp, "second_call_s": t_run,
-                              "other_layout_first_call_s": t_other, "first_call_minus_second_cpu_s": c_comp}
+                              "other_layout_first_call_s": t_other, "first_call_minus_second_cpu_s": c_comp,
+                              "self_cpu_s": json.loads(lines[-1])}
             out[which] = row
     return out
+
+
+def _kshare(r) -> str:
+    """The kernel's share of a workload's CPU time, as a column: ``kernel %``."""
+    return f"{100.0 * r['kernel_cpu_s'] / r['cpu_s']:9.0f}%"
 
 
 def main() -> None:
@@ -351,20 +414,20 @@ def main() -> None:
           f"{load1[0]:.2f} at end — the factors below are lower bounds of a quiet machine's; 'rt x (CPU)' divides "
           "by the simulating thread's CPU time instead of the wall time (steadier under load; still inflated by cache "
           "contention)")
-    print(f"\n{'workload':58s} {'real-time x':>12s} {'wall [s]':>9s} {'rt x (CPU)':>11s}  notes")
+    print(f"\n{'workload':58s} {'real-time x':>12s} {'wall [s]':>9s} {'rt x (CPU)':>11s} {'kernel CPU':>10s}  notes")
     for nm in ("sliding", "flank", "hertz"):
         r = bs[nm]
         print(f"{'ball screw, Dahl, ' + nm + ' nut, 0.5 ms, 10 sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} "
-              f"{r['rt_cpu']:11,.0f}")
+              f"{r['rt_cpu']:11,.0f} {_kshare(r)}")
     r = bs["gms4"]
     print(f"{'ball screw, GMS-4 at nut and guide (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} "
-          f"{r['rt_cpu']:11,.0f}  max|e| {r['max_err_um']:.2f} um; {r['message']}")
+          f"{r['rt_cpu']:11,.0f} {_kshare(r)}  max|e| {r['max_err_um']:.2f} um; {r['message']}")
     print(f"{'two-shaft drive, GMS-3 x4, 2 PID, 250 us, 10 sub (core)':58s} {ts['rt']:12,.0f} {ts['core_s']:9.3f} "
-          f"{ts['rt_cpu']:11,.0f}  "
+          f"{ts['rt_cpu']:11,.0f} {_kshare(ts)}  "
           f"max table err {ts['max_table_err_um']:.2f} um; {ts['message']}")
     for n_sub, r in em.items():
-        print(f"{f'EMPS axis, 1 ms, {n_sub} sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} {r['rt_cpu']:11,.0f}  "
-              f"{r['message']}")
+        print(f"{f'EMPS axis, 1 ms, {n_sub} sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} {r['rt_cpu']:11,.0f} "
+              f"{_kshare(r)}  {r['message']}")
     if "skipped" in lg:
         print(f"LuGre stick-slip vs numbalsoda: skipped ({lg['skipped']})")
     else:
@@ -387,6 +450,9 @@ def main() -> None:
                   f"{c['cached']['first_call_minus_second_s']:6.2f} s (import {c['cold']['import_s']:.1f} s)"
                   + (f"; a new layout (two-shaft) then: {c['cold']['other_layout_first_call_s']:.2f} s"
                      if which == "core" else ""))
+            top = sorted(c["cold"]["self_cpu_s"].items(), key=lambda kv: -kv[1])
+            print("  cold compile, self CPU per compiled function (numba compile events; 'impl' = numba's own "
+                  "overloads):\n    " + ", ".join(f"{k} {v:.2f} s" for k, v in top[:10] if v >= 0.05))
     summary = {
         "ballscrew_dahl_realtime": bs["sliding"]["rt"],
         "ballscrew_gms4_realtime": bs["gms4"]["rt"],

@@ -3,6 +3,9 @@
     python tests/readme_walk.py --list          # every command: walked here / run by a section test / left out, why
     python tests/readme_walk.py DIR [--all]     # run the walked commands (--all: the section tests' too) in DIR
 
+``--all`` in a folder whose ``../shared/data`` is the data runs 27 commands in README order
+(the tro2021 loop included): 120 s wall on 2 loaded cores (2026-11-23).
+
 Commands run in-process in one folder, in README order: ``frictionkit ...`` through the CLI app
 (typer's runner: the same code as the console script, without a 4 s interpreter start per
 command), ``python -c "..."`` and ```python blocks by ``exec``, other shell lines (``printf ... >
@@ -90,6 +93,10 @@ SECTION_TESTS = [
     ("DuckDB", "python:import duckdb", "tests/fleet/test_readme_duckdb.py::test_readme_duckdb_query"),
 ]
 
+#: Section-test commands that read what a left-out command writes: ``--all`` does not run them.
+NEEDS_LEFT_OUT = {"tests/fleet/test_readme_duckdb.py::test_readme_duckdb_query":
+                  "reads the fleet's results.parquet (the left-out fleet commands; its test builds a small fleet)"}
+
 #: Commands nobody runs, and why.
 LEFT_OUT = [
     ("## Set-up", "make demo", "builds the whole demo (minutes); `make demo` is its own CI step"),
@@ -147,14 +154,22 @@ def _strip_optional(argv: list[str]) -> list[str]:
     return out
 
 
-def run(cmd: Command, cwd: Path, *, runner=None) -> str:
-    """Run one command in ``cwd``; returns its output; raises AssertionError naming it on failure."""
+def run(cmd: Command, cwd: Path, *, runner=None, shell_vars: dict | None = None) -> str:
+    """Run one command in ``cwd``; returns its output; raises AssertionError naming it on failure.
+
+    ``shell_vars``: variables set by earlier ``NAME=value`` lines of the same block (updated here),
+    passed to the shell commands after them."""
     where = f"README line {cmd.line} ({cmd.section}): {cmd.text[:120]}"
     old = Path.cwd()
     os.chdir(cwd)
     try:
         if cmd.kind == "python":
             exec(compile(cmd.text, f"README.md:{cmd.line}", "exec"), {"__name__": "__readme__"})  # noqa: S102
+            return ""
+        if re.fullmatch(r"[A-Za-z_]\w*=\S*", cmd.text.strip()):  # D=../shared/data/...: for the lines after it
+            name, _, value = cmd.text.strip().partition("=")
+            if shell_vars is not None:
+                shell_vars[name] = value
             return ""
         argv = _strip_optional(shlex.split(cmd.text, comments=True))
         if argv[0] == "frictionkit":
@@ -171,7 +186,9 @@ def run(cmd: Command, cwd: Path, *, runner=None) -> str:
         if argv[:2] == ["python", "-c"] and len(argv) == 3:
             exec(compile(argv[2], f"README.md:{cmd.line}", "exec"), {"__name__": "__readme__"})  # noqa: S102
             return ""
-        proc = subprocess.run(["bash", "-ec", cmd.text], cwd=cwd, capture_output=True, text=True, timeout=60)
+        env = {**os.environ, **(shell_vars or {})}
+        proc = subprocess.run(["bash", "-ec", cmd.text], cwd=cwd, capture_output=True, text=True, timeout=3600,
+                              env=env)
         assert proc.returncode == 0, f"{where}\nexit {proc.returncode}\n{proc.stdout}{proc.stderr}"
         return proc.stdout
     finally:
@@ -181,11 +198,13 @@ def run(cmd: Command, cwd: Path, *, runner=None) -> str:
 def walk(cwd: Path, *, everything: bool = False) -> dict[Command, str]:
     """Run the walked commands (``everything``: the section tests' too) in README order in ``cwd``."""
     text = README.read_text(encoding="utf-8")
-    out = {}
+    out, shell_vars, block = {}, {}, None
     for cmd in commands(text):
-        kind, _ = classify(cmd, text)
-        if kind == "walk" or (everything and kind == "section"):
-            out[cmd] = run(cmd, cwd)
+        if cmd.line != block:  # a new block: a fresh shell
+            shell_vars, block = {}, cmd.line
+        kind, why = classify(cmd, text)
+        if kind == "walk" or (everything and kind == "section" and why not in NEEDS_LEFT_OUT):
+            out[cmd] = run(cmd, cwd, shell_vars=shell_vars)
     return out
 
 

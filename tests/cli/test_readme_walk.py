@@ -29,6 +29,7 @@ def test_every_readme_command_is_accounted_for():
     for rules in (walk.SECTION_TESTS, walk.LEFT_OUT):
         stale = [r for r in rules if r[2] not in used]
         assert not stale, stale
+    assert set(walk.NEEDS_LEFT_OUT) <= used
     # each named section test exists and reads the README
     for test in {why for kind, why in kinds.values() if kind == "section"}:
         path, _, name = test.partition("::")

@@ -113,3 +113,18 @@ def test_a_csv_row_of_millions_of_fields_is_refused_before_parsing(tmp_path, whe
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert peak < 50e6  # the counting reads 64 kB chunks; the file itself is 6 MB
+
+
+def test_a_complex_mat_column_is_refused_not_cast_to_its_real_part(tmp_path):
+    """Was: exit 0 with numpy's 'Casting complex values to real discards the imaginary part'."""
+    import numpy as np
+    import scipy.io as sio
+
+    from frictionkit.data import load_recording
+
+    t = np.arange(50) * 1e-3
+    sio.savemat(tmp_path / "c.mat", {"t": t, "v": t + 1j * t, "w": t + 0j, "F": t})
+    with pytest.raises(DataError, match="column 'v' .* complex values with a non-zero imaginary part"):
+        load_recording(tmp_path / "c.mat", time="t", velocity="v", force="F")
+    rec = load_recording(tmp_path / "c.mat", time="t", velocity="w", force="F")  # imaginary part 0: fine
+    assert np.array_equal(rec.v, t)

@@ -361,6 +361,11 @@ def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np
     if arr.dtype.kind == "b" or (arr.dtype.kind == "O" and any(isinstance(x, (bool, np.bool_)) for x in arr.ravel()[:1000])):
         raise DataError(f"file '{p}': column '{col}' (given for {role}) holds true/false values, not numbers; "
                         "a flag column cannot be a signal (True/False would become 1/0)")
+    if arr.dtype.kind == "c":  # complex: numpy dropped the imaginary part with only a ComplexWarning
+        if np.any(arr.imag != 0):
+            raise DataError(f"file '{p}': column '{col}' (given for {role}) holds complex values with a non-zero "
+                            "imaginary part; a signal must be real")
+        arr = arr.real
     if arr.dtype.kind not in "biuf":
         try:
             arr = arr.astype(np.float64)

@@ -169,3 +169,14 @@ def test_rho_margin_keeps_a_free_body():
     """A free rigid body (double eigenvalue 1) under a pure velocity loop is not 'unstable'."""
     st = loop_stability(velocity_loop(100.0), 1e-3)
     assert st.radius <= 1.0 + RHO_MARGIN and not st.unstable
+
+
+def test_a_failing_screen_never_breaks_a_finished_run(monkeypatch):
+    import frictionkit.machines.stability as stab
+
+    def boom(machine, dt):
+        raise AttributeError("static_rows")
+
+    monkeypatch.setattr(stab, "loop_stability", boom)
+    res = simulate_machine(velocity_loop(1.0), dt=1e-3, n_samples=20)
+    assert res.status == 0 and "screen was skipped (AttributeError: static_rows)" in res.message

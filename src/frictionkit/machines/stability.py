@@ -293,7 +293,11 @@ def loop_check(machine: Machine, res, dt: float, rerun):
 
     if res.status != 0 or res.substeps < 1:
         return res
-    stab = loop_stability(machine, dt)
+    try:
+        stab = loop_stability(machine, dt)
+    except Exception as exc:  # a screen must never break a finished run (a TDMSSC site once did)
+        return dataclasses.replace(res, message=f"{res.message}; note: the closed-loop stability screen was skipped "
+                                                f"({type(exc).__name__}: {exc})")
     if not stab.unstable:
         return res
     detail = stab.describe(dt)

@@ -127,7 +127,7 @@ def motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: float, 
     return F, S, int(st)
 
 
-def reduce_lsq(A: np.ndarray, col_scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+def reduce_lsq(A: np.ndarray, col_scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """The ``(p + 1)``-row least-squares problem with the same cost, gradient and Gauss–Newton matrix.
 
     ``A = [J r]`` (``N x (p + 1)``; with ``col_scale`` the Jacobian is ``A[:, :p] * col_scale``).
@@ -139,11 +139,14 @@ def reduce_lsq(A: np.ndarray, col_scale: np.ndarray | None = None) -> tuple[np.n
     Cholesky factor of the column-equilibrated Gram matrix (one BLAS pass over ``A``), or from a
     QR factorisation when that is ill-conditioned (a pivot below 1e-5 of the unit diagonal:
     ``cond(J)`` beyond ~1e5, where the Gram matrix would lose more than 1e-6 of relative
-    accuracy). ``rho`` is set from ``|r|^2`` itself so that the cost is exact.
+    accuracy). ``rho`` is set from ``|r|^2`` itself so that the cost is exact. None when ``A``
+    holds a non-finite value.
     """
     p = A.shape[1] - 1
     sc = np.ones(p + 1) if col_scale is None else np.append(col_scale, 1.0)
     G = (A.T @ A) * np.outer(sc, sc)
+    if not np.isfinite(G).all():
+        return None  # a non-finite entry of A (checked here, not by a pass over A)
     rr = float(G[p, p])
     d = np.sqrt(np.diag(G))
     d = np.where(d > 0, d, 1.0)
@@ -173,14 +176,20 @@ class ReducedProblem:
     those of :func:`frictionkit.simulate`). Where the augmented run fails, the residual and a
     forward-difference Jacobian come from ``prob`` (plain simulations), reduced the same way.
     ``prob``'s counters (``nfev``, ``nsim``, ``nsens``, ``cost_history``, ``progress``) are kept.
+    :meth:`full` gives the full ``(r, J)`` of the last point whose Jacobian was asked for (the
+    fitter's statistics at the optimum).
     """
 
     def __init__(self, prob):
         self.prob = prob
-        self._last: tuple[bytes, np.ndarray, np.ndarray] | None = None
+        self._last = None  # (key, f, Jr, A, col_scale) of the last fun point
+        self._accepted = None  # the same for the last jac point
+        w = prob.w
+        self._binary = bool(np.all((w == 0.0) | (w == 1.0)))  # the usual mask: zero rows, no product
+        self._zero = np.flatnonzero(w == 0.0)
 
-    def _full(self, p: np.ndarray):
-        """``([J r], column scale)`` at transformed ``p``: weighted residual ``r``, ``J = d r / d p``."""
+    def _exact(self, p: np.ndarray):
+        """``([J r], d theta / d p)`` from one augmented run at transformed ``p`` (None if it fails)."""
         prob = self.prob
         theta = prob.to_nat(p)
         P = theta.size
@@ -190,33 +199,48 @@ class ReducedProblem:
                 yh, A, status = force_driven(lambda th: prob.tmpl.build(prob.free, th), theta, prob.u, prob.dt,
                                              prob.options, prob.segments, prob.compare, prob._coef_cache, spare=1)
         except ParameterError:
-            status, yh, A = -1, None, None
-        prob.nsens += 1
-        if status == 0:
-            A[:, P] = yh - prob.y
+            return None
+        finally:
+            prob.nsens += 1
+        if status != 0:
+            return None
+        A[:, P] = yh - prob.y
+        if self._binary:
+            A[self._zero] = 0.0
+        else:
             A *= prob.w[:, None]
-            if np.isfinite(A).all():
-                return A, np.where(prob.is_log, theta, prob.scale)  # d theta / d p
+        return A, np.where(prob.is_log, theta, prob.scale)
+
+    def _fallback(self, p: np.ndarray):
+        """``[J r]`` from plain simulations: the residual of ``prob`` and a difference Jacobian."""
+        prob = self.prob
         exact, prob.exact = prob.exact, False
         try:
-            r = prob._resid_nat(theta)
+            r = prob._resid_nat(prob.to_nat(p))
             prob.nsim += 1
             J = prob.jac(p)
         finally:
             prob.exact = exact
-        return np.column_stack([J, r]), None
+        return np.column_stack([J, r])
 
     def fun(self, p):
         p = np.asarray(p, float)
         key = p.tobytes()
         if self._last is not None and self._last[0] == key:
             return self._last[1]
-        A, sc = self._full(p)
-        f, Jr = reduce_lsq(A, sc)
+        A, sc, red = None, None, None
+        out = self._exact(p)
+        if out is not None:
+            A, sc = out
+            red = reduce_lsq(A, sc)
+        if red is None:
+            A, sc = self._fallback(p), None
+            red = reduce_lsq(A)
+        f, Jr = red
         prob = self.prob
         prob.nfev += 1
         prob.cost_history.append(0.5 * float(f @ f))
-        self._last = (key, f, Jr)
+        self._last = (key, f, Jr, A, sc)
         if prob.progress is not None:
             prob.progress(prob.nfev, prob.nsim + prob.nsens, prob.cost_history[-1])
         return f
@@ -225,4 +249,15 @@ class ReducedProblem:
         p = np.asarray(p, float)
         if self._last is None or self._last[0] != p.tobytes():
             self.fun(p)
+        self._accepted = self._last
         return self._last[2]
+
+    def full(self, p) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(r, J)`` (``N``, ``N x p``) at ``p`` if it is the last point whose Jacobian was asked for."""
+        acc = self._accepted
+        if acc is None or acc[0] != np.asarray(p, float).tobytes():
+            return None
+        A, sc = acc[3], acc[4]
+        P = A.shape[1] - 1
+        J = A[:, :P] if sc is None else A[:, :P] * sc[None, :]
+        return A[:, P].copy(), J

@@ -11,6 +11,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -121,3 +123,83 @@ def test_error_falls_with_the_tolerance(u):
         _, _, x, _, F = _run(kl.lugre_force, model, 1.0, u, rtol=rtol, atol_v=rtol * 1e-3, atol_z=rtol * 1e-5)
         errs.append(np.abs(x - xr).max())
     assert errs[1] < 0.2 * errs[0], errs
+
+
+# --------------------------------------------------------------------------- issue 13: stiff bristles
+# The issue's case: 2 N (> Fs = 1.5 N) on 1 kg must slide, but sigma0 = 1e16 N/m returned status 0
+# with max|v| 3e-8 m/s (sigma0 z ran past Fs; the mass stuck). Expected behaviour (issue 13's rule):
+# a run is right -- within 1 % of the x and v ranges of the stiff-contact limit -- or flagged
+# (status != 0, the message naming sigma0). The limit is the solve_ivp twin at sigma0 = 1e8 N/m:
+# for sigma0 >= 1e8 the pre-sliding deflection Fs / sigma0 <= 1.5e-8 m is ~1e-7 of the travel.
+STIFF_DT = 1e-3
+STIFF_U = 2.0 * np.sin(np.pi * np.arange(600) * STIFF_DT)  # 0.6 s: breakaway at 0.27 s, peak speed at 0.5 s
+STIFF_LAW = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
+STIFF_SIGMA0 = (1e8, 1e12, 1e15, 1e16, 1e20, 1e30, 1e100, 1e300)
+
+
+def _stiff(kind, s0):
+    if kind == "lugre":
+        return fk.LuGre(STIFF_LAW, sigma0=s0, sigma1=63.2)
+    return fk.Dahl(Fc=1.5, sigma0=s0, sigma2=0.4)
+
+
+@pytest.fixture(scope="module")
+def stiff_limit():
+    from frictionkit.simulation.reference import reference_force_driven
+
+    return {kind: reference_force_driven(_stiff(kind, 1e8), 1.0, STIFF_U, STIFF_DT, rtol=1e-8, atol=1e-15)
+            for kind in ("lugre", "dahl")}
+
+
+@pytest.mark.parametrize("kind", ["lugre", "dahl"])
+def test_stiff_bristles_are_simulated_right_or_flagged(stiff_limit, kind):
+    ref = stiff_limit[kind]
+    assert np.abs(ref["v"]).max() > 0.1  # the limit slides (2 N > the 1.5 N breakaway)
+    verdicts = []
+    for s0 in STIFF_SIGMA0:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a flagged run also warns
+            res = fk.simulate(_stiff(kind, s0), plant=fk.Mass(1.0), force=STIFF_U, dt=STIFF_DT)
+        if res.status == 0:
+            ex = np.abs(res.x - ref["x"]).max() / np.ptp(ref["x"])
+            ev = np.abs(res.v - ref["v"]).max() / np.ptp(ref["v"])
+            verdicts.append((s0, "right" if max(ex, ev) <= 0.01 else f"WRONG ({ex:.2g}, {ev:.2g})"))
+            # the exact bristle deflection never leaves [-Fs/sigma0, Fs/sigma0] from rest
+            assert np.abs(res.states["z"]).max() * s0 <= 1.5 * (1.0 + 1e-9)
+        else:
+            assert "sigma0 = " in res.message and "N/m" in res.message, res.message
+            verdicts.append((s0, f"flagged {res.status}"))
+    print(kind, verdicts)
+    assert not [v for v in verdicts if v[1].startswith("WRONG")], verdicts
+    # the issue's own case (sigma0 = 1e16) and the absurd ones are flagged, not stuck
+    assert dict(verdicts)[1e16].startswith(("flagged", "right"))
+    assert dict(verdicts)[1e8] == "right" and dict(verdicts)[1e12] == "right"
+
+
+def test_batch_of_stiff_bristles_keeps_each_set_as_simulate_runs_it():
+    """One set with sigma0 = 1e300 made every set of the batch fail (tolerances shared over the
+    sets); now each set runs with its own tolerances: the 1e5 set's SSE is simulate()'s, the
+    stiff sets are flagged and the message names sigma0."""
+    models = [_stiff("lugre", s) for s in (1e5, 1e30, 1e300)]
+    target = np.zeros(STIFF_U.size)
+    res = fk.simulate_batch(models, masses=1.0, force=STIFF_U, dt=STIFF_DT, target=target, compare="x")
+    alone = fk.simulate(models[0], plant=fk.Mass(1.0), force=STIFF_U, dt=STIFF_DT)
+    assert res.status[0] == 0 and res.sse[0] == pytest.approx(float((alone.x[1:] ** 2).sum()), rel=1e-12)
+    assert (res.status[1:] != 0).all() and np.isinf(res.sse[1:]).all()
+    assert "sigma0 = 1e+30 N/m" in res.message
+    fixed = fk.simulate_batch(models, masses=1.0, force=STIFF_U, dt=STIFF_DT, target=target, method="fixed")
+    assert (fixed.status[1:] != 0).all()  # no error control there: flagged as too coarse (status 4)
+
+
+def test_the_issue_13_case_slides_or_is_flagged():
+    """The reported call verbatim (1.5 s): it returned status 0 with max|v| 3e-8 m/s."""
+    u = 2 * np.sin(np.pi * np.arange(1500) * 1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = fk.simulate(fk.LuGre(fk.Stribeck(Fc=1, Fs=1.5, vs=1e-3, delta=2, sigma2=0.4), sigma0=1e16, sigma1=63.2),
+                          plant=fk.Mass(1), force=u, dt=1e-3)
+    if res.status == 0:
+        assert np.abs(res.v).max() > 0.1  # 2 N > Fs = 1.5 N: it must slide
+    else:
+        assert "sigma0 = 1e+16 N/m" in res.message and "omega" in res.message, res.message
+        assert np.nanmax(np.abs(res.v)) > 0.1  # and what it did return before stopping slid

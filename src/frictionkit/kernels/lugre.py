@@ -67,7 +67,7 @@ import numpy as np
 
 from .._jit import njit, prange
 from ._phi2 import phis
-from ._stribeck import R_DF, R_S2, g_row, ig_row, ig_slope_row
+from ._stribeck import R_DF, R_FC, R_FS, R_S2, g_row, ig_row, ig_slope_row
 from ._stribeck import row as static_row
 
 GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
@@ -145,6 +145,37 @@ def _flat(p):
 
 
 @njit(inline="always")
+def _z_bounds(p0, p1, d0, d1, z0):
+    """Bounds ``(zlo, zhi)`` that the exact bristle deflection never leaves from ``z0``.
+
+    Moving forward, ``dz/dt = v (1 - sigma0 z / g(v))`` is negative above ``g / sigma0``;
+    backward, ``dz/dt = -|v| (1 + sigma0 z / g)`` is positive below ``-g / sigma0``. So
+    ``z`` stays in ``[min(z0, -Gmax_1 / sigma0_1), max(z0, Gmax_0 / sigma0_0)]`` with
+    ``Gmax`` the larger (floored) level of each row. The kernels keep the numerical ``z``
+    inside too: a step that leaves the bounds has a local error of at least the excess
+    (counted by :func:`_z_excess`), and an accepted step is projected back onto them
+    (clipping onto an interval that holds the exact solution never increases the error).
+    Issue 13: at ``sigma0 = 1e16`` N/m a ROS2 step over a whole sample ran ``sigma0 z``
+    to 2 N, past ``Fs = 1.5`` N, with a filtered error estimate far below 1, and the mass
+    stuck; with the excess counted but no projection, steps crept past the bound by one
+    tolerance each (``sigma0 = 1e30``: stuck again).
+    """
+    zhi = max(p0[R_FC], p0[R_FS]) / d0[0]
+    zlo = -max(p1[R_FC], p1[R_FS]) / d1[0]
+    return min(z0, zlo), max(z0, zhi)
+
+
+@njit(inline="always")
+def _z_excess(zn, zlo, zhi, atol_z, rtol):
+    """How far ``zn`` left the invariant bounds ``[zlo, zhi]``, in tolerances (0 inside)."""
+    if zn > zhi:
+        return (zn - zhi) / (atol_z + rtol * abs(zhi))
+    if zn < zlo:
+        return (zlo - zn) / (atol_z + rtol * abs(zlo))
+    return 0.0
+
+
+@njit(inline="always")
 def _atol_run(atol_v, v_floor, rtol, vpk):
     """Absolute velocity tolerance that follows the run's range.
 
@@ -161,13 +192,14 @@ def _atol_run(atol_v, v_floor, rtol, vpk):
 
 
 @njit(inline="always")
-def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor):
+def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor, zlo, zhi):
     """Advance the force-driven state over one sample interval.
 
     Returns ``(x, v, z, F, h_try, n_substeps, status, vpk)`` with ``F`` the friction
     force at the end of the interval and ``vpk`` the largest ``|v|`` of the run so far
-    (see :func:`_atol_run`). Scalars and tuples only (no arrays): see the note on
-    reference counting in :mod:`._stribeck`.
+    (see :func:`_atol_run`). ``zlo, zhi``: bounds of ``z`` (:func:`_z_bounds`); a sub-step
+    leaving them counts the excess as error. Scalars and tuples only (no arrays): see
+    the note on reference counting in :mod:`._stribeck`.
     """
     im = 1.0 / m
     du = (u1 - u0) / dt
@@ -222,6 +254,11 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
         q = abs(ez) / (atol_z + rtol * abs(zn))
         if q > e:
             e = q
+        # the filtered estimate can miss a whole-sample step that runs z past its bound
+        # (a near-singular I - gamma h J at breakaway, issue 13): the excess is an error too
+        q = _z_excess(zn, zlo, zhi, atol_z, rtol)
+        if q > e:
+            e = q
         if e > 1.0 and h <= H_MIN * dt:
             # step-size underflow: the tolerance cannot be met (e.g. a mass so small that
             # the velocity follows the force faster than 1e-7 dt); stop, do not accept
@@ -229,7 +266,7 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
         if e <= 1.0:
             x = xn
             v = vn
-            z = zn
+            z = min(max(zn, zlo), zhi)  # projected onto the invariant bounds (_z_bounds)
             t += h
             w = u0 + du * t
             if abs(v) > vpk:
@@ -268,10 +305,11 @@ def lugre_force_ros2(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, ma
     h_try = dt
     total = 0
     vpk = abs(v0)
+    zlo, zhi = _z_bounds(p0, p1, d0, d1, z0)
     for k in range(u.size - 1):
         xs, vs_, zs, Fs_, h_try, n, st, vpk = _interval(
             xs, vs_, zs, h_try, u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub,
-            vpk, v_floor,
+            vpk, v_floor, zlo, zhi,
         )
         total += n
         x[k + 1] = xs
@@ -308,6 +346,7 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
     F[0] = _force(vs_, zs, p0, p1, d0, d1)[1]
     total = 0
     vpk = abs(v0)
+    zlo, zhi = _z_bounds(p0, p1, d0, d1, z0)
     k = 0
     n_try = 1
     have = False  # derivatives at (vs_, zs) carried over from the last accepted step
@@ -423,6 +462,8 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
                 ev = 0.0
                 ez = 0.0
                 ok = True
+                zmx = zs
+                zmn = zs
                 for i in range(j):
                     c0 = (ca + cb * i * ij) * i * ij
                     c1 = ca * ij + 2.0 * cb * i * ij * ij
@@ -432,6 +473,9 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
                     ex, ev, ez = nx, nv, nz
                     vv = v[k + i + 1] + ev
                     zz = z[k + i + 1] + ez
+                    zmx = max(zmx, zz)
+                    zmn = min(zmn, zz)
+                    zz = min(max(zz, zlo), zhi)  # projected onto the invariant bounds (_z_bounds)
                     if vv * sd <= 0.0:
                         ok = False  # the corrected path reverses: not this step
                         break
@@ -444,6 +488,10 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
                 # the correction is the error of pass 1 (conservative for the corrected path)
                 e = abs(ev) / (tol_v + rtol * abs(va))
                 q = abs(ez) / (atol_z + rtol * abs(za))
+                if q > e:
+                    e = q
+                # z outside its invariant bounds (from the step's start) is error too (issue 13)
+                q = max(_z_excess(zmx, zlo, zhi, atol_z, rtol), _z_excess(zmn, zlo, zhi, atol_z, rtol))
                 if q > e:
                     e = q
                 if not ok or not math.isfinite(e):
@@ -479,7 +527,7 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
         # one ROS2 interval: a reversal inside the next sample, or one sample too nonlinear
         xs, vs_, zs, Fs_, h_ros, nn, st, vpk = _interval(
             xs, vs_, zs, min(h_ros, dt), u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub,
-            vpk, v_floor,
+            vpk, v_floor, zlo, zhi,
         )
         have = False
         total += nn
@@ -520,10 +568,11 @@ def lugre_force_batch_sse(
         acc = 0.0
         st = OK
         vpk = 0.0
+        zlo, zhi = _z_bounds(p0, p1, d0, d1, 0.0)
         for k in range(u.size - 1):
             xs, vs_, zs, Fe, h_try, n, st, vpk = _interval(
                 xs, vs_, zs, h_try, u[k], u[k + 1], dt, mj, p0, p1, d0, d1,
-                rtol, atol_v, atol_z, max_sub, vpk, v_floor,
+                rtol, atol_v, atol_z, max_sub, vpk, v_floor, zlo, zhi,
             )
             if st != OK:
                 break
@@ -545,8 +594,9 @@ def lugre_batch_sse(
 ):
     """:func:`lugre_force` (spanning steps) for P parameter sets; only the weighted squared error.
 
-    Arguments as :func:`lugre_force_batch_sse`. Each set runs the single-trajectory kernel
-    into its own scratch traces, so a set's result is exactly that of ``simulate``.
+    Arguments as :func:`lugre_force_batch_sse`, except ``atol_v`` and ``atol_z``: arrays (P,),
+    one per set. Each set runs the single-trajectory kernel into its own scratch traces with
+    the tolerances ``simulate`` gives it, so a set's result is exactly that of ``simulate``.
     """
     P = m.size
     N = u.size
@@ -555,7 +605,7 @@ def lugre_batch_sse(
         v = np.empty(N)
         F = np.empty(N)
         z = np.empty(N)
-        st, _, _ = lugre_force(u, dt, m[j], static[j], dyn[j], 0.0, 0.0, 0.0, rtol, atol_v, atol_z, max_sub,
+        st, _, _ = lugre_force(u, dt, m[j], static[j], dyn[j], 0.0, 0.0, 0.0, rtol, atol_v[j], atol_z[j], max_sub,
                                x, v, F, z, v_floor)
         y = x if which == 0 else (v if which == 1 else F)
         acc = 0.0

@@ -444,6 +444,8 @@ class BatchResult:
         return np.sqrt(self.sse / self._n) if self._n else self.sse
 
     _n: int = 0
+    #: Why the first failed set may have failed, in its own numbers (LuGre/Dahl; issue 13).
+    detail: str = ""
 
     @property
     def message(self) -> str:
@@ -454,7 +456,8 @@ class BatchResult:
             return f"ok: {st.size} parameter sets"
         parts = [f"{int((st == c).sum())} with status {int(c)} ({_MESSAGES.get(int(c), '?').split(':')[0]})"
                  for c in np.unique(st[bad])]
-        return f"{int(bad.sum())} of {st.size} parameter sets failed (sse = inf): " + "; ".join(parts)
+        text = f"{int(bad.sum())} of {st.size} parameter sets failed (sse = inf): " + "; ".join(parts)
+        return f"{text}. {self.detail}" if self.detail else text
 
     def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
         """RMS error of each parameter set (failed sets marked at the top); returns the Axes."""
@@ -640,14 +643,23 @@ def simulate_batch(
             status[coarse] = 4  # no error control: a step this coarse gives no trustworthy answer
             sse[coarse] = np.inf
             return BatchResult(sse, status, int((w[1:] > 0).sum()))
-        F_scale = float(static[:, :, :2].max())
-        atol_z = options.atol_F * F_scale / float(dyn[:, :, 0].max())
-        atol_v = _atol_v(options, F_scale, float(dyn[:, :, 0].max()), float(m.min()),
-                         float((dyn[:, :, 1] + static[:, :, 4]).max()))
+        # each set with the tolerances simulate() gives it alone (issue 13: tolerances shared over
+        # the sets -- atol_F Fs / max sigma0 -- made a sigma0 = 1e300 set fail every other set with it)
+        F_sets = static[:, :, :2].max(axis=(1, 2))
+        s0_sets = dyn[:, :, 0].max(axis=1)
+        damp_sets = (dyn[:, :, 1] + static[:, :, 4]).max(axis=1)
+        atol_z = options.atol_F * F_sets / s0_sets
+        atol_v = np.array([_atol_v(options, float(F_sets[j]), float(s0_sets[j]), float(m[j]), float(damp_sets[j]))
+                           for j in range(P)])
         _lugre.lugre_batch_sse(
             u, dt, m, static, dyn, options.rtol, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status, _v_floor(options),
         )
+        failed = np.flatnonzero(np.isin(status, (1, 2, 3)))
+        if failed.size:
+            j = int(failed[0])
+            return BatchResult(sse, status, int((w[1:] > 0).sum()), f"Set {j}: " + lugre_failure_detail(
+                float(s0_sets[j]), float(damp_sets[j]), float(F_sets[j]), float(m[j]), dt))
     else:
         packs = [pack_gms(mdl) for mdl in models]
         if len({p.k.shape[1] for p in packs}) != 1:

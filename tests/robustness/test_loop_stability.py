@@ -125,7 +125,7 @@ def test_light_emps_is_flagged():
     assert bad, (dq, dv)  # measured: velocities ~10x their bound apart at 640 sub-steps
     res = simulate_machine(m, dt=1e-3, inputs=inp)
     assert res.status == STATUS_TOLERANCE
-    assert "unstable closed loop" in res.message and "'motor'" in res.message
+    assert res.message.startswith("result not converged: the closed loop is unstable") and "'motor'" in res.message
     assert "at its limit" in res.message and "Lower that loop's gains" in res.message
 
 

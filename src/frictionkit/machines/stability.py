@@ -315,7 +315,7 @@ def loop_check(machine: Machine, res, dt: float, rerun):
     if frac <= 1.0:
         return dataclasses.replace(res, message=f"{res.message}; note: {detail} (a limit cycle; the run converges: "
                                                 f"at {fine_n} sub-steps every trace within its bound)")
-    message = (f"unstable closed loop, result not converged: {detail}; at {fine_n} sub-steps the {worst}. "
+    message = (f"result not converged: {detail}; at {fine_n} sub-steps the {worst}. "
                "Lower that loop's gains or give the controller the inertias it was designed for "
                "(frictionkit.machines.stability.loop_stability(machine, dt) gives the radius)")
     return dataclasses.replace(res, status=STATUS_TOLERANCE, message=message)

@@ -128,3 +128,25 @@ def test_a_complex_mat_column_is_refused_not_cast_to_its_real_part(tmp_path):
         load_recording(tmp_path / "c.mat", time="t", velocity="v", force="F")
     rec = load_recording(tmp_path / "c.mat", time="t", velocity="w", force="F")  # imaginary part 0: fine
     assert np.array_equal(rec.v, t)
+
+
+def test_simulate_machine_file_of_an_unstable_loop_exits_1_with_status_2(runner, tmp_path):
+    """The EMPS axis at 5 kg under its nominal controller (issue 13: status 0 before)."""
+    import json
+
+    import numpy as np
+
+    import frictionkit as fk
+    import frictionkit.cli.simulate  # noqa: F401  (registers the verb)
+    from frictionkit.presets.emps import emps_machine
+
+    fk.save_model(emps_machine(M=5.0, friction=fk.CoulombViscous(Fc=20.0, sigma2=200.0)), tmp_path / "m.json")
+    t = np.arange(1501) * 1e-3
+    s = np.clip(t - 0.1, 0.0, 0.5) / 0.5
+    np.savetxt(tmp_path / "qg.csv", np.column_stack([t, 0.05 * s * s * (3 - 2 * s)]), delimiter=",",
+               header="t,qg", comments="")
+    res = runner.invoke(app, ["simulate", str(tmp_path / "m.json"), "--input", f"qg={tmp_path / 'qg.csv'}:qg",
+                              "--json", "-"])
+    assert res.exit_code == 1
+    doc = json.loads(res.stdout)
+    assert doc["status"] == 2 and "the closed loop is unstable" in doc["message"]

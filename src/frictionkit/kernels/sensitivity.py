@@ -195,7 +195,7 @@ def _ftheta(coef, j, row, dmj, doffj, v, z, av, im, fv, zd, ig, Fc, Fs, s0, s1, 
     return -(dF + doffj + fv * dmj) * im, dzd
 
 
-@njit(inline="always")
+@njit(error_model="numpy")  # a call, not inlined: reached only at reversals and where a step cannot start
 def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor,
                static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz):
     """One sample interval by adaptive ROS2 sub-steps (the scheme of ``lugre._interval``), the

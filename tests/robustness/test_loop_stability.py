@@ -136,6 +136,8 @@ def test_ballscrew_inertias_1e_2_flagged():
     inp = {"theta_d": th, "u_ff": u_ff, "u_f": np.zeros(len(ref))}
     st = loop_stability(mach, ctrl.T)
     assert st.unstable and st.actuators == ("motor",)
+    bad, dq, dv = _not_converged(mach, ctrl.T, inp)
+    assert bad, (dq, dv)
     res = simulate_machine(mach, dt=ctrl.T, inputs=inp)
     assert res.status == STATUS_TOLERANCE, res.message
 
@@ -180,3 +182,25 @@ def test_a_failing_screen_never_breaks_a_finished_run(monkeypatch):
     monkeypatch.setattr(stab, "loop_stability", boom)
     res = simulate_machine(velocity_loop(1.0), dt=1e-3, n_samples=20)
     assert res.status == 0 and "screen was skipped (AttributeError: static_rows)" in res.message
+
+
+@pytest.mark.parametrize("which", ["sdss_azimuth", "sdss_altitude", "sdss_rotator", "tdms_full", "tdms_semi", "cdfs",
+                                   "ballscrew_rigid", "ballscrew_table1"])
+def test_other_presets_are_stable(which):
+    """No preset triggers the screen (measured radii 0.963-0.993)."""
+    from frictionkit.plants.ballscrew import RigidBallScrew
+    from frictionkit.presets import sdss
+    from frictionkit.presets.zhang2023.plant import cdfs_machine, tdms_machine
+
+    if which.startswith("sdss"):
+        mach, dt = sdss.axis(which.split("_")[1]).machine(loop="position"), 1e-3
+    elif which.startswith("tdms"):
+        mach, dt = tdms_machine(loop=which.split("_")[1]), 250e-6
+    elif which == "cdfs":
+        mach, dt = cdfs_machine(), 250e-6
+    else:
+        ctrl = paper_controller()
+        plant = RigidBallScrew() if which == "ballscrew_rigid" else paper_plant(stage="table1")
+        mach, dt = ballscrew_machine(plant, ctrl), ctrl.T
+    st = loop_stability(mach, dt)
+    assert st.closed and st.radius < 1.0

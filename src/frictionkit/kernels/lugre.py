@@ -53,6 +53,12 @@ interval and ``dz/dt = v - a z`` with constant ``a = sigma0 |v| / |s(v)|`` has
 the exact solution ``z(h) = z_ss + (z0 - z_ss) exp(-a h)``; no error at all
 beyond round-off.
 
+Invariant bounds of ``z`` (issue 13): the exact deflection never leaves
+``[min(z0, -Fs/sigma0), max(z0, Fs/sigma0)]`` (per direction, :func:`_z_bounds`). Both step
+types count an excursion beyond them as local error and project accepted states back onto
+them. Without this a ROS2 step across breakaway at ``sigma0 = 1e16`` N/m ran ``sigma0 z`` to
+2 N (``Fs`` = 1.5 N) with a filtered error estimate far below 1 and the mass stuck (status 0).
+
 Status codes: 0 ok, 1 non-finite state, 2 sub-step budget exhausted,
 3 error control failed (the sub-step fell to ``H_MIN * dt`` and still did not
 meet the tolerance: step-size underflow). A step is never accepted with its

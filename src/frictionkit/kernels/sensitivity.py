@@ -70,7 +70,6 @@ import numpy as np
 
 from .._jit import njit
 from ._phi2 import phis
-from ._stribeck import R_S2
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, EXP_NORM_MAX, GAMMA, H_MIN, NONFINITE, OK, SPAN_MAX, TOLERANCE
 from .lugre import _atol_run, _flat, _force, _point
@@ -357,7 +356,6 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                 zd0, F0, dzv, dzz, dFv, dFz = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
             have = False
             s0, s1 = d0 if sd > 0.0 else d1
-            s2 = p0[R_S2] if sd > 0.0 else p1[R_S2]
             b11 = -dFv * im
             b12 = -dFz * im
             b21 = dzv

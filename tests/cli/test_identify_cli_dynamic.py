@@ -75,6 +75,20 @@ def test_output_error_gms_needs_both_start_lists(lugre_csv):
     assert err.startswith("error:") and "--k and --xi" in err and "\n" not in err
 
 
+@pytest.mark.parametrize("model, extra, named", [
+    ("lugre", ["--k", "a", "--xi", "nan"], "--k applies to --model gms only"),  # exited 0, ignored unread
+    ("lugre", ["--C", "20"], "--C applies to --model gms only"),
+    ("lugre", ["--elements", "5"], "--elements applies to --model gms only"),
+    ("gms", ["--sigma0", "1e5"], "--sigma0 applies to --model lugre/dahl only"),
+])
+def test_output_error_refuses_options_of_another_model(lugre_csv, model, extra, named):
+    res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
+                              "--force", "u_mN", *STATIC, "--mass", "1", "--model", model, *extra])
+    assert res.exit_code == 2
+    err = _stderr(res).strip()
+    assert err.startswith("error:") and named in err and "\n" not in err
+
+
 def test_output_error_without_static_map(lugre_csv):
     res = runner.invoke(app, ["identify", "output-error", str(lugre_csv), "--time", "t_s", "--velocity", "v_ms",
                               "--force", "u_mN", "--mass", "1"])

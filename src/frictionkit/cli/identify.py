@@ -349,6 +349,15 @@ def output_error(
     chk.choice(velocity_integration, "--velocity-integration", ("held", "trapezoidal"))
     min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS)
+    if model != "gms":  # GMS start options would be ignored unread (issue 13 round 4: --xi nan exited 0)
+        for opt, val, default in (("--k", k, None), ("--xi", xi, None), ("--C", C, None), ("--elements", elements, 3)):
+            if val != default:
+                raise ParameterError(f"{opt} applies to --model gms only (this is --model {model})")
+    else:
+        for opt, val in (("--sigma0", sigma0), ("--sigma1", sigma1)):
+            if val is not None:
+                raise ParameterError(f"{opt} applies to --model lugre/dahl only (this is --model gms: its start "
+                                     "is --k/--xi/--C or --elements)")
     if drive == "force":
         if mass is None:
             raise ParameterError("--drive force needs --mass (the moving mass the force accelerates)")

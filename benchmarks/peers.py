@@ -20,7 +20,12 @@ Peers, written the way a performance-minded engineer would:
   (breakaway, velocity reversal while an element slips) are detected at the samples of
   each call (``CHUNK`` = 256 samples per call), located by bisection to ``1e-6 dt`` from
   the last good sample, applied, and the integration restarts there. All in one njit
-  function.
+  function. ``CHUNK`` checked (helper gms, 2026-11-23, thread CPU, GMS-4 rtol 1e-8): 256
+  samples 20.7 ms, 2048 samples 111.6 ms (a switch discards the rest of its call), so 256
+  stays. Known: on GMS-16 the peer's max|dF| stalls at 9.2e-3 N for every rtol (first off
+  the twin by 5e-4 N right after a velocity reversal at sample 8789 of the 10 s run, where
+  the kernel and the twin agree; the peer's reversal/re-stick handling there is not
+  resolved), so GMS-16 prints no ratio.
 
 Accuracy: max |dx| and max |dF| against the ``solve_ivp`` LSODA twin at rtol 1e-11
 (GMS with located events; ``reference_force_driven``). A peer is run at the loosest

@@ -607,10 +607,15 @@ def compensate(preset: str | Path, compensators: str | Sequence[str] | None = No
     def each(name, t, v, e, status, message):
         store["t"], store["v"] = t, v
         ok = status == 0 and bool(np.all(np.isfinite(e)))
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow is judged below, not warned about
+            stats = _errors(t, e, _reversals(t, v), settle) if ok else {}
+        if ok and not all(x is None or math.isfinite(x) for x in stats.values()):
+            # e.g. a reference of 1e300 m: each error finite, its RMS overflows (was a row 'ok' with RMS inf)
+            ok, message = False, (f"error statistics overflow (largest error {float(np.max(np.abs(e))):.3g}): "
+                                  "the run's scale is not physical; check the test's inputs")
         errors[name] = e
-        rows[name] = {"ok": ok, "message": message if status != 0 or ok else "non-finite error",
-                      **(_errors(t, e, _reversals(t, v), settle) if ok else
-                         {"max_error": None, "rms_error": None, "reversal_error": None})}
+        rows[name] = {"ok": ok, "message": message if status != 0 or ok or stats else "non-finite error",
+                      **(stats if ok else {"max_error": None, "rms_error": None, "reversal_error": None})}
 
     def tracked(names):
         for n in names:

@@ -176,3 +176,19 @@ def test_study_json_carries_its_format(tmp_path):
     (tmp_path / "s.json").write_text(json.dumps(doc))
     kind, (sec,) = sections_from_file(tmp_path / "s.json")
     assert kind == "study-summary" and [r[0] for r in sec.table[1:]] == ["none", "coulomb"]
+
+
+def test_a_row_whose_error_statistics_overflow_is_not_ok(emps, tmp_path):
+    """A spec with vref = 1e300 drove the feed-forward to ~1e302 m errors: the coulomb row said 'ok'
+    with RMS inf (issue 13 round 4, found by helper rob)."""
+    d, _ = emps
+    spec = tmp_path / "huge.toml"
+    spec.write_text(SPEC.replace('vref = "ref.csv:vref"', "vref = 1e300").replace('"published.json"',
+                                                                                  f'"{d / "published.json"}"'))
+    for f in ("ref.csv",):
+        (tmp_path / f).write_bytes((d / f).read_bytes())
+    res = compensate(d / "emps.json", ["none", "coulomb"], test=spec, quick=True)
+    assert res.rows["none"]["ok"]
+    row = res.rows["coulomb"]
+    assert not row["ok"] and row["rms_error"] is None and "overflow" in row["message"]
+    assert res.status == 1 and "coulomb" in res.message

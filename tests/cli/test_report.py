@@ -105,6 +105,32 @@ def test_machine_file_and_empty_out_are_refused_with_the_reason(tmp_path, monkey
     assert not (tmp_path / "report.html").exists()
 
 
+def test_a_simulate_summary_is_reported_through_its_traces(tmp_path, monkeypatch):
+    """Issue 13 round 4: the --json of 'simulate' read as a law file ("law 'LuGre': unknown field
+    'model'"). It carries a format now; the report follows it to the traces it names."""
+    monkeypatch.chdir(tmp_path)
+    law = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4), sigma0=1e5, sigma1=316.0)
+    fk.save_model(law, "law.json")
+    t = np.arange(500) * 1e-3
+    np.savetxt("f.csv", np.column_stack([t, 2 * np.sin(2 * np.pi * 2 * t)]), delimiter=",", header="t,F",
+               comments="")
+    res = runner.invoke(app, ["simulate", "law.json", "--force", "f.csv", "--mass", "1", "--json", "sim.json",
+                              "--out", "tr.csv"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(Path("sim.json").read_text())
+    assert doc["format"] == "frictionkit.simulation/1" and doc["outputs"]["traces"] == "tr.csv"
+    res = runner.invoke(app, ["report", "sim.json", "-o", "out"])
+    assert res.exit_code == 0, res.stderr
+    assert "Simulated traces: 500 samples" in (tmp_path / "out" / "report.html").read_text()
+    Path("tr.csv").unlink()
+    res = runner.invoke(app, ["report", "sim.json", "-o", "out2"])
+    assert res.exit_code == 2 and "the summary of a simulate run; its traces 'tr.csv' are not there" in res.stderr
+    old = {k: v for k, v in doc.items() if k not in ("format", "outputs")}  # written before the format field
+    Path("old.json").write_text(json.dumps(old))
+    res = runner.invoke(app, ["report", "old.json", "-o", "out3"])
+    assert res.exit_code == 2 and "without traces; run simulate with --out" in res.stderr, res.stderr
+
+
 def test_refuses_to_overwrite_an_input(inputs, tmp_path):
     page = tmp_path / "report.html"
     shutil.copy(inputs / "fit.json", page)  # an identification result that happens to be called report.html

@@ -80,7 +80,7 @@ def simulate(
     velocity_integration: str = typer.Option("trapezoidal", "--velocity-integration",
                                              help="How --velocity becomes a position: 'trapezoidal' (samples at "
                                                   "the instant) or 'held' (mean over the interval, drive logs)."),
-    out: Optional[Path] = typer.Option(None, "--out", help="Write the traces (t, x, v, F, states) as .csv or "
+    out: Optional[Path] = typer.Option(None, "--out", help="Write the traces (t, x, v, friction, states) as .csv or "
                                        ".parquet."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write hysteresis and force over time as a plot "
                                         "(format from the extension: .png, .pdf, .svg ...)."),
@@ -182,7 +182,9 @@ def simulate(
         return float(np.max(np.abs(a))) if a.size else None
 
     u = mf.units
-    doc = {"model": str(model), "law": law_entry(mf.model).name, "drive": kind, "signal": str(signal),
+    from ..simulation.traces import RUN_FORMAT
+
+    doc = {"format": RUN_FORMAT, "model": str(model), "law": law_entry(mf.model).name, "drive": kind, "signal": str(signal),
            "columns": {"time": tcol, "signal": scol}, "samples": rec.n, "dt": rec.dt,
            "status": res.status, "message": res.message, "success": res.success,
            "peak_friction": peak(res.friction), "peak_v": peak(res.v), "x_range": [float(np.nanmin(res.x)), float(np.nanmax(res.x))],
@@ -323,7 +325,9 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
         a = a[np.isfinite(a)]
         return float(np.max(np.abs(a))) if a.size else None
 
-    doc = {"model": str(model), "kind": "machine", "machine": machine.name,
+    from ..simulation.traces import RUN_FORMAT
+
+    doc = {"format": RUN_FORMAT, "model": str(model), "kind": "machine", "machine": machine.name,
            "inputs": {name: (f"{p}:{c}" if p is not None else c) for name, p, c in parsed}, "samples": n, "dt": h,
            "substeps": res.substeps, "status": res.status, "message": res.message, "success": res.success,
            "dofs": {d.name: {"unit": d.unit, "final_x": float(res.q[-1, i]), "peak_v": peak(res.v[:, i])}

@@ -189,7 +189,34 @@ def _named(secs: list[Section], source: str, kind: str = "") -> list[Section]:
 def _json_file(p: Path, where: str) -> tuple[str, list[Section]]:
     from ..identify.result import read_json_object
 
-    return _json_doc(read_json_object(p, where), where, name=p.name)
+    doc = read_json_object(p, where)
+    if _is_run_summary(doc):  # the --json of 'simulate': report the traces it names
+        traces = doc.get("outputs", {}).get("traces") if isinstance(doc.get("outputs"), Mapping) else None
+        if doc.get("kind") != "machine" and isinstance(traces, str):
+            for cand in (p.parent / traces, Path(traces)):
+                if cand.is_file():
+                    reader = _parquet_file if cand.suffix.lower() in (".parquet", ".pq") else _csv_file
+                    return reader(cand, f"traces '{cand}' (named by {where})")
+        raise DataError(_run_summary_message(doc, where, traces))
+    return _json_doc(doc, where, name=p.name)
+
+
+def _is_run_summary(doc: Mapping[str, Any]) -> bool:
+    from ..simulation.traces import RUN_FORMAT
+
+    # files written before the summary carried a format (2026-11-23): by their keys
+    return doc.get("format") == RUN_FORMAT or (doc.get("format") is None and "drive" in doc and "samples" in doc and (
+        "peak_friction" in doc or "peak_F" in doc))
+
+
+def _run_summary_message(doc: Mapping[str, Any], where: str, traces: Any) -> str:
+    if doc.get("kind") == "machine":
+        return (f"{where}: the summary of a machine simulation; the report does not read machine traces yet "
+                "(plot them with --plot, or MachineResult.plot())")
+    if isinstance(traces, str):
+        return f"{where}: the summary of a simulate run; its traces '{traces}' are not there — pass the traces file"
+    return (f"{where}: the summary of a simulate run without traces; run simulate with --out TRACES.csv "
+            "and report that file")
 
 
 def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, list[Section]]:
@@ -198,6 +225,8 @@ def _json_doc(doc: Mapping[str, Any], where: str, *, name: str) -> tuple[str, li
     from ..models.files import MODEL_FORMAT, ModelFile
 
     fmt_ = doc.get("format")
+    if _is_run_summary(doc):
+        raise DataError(_run_summary_message(doc, where, None))
     if fmt_ == JSON_FORMAT:
         from ..identify import IdentificationResult
 

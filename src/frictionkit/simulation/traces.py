@@ -21,10 +21,13 @@ import numpy as np
 
 from ..errors import DataError
 
-__all__ = ["TRACE_FORMATS", "machine_trace_table", "trace_table", "write_traces"]
+__all__ = ["RUN_FORMAT", "TRACE_FORMATS", "machine_trace_table", "trace_table", "write_traces"]
 
 #: File formats of :func:`write_traces`, by suffix.
 TRACE_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
+#: ``"format"`` of the ``--json`` summary of ``frictionkit simulate`` (a law's or a machine's run);
+#: the report reads the traces that summary names (``outputs.traces``), not the summary.
+RUN_FORMAT = "frictionkit.simulation/1"
 
 
 def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[str, np.ndarray]:

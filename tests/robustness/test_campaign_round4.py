@@ -150,3 +150,26 @@ def test_simulate_machine_file_of_an_unstable_loop_exits_1_with_status_2(runner,
     assert res.exit_code == 1
     doc = json.loads(res.stdout)
     assert doc["status"] == 2 and "the closed loop is unstable" in doc["message"]
+
+
+def test_a_start_sigma0_that_cannot_simulate_is_named():
+    """Issue 13: initial={'sigma0': 1e16 | 1e300} read 'sigma0 unidentifiable' — the fit had wandered
+    to sigma0 ~ 1e-96 from a start the kernel stops (ringing far faster than the samples)."""
+    import warnings
+
+    import numpy as np
+
+    import frictionkit as fk
+    from frictionkit.identify import fit_output_error
+
+    law = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4), sigma0=1e5, sigma1=63.2)
+    t = np.arange(3000) * 1e-3  # over 1.5 s the 1e16 start simulates (stopped at 1.16 s) and the fit succeeds
+    u = 2 * np.sin(2 * np.pi * t)
+    rec = fk.data.Recording(t=t, v=fk.simulate(law, plant=fk.Mass(1), force=u, dt=1e-3).v, F=u)
+    for s0 in (1e16, 1e300):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            res = fit_output_error(rec, "lugre", static=law.static, inertia=1.0,
+                                   initial={"sigma0": s0, "sigma1": 63.2})
+        assert res.status != 0 and not res.success
+        assert f"the start values do not simulate (sigma0 = {s0:g} N/m on a mass of 1 kg" in res.message, res.message

@@ -418,6 +418,19 @@ def fit_output_error(
             data={"t": t, "y": y, "y_pred": y_pred} if ok else {"t": t, "y": y},
         )
 
+    def start_note() -> str:
+        """Why a fit that ended unidentifiable may never have started: the start values do not simulate
+        (e.g. sigma0 = 1e16 on 1 kg: the fit then wanders off to sigma0 ~ 1e-96). Run only on failure."""
+        try:
+            sim0 = prob.simulate_nat(prob.to_nat(pts[order[0]] if order else pts[0]))
+        except Exception as exc:  # noqa: BLE001 - any failure of the start is the point of the note
+            return f"; the start values do not simulate ({type(exc).__name__}: {exc})"
+        if getattr(sim0, "status", 0) != 0:
+            msg = " ".join(str(sim0.message).split())
+            msg = msg[msg.find("sigma0 ="):] if "sigma0 =" in msg else msg  # the kernel's reason, if it gives one
+            return f"; the start values do not simulate ({msg[:400]})"
+        return ""
+
     # --- screening: one batched simulation for all starts (SSE only)
     start_costs = np.full(len(pts), np.inf)
     if len(pts) > 1:
@@ -451,9 +464,12 @@ def fit_output_error(
     # 1e300 kg that barely moves gave "the simulation fails" although every run succeeded)
     sim_opt = prob.simulate_nat(theta) if np.isfinite(sol.cost) else None
     y_opt = None if sim_opt is None else (sim_opt.x if compare == "x" else sim_opt.v)
-    if y_opt is None or not np.all(np.isfinite(y_opt)):
-        return failed("the simulation fails at the optimum; check the start values and bounds", theta, sol, run,
-                      start_costs)
+    if y_opt is None or not np.all(np.isfinite(y_opt)) or getattr(sim_opt, "status", 0) != 0:
+        # a run the kernel stopped or flagged (e.g. sigma0 = 1e300: ringing far faster than the samples)
+        # is no optimum, even where its truncated trace is finite
+        why = f" ({sim_opt.message})" if sim_opt is not None and getattr(sim_opt, "message", "ok") != "ok" else ""
+        return failed(f"the simulation fails at the optimum{why}; check the start values and bounds", theta, sol,
+                      run, start_costs)
     converged = sol.status != 0
     message = str(sol.message) if converged else (
         f"least_squares did not converge within max_nfev = {cfg.max_nfev} evaluations "
@@ -472,13 +488,14 @@ def fit_output_error(
     dead = [names[j] for j in range(len(names)) if colnorm[j] <= 1e-10 * max(colnorm.max(), 1e-300)]
     if dead:
         return failed(f"unidentifiable — {', '.join(dead)} has no effect on the simulated {compare} for this data "
-                      "(zero Jacobian column); fix it or use data that excite it", theta, sol, run, start_costs)
+                      f"(zero Jacobian column); fix it or use data that excite it{start_note()}", theta, sol, run,
+                      start_costs)
     Js = J / colnorm
     sv = np.linalg.svd(Js, compute_uv=False)
     cond = float(sv[0] / sv[-1]) if sv[-1] > 0 else math.inf
     if not np.isfinite(cond) or cond > 1e8:
         return failed(f"unidentifiable — the Jacobian is singular (condition number {cond:.3g}); the parameters "
-                      f"{names} are confounded on this data", theta, sol, run, start_costs)
+                      f"{names} are confounded on this data{start_note()}", theta, sol, run, start_costs)
     s2 = float(r @ r) / dof
     # covariance in column-normalised transformed coordinates (well conditioned), then
     # mapped to natural units: cov_theta = D C D with D = d theta / d p

@@ -12,6 +12,9 @@ positions 1 %, velocities and actuator commands 10 % of their range ("truth_frac
 converged). Measured 2026-11-23: EMPS 11 flagged / 24 converged, ball screw 13 / 22, two-shaft
 12 / 23 (4 of them by the sub-step check); 0 missed, 0 false alarms; 40 converged runs carry the
 "unstable loop" note (limit cycles that converge, e.g. the two-shaft benchmark's nut loop).
+The two-shaft counts are of the benchmark's first layout (motor rotors on couplings; its nut loop
+was linearly unstable); benchmarks/machines.py builds it like the zhang2023 preset since fc16060
+(rigid axes, loop radius 0.965), so a rerun gives other two-shaft counts.
 """
 import json
 import math

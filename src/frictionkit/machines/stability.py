@@ -4,8 +4,9 @@ A machine whose controller makes the loop unstable (a light EMPS axis under the 
 gains, a ball screw with every inertia x1e-2) runs into its actuator limits and chatters in
 a limit cycle that depends on the sub-steps: the traces do not converge, yet the run used
 to end with status 0. A loop that is linearly unstable but settles into a bounded, converged
-limit cycle (the two-shaft benchmark's nut drive: a 1.7 kHz mode of the motor-coupling
-resonance at its current limit half of the time) is a correct simulation of a poor design.
+limit cycle (the two-shaft benchmark's first layout, replaced on 2026-11-23: a 1.7 kHz mode
+of its motor-coupling resonance, at the current limit half of the time) is a correct simulation
+of a poor design.
 
 The screen, in two stages like the sub-step check (:func:`~frictionkit.machines.simulate.site_coupling`):
 

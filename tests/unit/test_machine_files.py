@@ -111,7 +111,7 @@ def test_loaded_machine_simulates_bit_identically(tmp_path, name):
     assert a.status == 0 or (name == "readme" and a.status == 2), a.message
     assert (b.status, b.message, b.substeps) == (a.status, a.message, a.substeps)
     assert b.signal_names == a.signal_names and b.site_names == a.site_names
-    for f in ("q", "v", "F", "signals", "u"):
+    for f in ("q", "v", "site_forces", "signals", "u"):
         np.testing.assert_array_equal(getattr(b, f), getattr(a, f), err_msg=f)
     assert float(np.max(np.abs(a.v))) > 0.0  # something moved
     # the file lists the inputs a run needs, and they are exactly the ones given here

@@ -68,6 +68,7 @@ from .base import is_law_dict, law_entry, law_from_dict, law_to_dict
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    import numpy as np
     from matplotlib.axes import Axes
 
 __all__ = ["MACHINE_UNITS", "MODEL_FORMAT", "ModelFile", "load_model", "parameter_units", "save_model"]
@@ -421,7 +422,7 @@ class ModelFile:
                 ax.plot(v, s.law.steady_state(v), lw=1.5, label=f"{s.name} ({law_entry(s.law).name})")
             ax.axhline(0.0, color="0.7", lw=0.8)
             ax.set_xlabel("site velocity [m/s or rad/s]")
-            ax.set_ylabel("F [N or N·m]")
+            ax.set_ylabel("friction [N or N·m]")
             ax.set_title(f"{self.model.name}: friction sites, steady state")
             if sites:
                 ax.legend(fontsize=8)
@@ -432,7 +433,7 @@ class ModelFile:
         ax.axhline(0.0, color="0.7", lw=0.8)
         ax.axvline(0.0, color="0.7", lw=0.8)
         ax.set_xlabel(f"v [{self.units['v']}]")
-        ax.set_ylabel(f"F [{self.units['F']}]")
+        ax.set_ylabel(f"friction [{self.units['F']}]")
         ax.set_title(f"{law_entry(self.model).name}: steady state")
         return ax
 

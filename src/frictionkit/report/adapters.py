@@ -431,7 +431,7 @@ def model_sections(mf, *, name: str = "model") -> list[Section]:
     if loop:
         x, F, amp = loop
         axs[0, 1].plot(1e6 * x if mf.units["x"] == "m" else x, F, lw=1)
-        axs[0, 1].set(xlabel=f"x [{'µm' if mf.units['x'] == 'm' else mf.units['x']}]", ylabel=f"F [{mf.units['F']}]",
+        axs[0, 1].set(xlabel=f"x [{'µm' if mf.units['x'] == 'm' else mf.units['x']}]", ylabel=f"friction [{mf.units['F']}]",
                       title=f"{law_name}: hysteresis, ±{fmt(amp, 3)} {mf.units['x']} sine, two cycles")
         axs[0, 1].grid(alpha=0.3)
         sec.text.append(f"Hysteresis loop: the law driven along a slow sine of ±{fmt(amp, 3)} {mf.units['x']} "

@@ -79,8 +79,8 @@ def section_laws(out: Path) -> _Section:
         rows.append([name, f"{wall * 1e3:.1f} ms", f"{wall / (u.size - 1) * 1e9:.0f}",
                      f"{np.abs(res.x).max() * 1e3:.2f}", f"{rev.friction.min():.3f} … {rev.friction.max():.3f}"])
     axs[0, 0].set(xlabel="time [s]", ylabel="x [mm]", title="Stick–slip run: 1 kg, u = 2 sin(πt) N")
-    axs[0, 1].set(xlabel="time [s]", ylabel="F [N]", title="Friction force in the stick–slip run")
-    axs[1, 0].set(xlabel="x [µm]", ylabel="F [N]", title="Reversal run: ±30 µm sinusoid (hysteresis)")
+    axs[0, 1].set(xlabel="time [s]", ylabel="friction [N]", title="Friction force in the stick–slip run")
+    axs[1, 0].set(xlabel="x [µm]", ylabel="friction [N]", title="Reversal run: ±30 µm sinusoid (hysteresis)")
     # non-local memory: minor loop inside a major loop
     from ..simulation.inputs import nested_loop_position
 
@@ -88,7 +88,7 @@ def section_laws(out: Path) -> _Section:
     for name in ("LuGre", "GMS-3"):
         r = simulate(laws[name], position=xn, dt=1e-3)
         axs[1, 1].plot(r.x * 1e6, r.friction, label=name, lw=1)
-    axs[1, 1].set(xlabel="x [µm]", ylabel="F [N]", title="Minor loop inside a major loop (memory)")
+    axs[1, 1].set(xlabel="x [µm]", ylabel="friction [N]", title="Minor loop inside a major loop (memory)")
     for a in axs.flat:
         a.grid(alpha=0.3)
         a.legend(fontsize=8)

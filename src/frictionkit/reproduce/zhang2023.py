@@ -80,7 +80,6 @@ from ..data.recording import Recording
 from ..data.segmentation import Segment, steady_state_points
 from . import REPRODUCTION_FORMAT, ROBUSTNESS_FORMAT
 from ..errors import DataError, IdentificationError, ParameterError
-from ..identify.presliding import fit_presliding
 from ..identify import wsim as W
 from ..models.gms import GMS, GMSWeightWarning
 from ..models.lugre import LuGre

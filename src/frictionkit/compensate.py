@@ -408,7 +408,7 @@ MAX_TEST_SAMPLES = 10_000_000
 def _read_inputs(spec: dict, base: Path, dt: Any, duration: Any, w: str) -> tuple[dict, float]:
     """``[inputs]`` of a spec -> (arrays on one grid, dt); files give the grid, else ``dt``/``duration``."""
     from .data import read_table
-    from .data.loaders import _column
+    from .data.loaders import _grid_input
 
     arrays, consts, grid, tables = {}, {}, None, {}
     for name, value in spec.items():
@@ -424,21 +424,7 @@ def _read_inputs(spec: dict, base: Path, dt: Any, duration: Any, w: str) -> tupl
         if path not in tables:
             tables[path] = read_table(path)
         tab = tables[path]
-        tcol = next(iter(tab))
-        t = _column(tab, path, "the time (first column)", tcol)
-        steps = np.diff(t)
-        if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
-            raise DataError(f"file '{path}': time column {tcol!r} is not uniformly sampled; the test runs on one grid")
-        h = float(np.mean(steps))
-        if grid is None:
-            grid = (t.size, h, path)
-        elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
-            raise DataError(f"{w}: [inputs] {name}: '{path}' has {t.size} samples at {h:.6g} s, '{grid[2]}' "
-                            f"{grid[0]} at {grid[1]:.6g} s; all inputs share one grid")
-        arrays[name] = _column(tab, path, f"input {name}", col)
-        if not np.all(np.isfinite(arrays[name])):
-            bad = int(np.flatnonzero(~np.isfinite(arrays[name]))[0])
-            raise DataError(f"file '{path}': column '{col}' (input {name}) is not finite at row {bad}")
+        arrays[name], grid = _grid_input(tab, path, next(iter(tab)), col, f"input {name}", grid)
     if grid is not None:
         if duration is not None or dt is not None:
             raise DataError(f"{w}: dt/duration come from the input files here; drop them")

@@ -227,8 +227,8 @@ def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], dura
     import numpy as np
 
     from ..data import read_table
-    from ..data.loaders import _column
-    from ..errors import DataError, ParameterError
+    from ..data.loaders import _grid_input
+    from ..errors import ParameterError
 
     names = [p[0] for p in parsed]
     dup = sorted({n for n in names if names.count(n) > 1})
@@ -242,23 +242,9 @@ def _machine_inputs(parsed: list, time: Optional[str], dt: Optional[float], dura
         if path not in tables:
             tables[path] = read_table(path)
         tab = tables[path]
-        tcol = time or next(iter(tab))
         # the loaders' column check: missing, repeated, true/false or non-numeric columns named
-        t = _column(tab, Path(path), "the time (--time)", tcol)
-        steps = np.diff(t)
-        if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
-            raise DataError(f"'{path}': time column {tcol!r} is not uniformly sampled; a machine runs on one grid "
-                            "(resample first)")
-        h = float(np.mean(steps))
-        if grid is None:
-            grid = (t.size, h, path)
-        elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
-            raise DataError(f"--input {name}: '{path}' has {t.size} samples at {h:.6g} s, '{grid[2]}' {grid[0]} at "
-                            f"{grid[1]:.6g} s; all inputs share one grid")
-        arrays[name] = _column(tab, Path(path), f"--input {name}", col)
-        if not np.all(np.isfinite(arrays[name])):
-            bad = int(np.flatnonzero(~np.isfinite(arrays[name]))[0])
-            raise DataError(f"file '{path}': column '{col}' (given for --input {name}) is not finite at row {bad}")
+        arrays[name], grid = _grid_input(tab, Path(path), time or next(iter(tab)), col, f"--input {name}", grid,
+                                         "the time (--time)")
     if grid is not None:
         if duration is not None:
             raise ParameterError("--duration: the input files give the run length; drop it or the files")

@@ -352,6 +352,30 @@ def _unique(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> No
                         f"(columns {', '.join(str(i + 1) for i in dup)}); rename them so the choice is unambiguous")
 
 
+def _grid_input(table: Mapping[str, np.ndarray], p: Path, tcol: str, col: str, role: str,
+                grid: tuple | None, time_role: str = "the time (first column)") -> tuple[np.ndarray, tuple]:
+    """Column ``col`` of ``table`` as one input of a run whose inputs share one uniform time grid
+    (``compensate --test`` specs, ``simulate MACHINE.json --input``): the time column ``tcol`` must
+    be uniformly sampled and match ``grid`` (``(samples, step, file)`` of the first file, or None),
+    the column numeric and finite. Returns the column and the grid."""
+    t = _column(table, p, time_role, tcol)
+    steps = np.diff(t)
+    if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
+        raise DataError(f"file '{p}': time column {tcol!r} is not uniformly sampled; the inputs of a run share "
+                        "one grid (resample first)")
+    h = float(np.mean(steps))
+    if grid is None:
+        grid = (t.size, h, p)
+    elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
+        raise DataError(f"{role}: '{p}' has {t.size} samples at {h:.6g} s, '{grid[2]}' {grid[0]} at "
+                        f"{grid[1]:.6g} s; all inputs share one grid")
+    arr = _column(table, p, role, col)
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.flatnonzero(~np.isfinite(arr))[0])
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) is not finite at row {bad}")
+    return arr, grid
+
+
 def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
     if col not in table:
         avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")

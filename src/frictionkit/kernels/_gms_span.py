@@ -22,10 +22,9 @@ tests/kernels/test_gms_span.py.
 
 from __future__ import annotations
 
-import math
 
 from .._jit import njit
-from ._oscillator import _cexp, _phi12
+from ._oscillator import _cexp, _phi12, _roots
 
 
 @njit(inline="always")
@@ -39,14 +38,7 @@ def _dd_exp(a, b, h):
 @njit
 def exp_load(K, c, m, lam, h):
     """``(xi(h), v(h))`` of ``m xi'' + c xi' + K xi = m exp(-lam s)`` from rest (module docstring)."""
-    mu = -0.5 * c / m
-    disc = mu * mu - K / m
-    if disc >= 0.0:
-        d = complex(math.sqrt(disc), 0.0)
-    else:
-        d = complex(0.0, math.sqrt(-disc))
-    if abs(d) * h < 1e-5:
-        d = complex(1e-5 / h, 0.0)
+    mu, d = _roots(K, c, m, h)
     b = -lam * h
     G1 = _dd_exp((mu + d) * h, b, h)
     G2 = _dd_exp((mu - d) * h, b, h)

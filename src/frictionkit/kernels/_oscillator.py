@@ -51,14 +51,10 @@ def _phi12(z):
     return p1, (p1 - 1.0) / z
 
 
-@njit
-def coefficients(K, c, m, h):
-    """Return ``(E11, E12, E21, E22, q1, r1, q2, r2)``.
-
-    ``ξ(h) = E12 v0 + q1 f0/m + q2 f1/m`` and
-    ``v(h) = E22 v0 + r1 f0/m + r2 f1/m`` (``E11, E21`` act on ``ξ0``, here 0 but
-    returned for completeness).
-    """
+@njit(inline="always")
+def _roots(K, c, m, h):
+    """``(mu, d)``: the roots ``mu ± d`` of ``m s² + c s + K`` (``d`` complex), ``d`` kept off zero
+    (``|d| h >= 1e-5``) so the critically damped case uses the same formulas."""
     mu = -0.5 * c / m
     disc = mu * mu - K / m
     if disc >= 0.0:
@@ -67,6 +63,18 @@ def coefficients(K, c, m, h):
         d = complex(0.0, math.sqrt(-disc))
     if abs(d) * h < 1e-5:
         d = complex(1e-5 / h, 0.0)
+    return mu, d
+
+
+@njit
+def coefficients(K, c, m, h):
+    """Return ``(E11, E12, E21, E22, q1, r1, q2, r2)``.
+
+    ``ξ(h) = E12 v0 + q1 f0/m + q2 f1/m`` and
+    ``v(h) = E22 v0 + r1 f0/m + r2 f1/m`` (``E11, E21`` act on ``ξ0``, here 0 but
+    returned for completeness).
+    """
+    mu, d = _roots(K, c, m, h)
     l1 = mu + d
     l2 = mu - d
     e1 = _cexp(l1 * h)

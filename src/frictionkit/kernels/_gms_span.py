@@ -22,7 +22,6 @@ tests/kernels/test_gms_span.py.
 
 from __future__ import annotations
 
-
 from .._jit import njit
 from ._oscillator import _cexp, _phi12, _roots
 

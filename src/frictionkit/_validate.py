@@ -22,10 +22,15 @@ def finite(owner: str, name: str, value: Any) -> float:
     """Return ``value`` as a float, or raise if it is not a finite real number.
 
     Booleans are refused: ``True`` is not a value of 1 N or 1 s but almost always a
-    slip (a flag passed in the wrong place), so ``float(True)`` is never used.
+    slip (a flag passed in the wrong place), so ``float(True)`` is never used. Strings are
+    refused too: in a model file ``"Fc": "20"`` is a hand edit or a foreign writer, and
+    ``float()`` would also read ``"1_000"`` or ``"1e3 "`` (campaign round 5).
     """
     if is_bool(value):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be a real number, not a boolean")
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):  # a hand-edited file's "95" (or "1_000") is no number
+        raise ParameterError(f"{owner}.{name} = {value!r}: must be a real number, not a string (write it without "
+                             "quotes)")
     try:
         out = float(value)
     except (TypeError, ValueError):

@@ -548,6 +548,11 @@ def compensate(preset: str | Path, compensators: str | Sequence[str] | None = No
         if miss:
             raise ParameterError(f"compensation test '{test.source}': machine {machine.name!r} reads inputs "
                                  f"{', '.join(sorted(need))}; missing {', '.join(miss)}")
+        unread = sorted(set(test.inputs) - need - {test.reference, test.velocity})
+        if unread:  # a misspelt or stale input would otherwise be read and ignored (campaign round 5)
+            raise ParameterError(f"compensation test '{test.source}': [inputs] {', '.join(unread)}: not read by machine "
+                                 f"{machine.name!r} (it reads {', '.join(sorted(need)) or 'none'}) nor the score's "
+                                 f"reference or the compensation's velocity; drop or rename it")
         allowed = ("none", *test.compensators, "model")
         unit = dof.unit
         want = ("N", "m/s") if unit == "m" else ("N·m", "rad/s")

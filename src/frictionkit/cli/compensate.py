@@ -80,7 +80,7 @@ def compensate(
         from ..errors import DataError
 
         raise DataError(f"--model '{model}': no such file")
-    chk.outputs([model, test, *([Path(preset)] if is_file else [])], plots={"--plot": plot},
+    chk.outputs([model, test, *([Path(preset)] if is_file else []), *_spec_files(test)], plots={"--plot": plot},
                 files={"--json": Path(json_out)} if json_out not in (None, "-") else {})
 
     from rich.console import Console
@@ -102,6 +102,32 @@ def compensate(
         chk.emit(doc, json_out, "" if plot is None else f"wrote {plot}")
     if not res.success:
         raise typer.Exit(code=1)
+
+
+def _spec_files(test: Optional[Path]) -> list[Path]:
+    """The files a compensation test names (input FILE:COLUMN, compensator law files), relative to it.
+
+    They are inputs of the run too: ``--json ref.csv`` overwrote the spec's input data (campaign
+    round 5). Best effort: a spec that does not parse is left to the loader's error.
+    """
+    if test is None:
+        return []
+    import json
+    import tomllib
+
+    try:
+        raw = test.read_bytes()
+        doc = json.loads(raw) if test.suffix.lower() == ".json" else tomllib.loads(raw.decode("utf-8"))
+    except (OSError, ValueError):
+        return []
+    out = []
+    for section in ("inputs", "compensators"):
+        part = doc.get(section) if isinstance(doc, dict) else None
+        for val in (part.values() if isinstance(part, dict) else ()):
+            if isinstance(val, str):
+                name = val.rsplit(":", 1)[0] if section == "inputs" and ":" in val else val
+                out.append(test.parent / name)
+    return out
 
 
 def _table(res) -> None:

@@ -271,6 +271,8 @@ class ModelFile:
             raise DataError(f"{where}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
         except RecursionError:
             raise DataError(f"{where}: JSON nested too deeply") from None
+        except ValueError as exc:  # an integer of > 4,300 digits (CPython's int-parsing limit)
+            raise DataError(f"{where}: not readable JSON ({_one_line(exc)})") from None
         try:
             return cls.from_dict(doc, source=p)
         except DataError as exc:
@@ -348,8 +350,13 @@ class ModelFile:
         if not isinstance(doc.get("units", {}), Mapping):
             raise DataError(f"\"units\" is a JSON {type(doc['units']).__name__}, expected an object")
         machine = Machine.from_dict(doc["model"])
-        if not isinstance(doc.get("inputs", []), list):  # written for the reader; derived again from the machine
+        listed = doc.get("inputs", None)
+        if listed is not None and not isinstance(listed, list):  # written for the reader; derived from the machine
             raise DataError(f"\"inputs\" is a JSON {type(doc['inputs']).__name__}, expected a list of names")
+        if listed is not None and sorted(map(str, listed)) != sorted(machine.input_names()):
+            # an edited list would otherwise be ignored without a word (campaign round 5)
+            raise DataError(f"\"inputs\" lists {listed} but the machine reads {machine.input_names()}: the list is "
+                            "derived from the blocks and actuators (edit those, or fix or drop the list)")
         return cls(model=machine, provenance=prov, format=fmt)
 
     @classmethod

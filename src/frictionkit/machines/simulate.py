@@ -506,7 +506,10 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
     ``COUPLING_CHECK`` (otherwise ``res`` is returned untouched and nothing extra runs)."""
     if res.status != 0:
         return res
-    r = site_coupling(machine, dt, substeps)
+    p = _packed(machine, dt, tuple(inputs), int(substeps))
+    if "coupling" not in p:  # remembered with the pack (same machine, dt and sub-steps)
+        p["coupling"] = site_coupling(machine, dt, substeps)
+    r = p["coupling"]
     if r.size == 0:
         return res
     limit = np.array([GMS_COUPLING_CHECK if s.role == "friction" and law_family(s.law) == "gms" else COUPLING_CHECK
@@ -653,12 +656,22 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         fast = _fast_path(machine, dt, inputs, N, raise_on_failure)
         if fast is not None:
             return fast
-    if atol is not None:
-        return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
-                                 val.positive("simulate_machine", "atol", atol), max_substeps)
-    res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
-    res = _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
-    return _loop_check(machine, res, dt, inputs, N, seed)
+    key = id(machine)
+    fp = _CALL_FP.get(key)
+    if fp is None:  # not inside a running call on this machine: fingerprint it once for the call
+        fp = _fingerprint(machine)
+        if fp is not None:
+            _CALL_FP[key] = fp
+    try:
+        if atol is not None:
+            return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
+                                     val.positive("simulate_machine", "atol", atol), max_substeps)
+        res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+        res = _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
+        return _loop_check(machine, res, dt, inputs, N, seed)
+    finally:
+        if _CALL_FP.get(key) is fp:
+            _CALL_FP.pop(key, None)
 
 
 def _loop_check(machine, res, dt, inputs, N, seed):
@@ -701,7 +714,12 @@ def _error_controlled(machine, dt, inputs, N, substeps, seed, raise_on_failure, 
         prev = nxt
 
 
-def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+def _pack(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
+    """Everything the kernel needs that depends only on the machine, ``dt``, the sub-steps and
+    the input names (not on the input values, the run length or the seed): the discretised
+    chain, packed sites, loads, schedules, signals, actuators, sensors and blocks. Checks the
+    machine against the input names (missing motion input, unread signal, actuator command).
+    Cached across runs by :func:`_packed`."""
     n = machine.n
     h = dt / int(substeps)
     fold = _folded_viscous(machine)
@@ -714,11 +732,8 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
     # motions
     mnames = machine._motion_names
     for mname in mnames:
-        if mname not in inputs:
+        if mname not in in_keys:
             raise DataError(f"simulate_machine: prescribed motion {mname!r} needs an input array of that name")
-    mot = np.zeros((N, len(mnames)))
-    for i, mname in enumerate(mnames):
-        mot[:, i] = inputs[mname]
 
     # sites
     kinds, po, so, par, st, xtol = [], [], [], [], [], []
@@ -796,7 +811,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
             sig_names.append(name)
         return sig_names.index(name)
 
-    in_names = [k for k in inputs if k not in mnames]
+    in_names = [k for k in in_keys if k not in mnames]
     produced = set(in_names) | {s.name for s in machine.sensors} | {f"{a.name}.applied" for a in machine.actuators}
     for b in machine.blocks:
         produced |= set(b.outputs)
@@ -806,9 +821,6 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
                 raise DataError(f"controller block {type(b).__name__}({b.outputs[0]!r}) reads signal {s!r}, "
                                 f"which nothing produces; known signals: {sorted(produced)}")
     in_sig = np.array([sig_index(k) for k in in_names], dtype=np.int64)
-    in_arr = np.zeros((N, len(in_names)))
-    for i, k in enumerate(in_names):
-        in_arr[:, i] = inputs[k]
 
     # actuators
     nact = len(machine.actuators)
@@ -827,7 +839,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
             act_sig[i] = sig_index(a.command)
         else:
             raise DataError(f"actuator {a.name!r} follows signal {a.command!r}, which is neither an input array "
-                            f"nor a controller output; inputs given: {sorted(inputs)}")
+                            f"nor a controller output; inputs given: {sorted(in_keys)}")
     act_applied = np.array([sig_index(f"{a.name}.applied") for a in machine.actuators], dtype=np.int64)
     act_lim = np.array([a.limit for a in machine.actuators], dtype=float)
     act_delay = np.array([a.delay for a in machine.actuators], dtype=np.int64)
@@ -842,13 +854,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
     sen_res = np.array([s.resolution for s in machine.sensors], dtype=float)
     sen_delay = np.array([s.delay for s in machine.sensors], dtype=np.int64)
     sen_sig = np.array([sig_index(s.name) for s in machine.sensors], dtype=np.int64)
-    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
-        raise ParameterError(f"simulate_machine seed = {seed!r}: must be a non-negative integer or None")
-    rng = np.random.default_rng(seed)
-    noise = np.zeros((N, nsen))
-    for i, s in enumerate(machine.sensors):
-        if s.noise > 0:
-            noise[:, i] = rng.standard_normal(N) * s.noise
+    sen_noise = [float(s.noise) for s in machine.sensors]
 
     # blocks
     act_names = [a.name for a in machine.actuators]
@@ -889,31 +895,129 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
         sptr.append(len(bst))
 
     X = np.array([d.x0 for d in machine.dofs] + [d.v0 for d in machine.dofs], dtype=float)
-    sig = np.zeros(len(sig_names))
-    q_out = np.full((N, n), np.nan)
-    v_out = np.full((N, n), np.nan)
-    F_out = np.full((N, ns), np.nan)
-    sig_out = np.full((N, len(sig_names)), np.nan)
-    u_out = np.full((N, nact), np.nan)
     I64 = np.int64
     mg = _merge_maps(machine, par, po, kinds, fold, bool(np.any(ld_mode)), Phi, G0, G1, Gf, Cq, Cm,
                      int(substeps))
     mg_R, mg_M = mg if mg is not None else (np.zeros((0, 0, 0)), np.zeros((0, 0)))
-    status, k_end, n_bad = _k.run(
-        int(substeps), dt, Phi, G0, G1, Gf, np.ascontiguousarray(Gss, dtype=float),
-        np.ascontiguousarray(Hss, dtype=float),
-        np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), np.zeros(ns), fold, mg is not None, mg_R, mg_M,
-        np.array(kinds, dtype=I64), np.array(po, dtype=I64), np.array(so, dtype=I64),
-        np.array(par, dtype=float), np.array(st, dtype=float), np.array(xtol, dtype=float),
-        ld_mode, ld_row, ld_mrow, ld_site, ld_par,
-        sch_mode, sch_row, sch_mrow,
-        X, mot,
-        act_sig, act_lim, act_delay, act_foh, act_applied, act_col, in_arr, in_sig,
-        sen_row, sen_mrow, sen_qty, sen_res, sen_delay, sen_sig, noise,
-        np.array(code, dtype=I64), np.array(iptr, dtype=I64), np.array(idx, dtype=I64),
-        np.array(fptr, dtype=I64), np.array(bpar, dtype=float), np.array(sptr, dtype=I64),
-        np.array(bst, dtype=float), sig,
-        q_out, v_out, F_out, sig_out, u_out)
+    # the kernel's arguments by name (kernels.machine.run), except what a run supplies (the
+    # motions, inputs, noise and outputs); the arrays the kernel updates in place are copied for
+    # every run (_KARGS_MUTABLE: a kernel that writes to another argument must add it there)
+    kargs = dict(
+        n_sub=int(substeps), dt=dt, Phi=Phi, G0=G0, G1=G1, Gf=Gf, Gss=np.ascontiguousarray(Gss, dtype=float),
+        Hss=np.ascontiguousarray(Hss, dtype=float), Cq=np.ascontiguousarray(Cq), Cm=np.ascontiguousarray(Cm),
+        s_off=np.zeros(ns), s_visc=fold, mg_on=mg is not None, mg_R=mg_R, mg_M=mg_M,
+        site_kind=np.array(kinds, dtype=I64), site_po=np.array(po, dtype=I64), site_so=np.array(so, dtype=I64),
+        par=np.array(par, dtype=float), st=np.array(st, dtype=float), xtol=np.array(xtol, dtype=float),
+        ld_mode=ld_mode, ld_row=ld_row, ld_mrow=ld_mrow, ld_site=ld_site, ld_par=ld_par,
+        sch_mode=sch_mode, sch_row=sch_row, sch_mrow=sch_mrow, X=X,
+        act_sig=act_sig, act_lim=act_lim, act_delay=act_delay, act_foh=act_foh, act_applied_sig=act_applied,
+        act_col=act_col, in_sig=in_sig,
+        sen_row=sen_row, sen_mrow=sen_mrow, sen_qty=sen_qty, sen_res=sen_res, sen_delay=sen_delay, sen_sig=sen_sig,
+        blk_code=np.array(code, dtype=I64), blk_iptr=np.array(iptr, dtype=I64), blk_idx=np.array(idx, dtype=I64),
+        blk_fptr=np.array(fptr, dtype=I64), blk_par=np.array(bpar, dtype=float), blk_sptr=np.array(sptr, dtype=I64),
+        blk_st=np.array(bst, dtype=float), sig=np.zeros(len(sig_names)))
+    return {"kargs": kargs, "mnames": list(mnames), "in_names": in_names, "sen_noise": sen_noise,
+            "sig_names": tuple(sig_names), "act_names": tuple(act_names), "n": n, "ns": ns, "nact": nact}
+
+
+#: Packed machines of recent runs (:func:`_packed`), oldest first.
+_PACK_CACHE: "OrderedDict[tuple, dict]" = OrderedDict()
+_PACK_CACHE_SIZE = 16
+#: Kernel arguments the kernel writes to (copied from the cached pack for every run).
+_KARGS_MUTABLE = ("par", "st", "X", "blk_par", "blk_st", "sig")  # blk_par: a scheduled feed-forward's levels
+
+
+def _signature_names(f) -> tuple:
+    import inspect
+
+    return tuple(inspect.signature(getattr(f, "py_func", f)).parameters)
+
+
+#: Parameter names of ``kernels.machine.run`` in order (read at import, before any wrapper such as
+#: the benchmark's kernel clock replaces the module attribute).
+_RUN_PARAMS = _signature_names(_k.run)
+
+
+def _fingerprint(machine: Machine):
+    """The machine's content as a hashable key — its JSON form (:meth:`Machine.to_dict`, which
+    is complete: :meth:`Machine.from_dict` rebuilds the machine from it) — or None when it has
+    no JSON form (such a machine is packed anew for every run). An edited machine (a part
+    added, a law or parameter replaced, even in place in its lists) has another key, so it can
+    never meet a stale pack; two equal machines share one."""
+    import json
+
+    fp = _CALL_FP.get(id(machine))
+    if fp is not None:
+        return fp
+    try:
+        return json.dumps(machine.to_dict(), allow_nan=True)
+    except Exception:  # a part without a JSON form: no caching, never a wrong pack
+        return None
+
+
+#: Fingerprints of the machines whose :func:`simulate_machine` call is running (by ``id``): the
+#: machine cannot change during the call, so its runs, checks and reruns share one fingerprint.
+_CALL_FP: dict = {}
+
+
+def _packed(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
+    """:func:`_pack`, remembered for the last 16 (machine content, ``dt``, input names,
+    sub-steps). Repeated runs of one machine (identification loops, studies, benchmarks, the
+    sub-step and loop checks' reruns) then skip the packing and the exact discretisation —
+    about 1 ms of Python per run, a tenth of a whole EMPS run. The pack's in-place arrays are
+    copied for every run by the caller."""
+    fp = _fingerprint(machine)
+    if fp is None:
+        return _pack(machine, dt, in_keys, substeps)
+    key = (fp, float(dt), tuple(in_keys), int(substeps))
+    p = _PACK_CACHE.get(key)
+    if p is None:
+        p = _pack(machine, dt, in_keys, substeps)
+        _PACK_CACHE[key] = p
+        if len(_PACK_CACHE) > _PACK_CACHE_SIZE:
+            try:
+                _PACK_CACHE.popitem(last=False)
+            except KeyError:  # emptied by another thread meanwhile
+                pass
+    else:
+        try:
+            _PACK_CACHE.move_to_end(key)
+        except KeyError:  # evicted by another thread meanwhile: p is still a valid pack
+            pass
+    return p
+
+
+def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise ParameterError(f"simulate_machine seed = {seed!r}: must be a non-negative integer or None")
+    p = _packed(machine, dt, tuple(inputs), int(substeps))
+    n, ns, nact = p["n"], p["ns"], p["nact"]
+    mnames, in_names, sig_names, act_names = p["mnames"], p["in_names"], p["sig_names"], p["act_names"]
+    mot = np.zeros((N, len(mnames)))
+    for i, mname in enumerate(mnames):
+        mot[:, i] = inputs[mname]
+    in_arr = np.zeros((N, len(in_names)))
+    for i, k in enumerate(in_names):
+        in_arr[:, i] = inputs[k]
+    rng = np.random.default_rng(seed)
+    noise = np.zeros((N, len(p["sen_noise"])))
+    for i, sn in enumerate(p["sen_noise"]):
+        if sn > 0:
+            noise[:, i] = rng.standard_normal(N) * sn
+    # every sample before the kernel's k_end is written by it; the rest is set to NaN below
+    q_out = np.empty((N, n))
+    v_out = np.empty((N, n))
+    F_out = np.empty((N, ns))
+    sig_out = np.empty((N, len(sig_names)))
+    u_out = np.empty((N, nact))
+    kw = dict(p["kargs"], mot=mot, inputs=in_arr, noise=noise, q_out=q_out, v_out=v_out, F_out=F_out,
+              sig_out=sig_out, u_out=u_out)
+    for name in _KARGS_MUTABLE:
+        kw[name] = kw[name].copy()
+    status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS])
+    if k_end < N:
+        for arr in (q_out, v_out, F_out, sig_out, u_out):
+            arr[k_end:] = np.nan
     message = "ok"
     if status == _k.STATUS_NONFINITE:
         message = (f"non-finite state after sample {k_end - 1} (t = {(k_end - 1) * dt:.6g} s): the run was "

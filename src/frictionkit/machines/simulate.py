@@ -927,15 +927,19 @@ _PACK_CACHE_SIZE = 16
 _KARGS_MUTABLE = ("par", "st", "X", "blk_par", "blk_st", "sig")  # blk_par: a scheduled feed-forward's levels
 
 
-def _signature_names(f) -> tuple:
+def _signature_names(f) -> tuple[tuple, tuple]:
+    """Names of ``f``'s parameters without a default (in order) and with one."""
     import inspect
 
-    return tuple(inspect.signature(getattr(f, "py_func", f)).parameters)
+    ps = inspect.signature(getattr(f, "py_func", f)).parameters.values()
+    return (tuple(p.name for p in ps if p.default is inspect.Parameter.empty),
+            tuple(p.name for p in ps if p.default is not inspect.Parameter.empty))
 
 
-#: Parameter names of ``kernels.machine.run`` in order (read at import, before any wrapper such as
-#: the benchmark's kernel clock replaces the module attribute).
-_RUN_PARAMS = _signature_names(_k.run)
+#: Parameter names of ``kernels.machine.run``: required ones in order, then those with a default
+#: (passed by keyword when the pack gives them); read at import, before any wrapper such as the
+#: benchmark's kernel clock replaces the module attribute.
+_RUN_PARAMS, _RUN_OPTIONAL = _signature_names(_k.run)
 
 
 def _fingerprint(machine: Machine):
@@ -1014,7 +1018,8 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
               sig_out=sig_out, u_out=u_out)
     for name in _KARGS_MUTABLE:
         kw[name] = kw[name].copy()
-    status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS])
+    status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS],
+                                  **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
             arr[k_end:] = np.nan

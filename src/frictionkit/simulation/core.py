@@ -402,8 +402,10 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     if zeta < 1.0:
         how = ("the error control is local, so the phase error of that lightly damped ringing adds up over its "
                "periods")
-        todo = ("Tighten the tolerance (SimOptions(rtol=...)) until this check passes, or check sigma0, the mass "
-                "and dt (units?); such ringing is physical only for an undamped contact (a LuGre's sigma1 damps it)")
+        todo = ("Tighten the tolerance (SimOptions(rtol=...)): the samples kept (up to failed_at) agree with the "
+                "tighter run and a tighter rtol keeps more of them, but the error of such ringing falls more slowly "
+                "than rtol, so the check may fail at every rtol; or check sigma0, the mass and dt (units?): such "
+                "ringing is physical only for an undamped contact (a LuGre's sigma1 damps it)")
     else:
         how = (f"its relaxation time m/c = {m / c:.3g} s is {c / m * dt:.3g} times shorter than dt and the local "
                "error control does not bound what it leaves in the samples")

@@ -320,6 +320,9 @@ def load_study(path: str | Path) -> StudySpec:
         doc = tomllib.loads(p.read_text(encoding="utf-8"))
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise DataError(f"study '{p}': not valid TOML ({exc})") from None
+    if not doc:  # an empty (or truncated to nothing) file ran a 20-run default study (campaign round 5)
+        raise DataError(f"study '{p}': the file holds no table; give at least [machine] (and [reference], [spread], "
+                        "[study] to change their defaults)")
     bad = set(doc) - {"machine", "reference", "spread", "study"}
     if bad:
         raise DataError(f"study '{p}': unknown section(s) {sorted(bad)}; allowed: machine, reference, spread, study")

@@ -20,12 +20,14 @@ is stored in ``Recording.provenance["sha256"]``.
 from __future__ import annotations
 
 import hashlib
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .._validate import HUGE
 from ..errors import DataError
 from .recording import Recording
 
@@ -358,22 +360,56 @@ def _grid_input(table: Mapping[str, np.ndarray], p: Path, tcol: str, col: str, r
     (``compensate --test`` specs, ``simulate MACHINE.json --input``): the time column ``tcol`` must
     be uniformly sampled and match ``grid`` (``(samples, step, file)`` of the first file, or None),
     the column numeric and finite. Returns the column and the grid."""
+    _si_header(p, tcol, "s", time_role)
     t = _column(table, p, time_role, tcol)
+    # the cause first: "not uniformly sampled" misled on an empty file, a NaN time or a time running backwards
+    if t.size < 2:
+        raise DataError(f"file '{p}': {t.size} row(s); a run's input needs at least 2 samples")
+    if not np.all(np.isfinite(t)):
+        raise DataError(f"file '{p}': time column {tcol!r} is not finite at row {int(np.flatnonzero(~np.isfinite(t))[0])}")
     steps = np.diff(t)
-    if t.size < 2 or not np.all(np.isfinite(t)) or steps.min() <= 0 or np.ptp(steps) > 1e-6 * steps.mean():
-        raise DataError(f"file '{p}': time column {tcol!r} is not uniformly sampled; the inputs of a run share "
-                        "one grid (resample first)")
+    if steps.min() <= 0:
+        i = int(np.flatnonzero(steps <= 0)[0])
+        raise DataError(f"file '{p}': time column {tcol!r} does not increase at row {i + 1} ({t[i]:.9g} -> "
+                        f"{t[i + 1]:.9g} s)")
+    if np.ptp(steps) > 1e-6 * steps.mean():
+        raise DataError(f"file '{p}': time column {tcol!r} is not uniformly sampled (steps {steps.min():.6g} to "
+                        f"{steps.max():.6g} s); the inputs of a run share one grid (resample first)")
     h = float(np.mean(steps))
     if grid is None:
         grid = (t.size, h, p)
     elif grid[0] != t.size or abs(grid[1] - h) > 1e-9 * h:
         raise DataError(f"{role}: '{p}' has {t.size} samples at {h:.6g} s, '{grid[2]}' {grid[0]} at "
                         f"{grid[1]:.6g} s; all inputs share one grid")
+    _si_header(p, col, None, role)
     arr = _column(table, p, role, col)
     if not np.all(np.isfinite(arr)):
         bad = int(np.flatnonzero(~np.isfinite(arr))[0])
         raise DataError(f"file '{p}': column '{col}' (given for {role}) is not finite at row {bad}")
+    huge = np.flatnonzero(np.abs(arr) > HUGE)
+    if huge.size:  # one 1e300 sample in a reference ran with status 0 (campaign round 5)
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) = {arr[huge[0]]:.6g} at row {int(huge[0])}: "
+                        f"beyond {HUGE:.0e}, a corrupt sample or a unit slip; remove or repair it")
     return arr, grid
+
+
+#: Units in a column header (``"t [ms]"``, ``"qg [mm]"``) that are not SI: ``--input`` and
+#: compensation-test inputs are read as SI, so such a column would be off by the prefix
+#: (``t [ms]`` read as seconds ran 1,000x too slow with status 0; campaign round 5). Assumption:
+#: the bracketed text of a header is its unit; only these common non-SI spellings are refused.
+NON_SI_HEADER_UNITS = frozenset({"ms", "us", "µs", "ns", "min", "h", "mm", "cm", "um", "µm", "nm", "km", "deg",
+                                 "°", "mrad", "urad", "µrad", "arcsec", "mm/s", "um/s", "µm/s", "deg/s", "°/s",
+                                 "rpm", "mm/s^2", "mm/s²", "mn", "kn", "n·mm", "nmm", "ma", "mv", "g"})
+
+
+def _si_header(p: Path, col: str, want: str | None, role: str) -> None:
+    m = re.search(r"\[([^\]]*)\]\s*$", col)
+    if m is None:
+        return
+    unit = m.group(1).strip()
+    if (want is not None and unit not in (want, "")) or unit.lower() in NON_SI_HEADER_UNITS:
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) is in {unit}; this input is read in SI "
+                        f"units{f' ({want})' if want else ''}: convert the column (its values are not rescaled)")
 
 
 def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:

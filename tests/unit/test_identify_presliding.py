@@ -75,5 +75,38 @@ def test_errors(stroke):
     with pytest.raises(DataError, match="does not move"):
         fit_presliding({"t": t, "x": np.zeros_like(x), "F": F}, elements=2)
     convex = 1e9 * x[:2501] ** 2  # stiffening curve: not a pre-sliding branch
-    with pytest.raises(IdentificationError, match="not concave"):
-        fit_presliding({"t": t[:2501], "x": x[:2501], "F": convex}, elements=2, refine=False)
+    res = fit_presliding({"t": t[:2501], "x": x[:2501], "F": convex}, elements=2, polish=False)
+    assert not res.success and res.model is None and "not concave" in res.message
+    assert np.isnan(res.values).all() and res.flagged is not None
+    with pytest.raises(IdentificationError, match="fit_presliding: the virgin branch is not concave"):
+        fit_presliding({"t": t[:2501], "x": x[:2501], "F": convex}, elements=2, polish=False, raise_on_failure=True)
+
+
+def test_polish_is_the_bool_and_refine_the_old_spelling(stroke):
+    """One meaning per name: FitOptions.refine counts optimised starts; the pre-sliding bool is ``polish``."""
+    from frictionkit.errors import FrictionKitDeprecationWarning
+
+    t, x, F = stroke
+    data = {"t": t[:2501], "x": x[:2501], "F": F[:2501]}
+    new = fit_presliding(data, elements=2, polish=False)
+    with pytest.warns(FrictionKitDeprecationWarning, match="fit_presliding.refine is deprecated: use "
+                                                           "fit_presliding.polish"):
+        old = fit_presliding(data, elements=2, refine=False)
+    np.testing.assert_array_equal(old.values, new.values)
+    assert old.provenance["procedure"]["polish"] is False
+    with pytest.raises(ParameterError, match="fit_presliding: refine = 2 is not used here"):
+        fit_presliding(data, elements=2, refine=2)
+    with pytest.raises(ParameterError, match="fit_presliding: FitOptions has no setting 'nfev'"):
+        fit_presliding(data, elements=2, nfev=3)
+
+
+def test_unconverged_polish_is_a_result_not_an_exception(stroke):
+    t, x, F = stroke
+    data = {"t": t[:7501], "x": x[:7501], "F": F[:7501] + 1e-3 * np.sin(t[:7501] * 377.0)}
+    res = fit_presliding(data, elements=3, max_nfev=1)
+    assert not res.success and "did not converge within max_nfev = 1" in res.message
+    assert res.diagnostics["polish"] == "stopped" and isinstance(res.model, fk.GMS)
+    # one evaluation: no step taken, the eq. 19 values are where it stopped
+    np.testing.assert_allclose(res.values, res.diagnostics["initial_k"] + res.diagnostics["initial_xi"], rtol=1e-12)
+    with pytest.raises(IdentificationError, match="polish did not converge"):
+        fit_presliding(data, elements=3, max_nfev=1, raise_on_failure=True)

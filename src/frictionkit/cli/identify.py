@@ -265,7 +265,7 @@ def output_error(
     velocity_integration: str = typer.Option("held", "--velocity-integration", help="Motion drive from a velocity "
                                              "log: held (the log is the mean over the preceding sample, as drives "
                                              "log it) or trapezoidal (the log is the velocity at the sample)."),
-    model: str = typer.Option("lugre", "--model", help="lugre or gms (and dahl with --drive motion)."),
+    model: str = typer.Option("lugre", "--model", help="lugre, gms or dahl."),
     static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
     Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
     Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
@@ -335,7 +335,7 @@ def output_error(
     offset = chk._finite(offset, "--offset")
     inertia = chk.optional(chk.nonnegative, inertia, "--inertia")
     max_presliding = chk.optional(chk.positive, max_presliding, "--max-presliding")
-    chk.choice(model, "--model", ("lugre", "gms") if drive == "force" else ("lugre", "gms", "dahl"))
+    chk.choice(model, "--model", ("lugre", "gms", "dahl"))
     if compare is not None:
         chk.choice(compare, "--compare", ("v", "x"))
     if starts is not None:
@@ -353,7 +353,9 @@ def output_error(
         for opt, val, default in (("--k", k, None), ("--xi", xi, None), ("--C", C, None), ("--elements", elements, 3)):
             if val != default:
                 raise ParameterError(f"{opt} applies to --model gms only (this is --model {model})")
-    else:
+    if model == "dahl" and sigma1 is not None:
+        raise ParameterError("--sigma1 applies to --model lugre only (Dahl has no bristle damping)")
+    if model == "gms":
         for opt, val in (("--sigma0", sigma0), ("--sigma1", sigma1)):
             if val is not None:
                 raise ParameterError(f"{opt} applies to --model lugre/dahl only (this is --model gms: its start "
@@ -417,8 +419,9 @@ def output_error(
     d = res.diagnostics
     ini = d.get("initial") or {}
     if "sigma0" in ini and "branches" in ini:
-        typer.echo(f"initial guess: sigma0 {ini['sigma0']:.6g} {units['F']}/{units['x']}, sigma1 {ini['sigma1']:.6g} "
-                   f"{units['F']}·s/{units['x']} ({ini['branches']} branches)")
+        typer.echo(f"initial guess: sigma0 {ini['sigma0']:.6g} {units['F']}/{units['x']}"
+                   + (f", sigma1 {ini['sigma1']:.6g} {units['F']}·s/{units['x']}" if "sigma1" in ini else "")
+                   + f" ({ini['branches']} branches)")
     elif "k_total" in ini:
         typer.echo(f"initial guess: total stiffness {ini['k_total']:.6g} {units['F']}/{units['x']} "
                    f"({ini['branches']} branches)")
@@ -443,8 +446,9 @@ def _output_error_force(data, law, *, model, names, mass, offset, compare, rest,
     from ..identify.output_error import fit_output_error
 
     given: dict = {}
-    if model == "lugre":
+    if model in ("lugre", "dahl"):
         given.update({n: v for n, v in (("sigma0", sigma0), ("sigma1", sigma1)) if v is not None})
+
     else:
         kk, xx = _floats_list(k, "--k"), _floats_list(xi, "--xi")
         if (kk is None) != (xx is None):
@@ -566,7 +570,8 @@ def presliding(
     sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
     branch: str = typer.Option("auto", "--branch", help="auto, virgin or reversal."),
     C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
-    no_refine: bool = typer.Option(False, "--no-refine", help="Skip the simulation-error refinement."),
+    no_polish: bool = typer.Option(False, "--no-polish", "--no-refine", help="Skip the simulation-error polish "
+                                   "(--no-refine: the former name)."),
     group: Optional[list[str]] = typer.Option(None, "--group", help="Column(s) naming records; all are fitted "
                                               "jointly, each from the unloaded state."),
     rests: str = typer.Option("auto", "--rests", help="auto (force logged exactly 0 over --min-rest samples = "
@@ -611,11 +616,17 @@ def presliding(
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
     data = loader(recording)
     with Console(stderr=True).status(f"pre-sliding fit: {elements} element(s)"
-                                     + ("" if no_refine else ", then simulation-error refinement")):
-        res = fit_presliding(data, elements=elements, static=law, branch=branch, C=C, refine=not no_refine,
+                                     + ("" if no_polish else ", then simulation-error polish")):
+        res = fit_presliding(data, elements=elements, static=law, branch=branch, C=C, polish=not no_polish,
                              rests=_rest_option(rests, mask, mask_loader, recording), min_rest=min_rest)
     typer.echo(res.summary())
     d = res.diagnostics
+    if res.model is None:  # nothing to report or write: the branch gave no GMS
+        from ..errors import IdentificationError
+
+        raise IdentificationError(f"fit_presliding: {res.message}")
+    if not res.success:
+        typer.echo(f"NOT identified: {res.message}")
     typer.echo(f"total stiffness {d['total_stiffness']:.6g} {units['F']}/{units['x']}, breakpoints "
                + ", ".join(f"{b:.4g}" for b in d["breakpoints"]) + f" {units['x']}, C {d['C']:.4g} {units['F']}/s")
     seg = d["segments"]

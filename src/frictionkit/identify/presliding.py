@@ -14,7 +14,7 @@ curve with ``M`` breakpoints therefore gives
 
 The breakpoints are found by least squares over their positions (coordinate
 search on a logarithmic grid, then Nelder–Mead; the slopes follow by linear
-least squares for given breakpoints). The estimates are then refined by
+least squares for given breakpoints). The estimates are then polished by
 minimising the motion-driven simulation error ``F_sim(x) - F_meas`` of the GMS
 model over the whole record, and ``C`` is chosen on a grid by the same error.
 """
@@ -28,10 +28,11 @@ import numpy as np
 from scipy.optimize import least_squares, minimize
 
 from .. import _validate as val
-from ..errors import DataError, IdentificationError, ParameterError
+from ..errors import DataError, IdentificationError, ParameterError, warn_renamed
 from ..models.gms import GMS
 from ..models.static import CoulombViscous
 from ..simulation.core import simulate
+from .fit_options import FitOptions, fit_settings
 from .motion_data import MotionData, motion_data
 from .result import IdentificationResult, parameter_statistics
 from typing import TYPE_CHECKING
@@ -40,7 +41,11 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
     from typing import Any
 
-__all__ = ["fit_presliding", "piecewise_linear_fit"]
+__all__ = ["PRESLIDING_FIT", "fit_presliding", "piecewise_linear_fit"]
+
+#: Defaults of :func:`fit_presliding`'s polish (least squares on the simulation error):
+#: 60 evaluations, forward-difference step 1e-5 of the log parameters, ``ftol = xtol = 1e-8``.
+PRESLIDING_FIT = FitOptions(max_nfev=60, diff_step=1e-5)
 
 
 # --------------------------------------------------------------------------- piecewise-linear fit
@@ -171,10 +176,11 @@ def fit_presliding(
     static: Any=None,
     branch: str = "auto",
     C: float | None = None,
-    refine: bool = True,
-    max_nfev: int = 60,
+    polish: bool = True,
     rests: Any="auto",
     min_rest: int = 3,
+    fit: FitOptions | None = None,
+    **settings: Any,
 ) -> IdentificationResult:
     """Identify a GMS model's ``k_i``, ``xi_i`` (and ``C``) from pre-sliding data (seed 000 eq. 19).
 
@@ -202,17 +208,23 @@ def fit_presliding(
         the data cannot tell (constant-speed tests) the largest candidate within
         0.1 % of the best error — the fastest convergence to ``s(v)``, as seed 000
         §5.2.1 asks — is kept and a warning says so.
-    refine : bool
-        Refine ``k_i``, ``xi_i`` by least squares on the motion-driven simulation
-        error over the whole record (standard errors come from this step).
-    max_nfev : int
-        Evaluation budget of the refinement.
+    polish : bool
+        Polish ``k_i``, ``xi_i`` by least squares on the motion-driven simulation
+        error over the whole record (standard errors come from this step). Was
+        ``refine`` (a bool) before; ``refine=True/False`` still works for one release
+        with a :class:`~frictionkit.errors.FrictionKitDeprecationWarning` —
+        ``refine`` is :class:`~.fit_options.FitOptions`' count of optimised starts.
     rests, min_rest
         Where the records are cut (state reset, rest samples not fitted): ``"auto"``
         (force logged exactly 0 over ``min_rest`` samples), a mask, or None; see
         :func:`.motion_data.motion_data`. A force sensor quantised so coarsely that a
         slow zero crossing reads exactly 0 for ``min_rest`` samples would be cut there:
         give ``rests=None`` (or a larger ``min_rest``) for such records.
+    fit : FitOptions, optional
+        How the polish runs (default :data:`PRESLIDING_FIT`).
+    **settings
+        Single :class:`~.fit_options.FitOptions` fields replacing those of ``fit``:
+        ``max_nfev``, ``ftol``, ``xtol``, ``diff_step``, ``raise_on_failure``.
 
     Returns
     -------
@@ -223,14 +235,24 @@ def fit_presliding(
         ``total_stiffness`` [N/m], ``s_level`` [N], ``factor``, ``C``,
         ``C_grid_rms``, ``initial_k``, ``initial_xi`` (eq. 19 before refinement);
         ``data`` holds ``t``, ``y`` (measured force) and ``y_pred`` (simulated).
+        ``success`` is False, with the reason in ``message``, when the branch is not
+        concave (a slope rises at a breakpoint: ``M`` too large or not pre-sliding
+        data; ``model`` is then None and the values NaN), when the polish does not
+        converge (the eq. 19 values are kept, without intervals) or when its Jacobian
+        is singular (an element the record does not excite; no intervals);
+        ``diagnostics["polish"]`` says which: "off", "converged", "stopped" (at
+        ``max_nfev``, below its start cost: the values reached are kept, with
+        intervals), "failed" (at ``max_nfev``, above its start: eq. 19 values kept),
+        "singular", "not run" (not concave).
 
     Raises
     ------
+    ParameterError
+        Bad settings (``elements``, ``branch``, ``C``, a FitOptions field the fit does not read).
     DataError
         No position or force, no suitable branch, too few distinct positions.
     IdentificationError
-        The branch is not concave (a slope increases at a breakpoint: ``M`` too
-        large or not pre-sliding data), or the refinement does not converge.
+        Only with ``raise_on_failure=True``: the failures above.
 
     Examples
     --------
@@ -246,6 +268,17 @@ def fit_presliding(
     True
     """
     owner = "fit_presliding"
+    if "refine" in settings and val.is_bool(settings["refine"]):  # the old bool of the polish
+        warn_renamed(owner, "refine", "polish")
+        polish = bool(settings.pop("refine"))
+    if not val.is_bool(polish):
+        raise ParameterError(f"{owner}: polish = {polish!r}: must be True or False")
+    why = "the pre-sliding fit has one start (the eq. 19 breakpoints)"
+    cfg = fit_settings(owner, PRESLIDING_FIT, fit, settings,
+                       unused={"starts": why, "refine": why, "seed": why, "workers": "the polish runs in one thread",
+                               "jacobian": "the polish differences its Jacobian (GMS has no sensitivity kernel)",
+                               "profile": "the pre-sliding fit has no likelihood profiles"})
+    max_nfev = cfg.max_nfev
     if val.is_bool(elements) or not isinstance(elements, (int, np.integer)) or not 1 <= elements <= MAX_ELEMENTS:
         raise ParameterError(
             f"{owner}: elements = {elements!r}: must be an integer in 1 … {MAX_ELEMENTS} (the breakpoint "
@@ -300,12 +333,37 @@ def fit_presliding(
     slopes = fit["slopes"]
     k0 = slopes[:-1] - slopes[1:]
     k0[-1] = slopes[-2] - max(slopes[-1], 0.0) if slopes.size >= 2 else k0[-1]
+    M = int(elements)
+    names = tuple([f"k{i}" for i in range(1, M + 1)] + [f"xi{i}" for i in range(1, M + 1)])
+    Fu = md.units["F"]
+    xu = md.units["x"]
+    prov = dict(md.provenance["records"][0])
+    prov.pop("name", None)
+    if len(md.records) > 1:
+        prov["records"] = list(md.records)
+    prov.update({"recording": rec_name, "units": {"F": Fu, "x": xu},
+                 "procedure": {"method": "GMS pre-sliding breakpoints (seed 000 eq. 19) + simulation error",
+                               "branch": branch, "samples": [int(a), int(b)], "segment": int(pick),
+                               "elements": M, "polish": bool(polish), "rests": md.rests,
+                               "min_rest": int(min_rest), "fit": cfg.to_dict()}})
+    units = tuple([f"{Fu}/{xu}"] * M + ["-"] * M)
     if np.any(k0 <= 0):
         j = int(np.flatnonzero(k0 <= 0)[0])
-        raise IdentificationError(
-            f"{owner}: the {branch} branch is not concave — the slope rises at breakpoint {j + 1} "
-            f"({slopes[j]:.4g} -> {slopes[j + 1]:.4g} N/m); fewer elements (M = {elements}) or pre-sliding data needed"
-        )
+        message = (f"the {branch} branch is not concave — the slope rises at breakpoint {j + 1} "
+                   f"({slopes[j]:.4g} -> {slopes[j + 1]:.4g} {Fu}/{xu}); fewer elements (M = {elements}) or "
+                   "pre-sliding data needed")
+        if cfg.raise_on_failure:
+            raise IdentificationError(f"{owner}: {message}")
+        nan = np.full(2 * M, np.nan)
+        return IdentificationResult(
+            kind="presliding", model_name=f"gms_M{M}", model=None, names=names, values=nan, stderr=nan,
+            ci95=np.column_stack([nan, nan]), units=units, correlation=np.full((2 * M, 2 * M), np.nan),
+            rms=math.nan, relative_error_percent=math.nan, n_obs=int(sum(int(sg.fit.sum()) for sg in segs)),
+            dof=int(sum(int(sg.fit.sum()) for sg in segs)) - 2 * M, success=False, message=message,
+            warnings=(f"not identified: {message}",),
+            diagnostics={"breakpoints": fit["breaks"].tolist(), "slopes": slopes.tolist(), "branch": branch,
+                         "segments": md.summary, "polish": "not run"},
+            provenance=prov, data={})
     plateau = float(ff.max())
     if static is None:
         level = plateau if branch == "virgin" else plateau / 2.0
@@ -347,54 +405,56 @@ def fit_presliding(
     note = "" if ok.size == 1 or C is not None else (
         f"C is not determined by this record ({ok.size} of {C_grid.size} grid values within 0.1 % of the best "
         "error); the largest (fastest convergence to s(v), seed 000 §5.2.1) was kept")
-    M = int(elements)
-    names = tuple([f"k{i}" for i in range(1, M + 1)] + [f"xi{i}" for i in range(1, M + 1)])
     p0 = np.log(np.r_[k0, np.maximum(xi0, 1e-12)])
     theta = np.exp(p0)
     n = F_all.size
     dof = n - 2 * M
-    message = "piecewise-linear fit (eq. 19), no refinement"
+    message = "piecewise-linear fit (eq. 19), no polish"
+    success = True
+    polish_state = "off"
     cov = np.full((2 * M, 2 * M), np.nan)
-    if refine:
+    if polish:
         def resid(p):
             r = sim_F(np.exp(p[:M]), np.exp(p[M:]), C_sel) - F_all
             r[~np.isfinite(r)] = 10 * Fpk
             return r
 
-        sol = least_squares(resid, p0, method="trf", diff_step=1e-5, max_nfev=max_nfev, x_scale=1.0)
-        if sol.status == 0 and sol.cost > 0.5 * float(resid(p0) @ resid(p0)):
-            raise IdentificationError(f"{owner}: the simulation-error refinement did not converge ({sol.message})")
-        theta = np.exp(sol.x)
-        Jn = sol.jac / theta  # d r / d theta
-        r = sol.fun
-        s2 = float(r @ r) / dof
-        JtJ = Jn.T @ Jn
-        if np.linalg.matrix_rank(JtJ) < 2 * M:
-            raise IdentificationError(
-                f"{owner}: unidentifiable — the simulation-error Jacobian is singular; the record does not "
-                f"excite every one of the {M} elements (use fewer elements or a longer stroke)")
-        cov = s2 * np.linalg.pinv(JtJ)
-        message = f"refined by simulation error: {sol.message}"
+        sol = least_squares(resid, p0, method="trf", diff_step=cfg.diff_step, max_nfev=max_nfev, x_scale=1.0,
+                            ftol=cfg.ftol, xtol=cfg.xtol)
+        cost0 = 0.5 * float(np.sum(resid(p0) ** 2)) if sol.status == 0 else math.inf
+        if sol.status == 0 and sol.cost > cost0:
+            success, polish_state = False, "failed"
+            message = (f"the simulation-error polish did not converge within max_nfev = {max_nfev} evaluations "
+                       f"and ended above its start ({sol.message}); the eq. 19 values are kept, without intervals")
+        else:
+            theta = np.exp(sol.x)
+            Jn = sol.jac / theta  # d r / d theta
+            r = sol.fun
+            s2 = float(r @ r) / dof
+            JtJ = Jn.T @ Jn
+            if np.linalg.matrix_rank(JtJ) < 2 * M:
+                success, polish_state = False, "singular"
+                message = (f"unidentifiable — the simulation-error Jacobian is singular; the record does not "
+                           f"excite every one of the {M} elements (use fewer elements or a longer stroke)")
+            else:
+                cov = s2 * np.linalg.pinv(JtJ)
+                if sol.status == 0:  # stopped by the evaluation limit, below its start
+                    success, polish_state = False, "stopped"
+                    message = (f"the simulation-error polish did not converge within max_nfev = {max_nfev} "
+                               f"evaluations (cost {cost0:.4g} -> {sol.cost:.4g}); raise max_nfev")
+                else:
+                    polish_state = "converged"
+                    message = f"polished by simulation error: {sol.message}"
+        if not success and cfg.raise_on_failure:
+            raise IdentificationError(f"{owner}: {message}")
     st = parameter_statistics(theta, cov, dof)
     k, xi = theta[:M], theta[M:]
     model = GMS(static, k=k, xi=xi, C=C_sel)
     F_pred = sim_F(k, xi, C_sel)
     r = F_pred - F_all
-    Fu = md.units["F"]
-    xu = md.units["x"]
     warns = [] if not note else [note]
-    if float(np.sum(xi)) > 1.2:
-        warns.append(f"the weights sum to {np.sum(xi):.3g} > 1: the branch exceeds the static level s(v); "
-                     "check the static map")
-    prov = dict(md.provenance["records"][0])
-    prov.pop("name", None)
-    if len(md.records) > 1:
-        prov["records"] = list(md.records)
-    prov.update({"recording": rec_name, "units": {"F": Fu, "x": xu},
-                 "procedure": {"method": "GMS pre-sliding breakpoints (seed 000 eq. 19) + simulation error",
-                               "branch": branch, "samples": [int(a), int(b)], "segment": int(pick),
-                               "elements": M, "refine": bool(refine), "rests": md.rests,
-                               "min_rest": int(min_rest)}})
+    if not success:
+        warns.append(f"not identified: {message}")
     return IdentificationResult(
         kind="presliding",
         model_name=f"gms_M{M}",
@@ -403,20 +463,20 @@ def fit_presliding(
         values=theta,
         stderr=st["stderr"],
         ci95=st["ci"],
-        units=tuple([f"{Fu}/{xu}"] * M + ["-"] * M),
+        units=units,
         correlation=st["correlation"],
         rms=float(np.sqrt(np.mean(r**2))),
         relative_error_percent=float(100 * np.linalg.norm(r) / max(np.linalg.norm(F_all), 1e-300)),
         n_obs=int(n),
         dof=int(dof),
-        success=True,
+        success=success,
         message=message,
         warnings=tuple(warns),
         diagnostics={"breakpoints": fit["breaks"].tolist(), "slopes": slopes.tolist(),
                      "total_stiffness": float(np.sum(k)), "initial_total_stiffness": float(np.sum(k0)),
                      "initial_k": k0.tolist(), "initial_xi": xi0.tolist(), "s_level": s_new,
                      "factor": factor, "C": C_sel, "C_grid": C_grid.tolist(), "C_grid_rms": grid_rms.tolist(),
-                     "branch": branch, "segments": md.summary},
+                     "branch": branch, "segments": md.summary, "polish": polish_state},
         provenance=prov,
         data={"t": t_all, "y": F_all, "y_pred": F_pred},
     )

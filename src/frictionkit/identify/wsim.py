@@ -608,6 +608,13 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
 PRESLIDING_RETRIES = ((120, True), (60, False))
 
 
+def _usable(fit) -> None:
+    """Raise where the pre-sliding fit gave nothing WSIM can use (the retries below then run); a polish
+    stopped by its evaluation limit below its start cost is used, as before fit_presliding returned results."""
+    if not fit.success and fit.diagnostics.get("polish") != "stopped":
+        raise IdentificationError(f"fit_presliding: {fit.message}")
+
+
 def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfev):
     """fit_presliding on the thinned record; on failure retried per :data:`PRESLIDING_RETRIES`.
     Returns (fit, notes, the record fitted)."""
@@ -620,8 +627,9 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             used = _thin(rec, m)
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", GMSWeightWarning)
-                fit = fit_presliding(used, elements=elements, static=static, branch="virgin", refine=ref,
+                fit = fit_presliding(used, elements=elements, static=static, branch="virgin", polish=ref,
                                      max_nfev=max_nfev)
+            _usable(fit)
             seen = sorted({str(w.message) for w in caught if issubclass(w.category, GMSWeightWarning)})
             if seen:
                 notes.append(f"during the fit: {seen[-1]} (the stroke ends before the curve reaches s(v))")
@@ -639,8 +647,9 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             used = _thin(rec, m)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", GMSWeightWarning)     # the table reports sum_xi
-                fit = fit_presliding(used, elements=e, static=static, branch="virgin", refine=refine,
+                fit = fit_presliding(used, elements=e, static=static, branch="virgin", polish=refine,
                                      max_nfev=max_nfev)
+            _usable(fit)
             notes.append(f"fitted with M = {e} elements (block means to {m} samples), padded to M = {elements} "
                          "by splitting the last element")
             g = fit.model

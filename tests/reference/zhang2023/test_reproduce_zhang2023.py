@@ -288,7 +288,7 @@ def test_fit_gms_one_stiffness_starts_where_eq19_fails_at_m7():
         x = s * np.r_[np.linspace(0, A, nv), np.linspace(A, -A, 2 * nv - 1)[1:]]
         recs[lab] = Recording(t=np.arange(x.size) * dt, x=x, F=fk.simulate(true, position=x, dt=dt).friction)
     with pytest.raises(IdentificationError, match="not concave"):
-        fit_presliding(recs["negative"], elements=7, static=st, branch="virgin", refine=False)
+        fit_presliding(recs["negative"], elements=7, static=st, branch="virgin", polish=False, raise_on_failure=True)
     notes = []
     g = zr.fit_gms_one_stiffness(recs, {"positive": st, "negative": st}, elements=7, max_nfev=8, notes=notes)
     assert len(g.positive.k) == 7 and list(g.positive.k) == list(g.negative.k)

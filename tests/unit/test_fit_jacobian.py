@@ -151,3 +151,61 @@ def test_cli_jacobian_flag(tmp_path):
     res = runner.invoke(app, [*base, "--jacobian", "exact"])
     assert res.exit_code == 2
     assert "--jacobian" in res.output and "exact" in res.output
+
+
+def test_motion_drive_reduced_problem_keeps_cost_gradient_and_gauss_newton_matrix():
+    """The motion drive's (p + 1)-row problem (one augmented run per evaluation, force and its derivatives)
+    gives the plain problem's cost, gradient and J^T J — plain residuals from fk.simulate, Jacobian by
+    central differences of them — with the inertia and offset free over two segments (a rest between)."""
+    from frictionkit.identify._jacobian import MotionReducedProblem
+    from frictionkit.identify._law_params import LawTemplate
+    from frictionkit.identify.motion_data import motion_data
+    from frictionkit.identify.motion_error import _Problem
+
+    dt = 1e-4
+    t = np.arange(3001) * dt
+    x = 20e-6 * np.sin(2 * np.pi * 4.0 * t) + 2e-3 * t
+    law = fk.LuGre(LAW, sigma0=1e5, sigma1=30.0)
+    F = fk.simulate(law, position=x, dt=dt).friction + 2e-4 * np.gradient(np.gradient(x, dt), dt) + 0.05
+    F[1400:1420] = 0.0  # the drive disabled: a rest, state reset after it
+    md = motion_data({"t": t, "x": x, "F": F}, drive="position")
+    assert len(md.segments) == 2
+    start = fk.LuGre(LAW, sigma0=4e4, sigma1=50.0)
+    tmpl = LawTemplate.of(start)
+    names = ["sigma0", "sigma1", "J", "offset"]
+    theta = np.array([4e4, 50.0, 1e-4, 0.02])
+    prob = _Problem(tmpl, names, md, {"J": 0.0, "offset": 0.0}, theta, 1.0)
+    prob.exact = True
+    p = prob.to_tr(theta) + np.array([0.1, -0.2, 0.3, 0.5])
+    red = MotionReducedProblem(prob)
+    f = red.fun(p)
+    Jr = red.jac(p)
+    r = prob.resid_nat(prob.to_nat(p))
+    J = np.empty((r.size, p.size))
+    for j in range(p.size):
+        h = 1e-5 * max(1.0, abs(p[j]))
+        a, b = p.copy(), p.copy()
+        a[j] += h
+        b[j] -= h
+        J[:, j] = (prob.resid_nat(prob.to_nat(a)) - prob.resid_nat(prob.to_nat(b))) / (2 * h)
+    assert f.shape == (5,) and Jr.shape == (5, 4)
+    assert f @ f == pytest.approx(r @ r, rel=1e-12)
+    np.testing.assert_allclose(Jr.T @ f, J.T @ r, rtol=1e-4)
+    np.testing.assert_allclose(Jr.T @ Jr, J.T @ J, rtol=1e-4, atol=1e-6 * np.abs(J.T @ J).max())
+    rr, JJ = red.full(p)
+    np.testing.assert_allclose(rr, r, rtol=0, atol=1e-12 * np.abs(r).max())
+    assert prob.nsens == 1 and prob.nsim == 2 * (1 + 2 * p.size)  # the fit's evaluation: no plain simulation
+
+
+def test_motion_drive_fit_uses_the_reduced_problem():
+    dt = 1e-4
+    t = np.arange(4001) * dt
+    x = 20e-6 * np.sin(2 * np.pi * 4.0 * t) * (1 + 4 * (t > t[-1] / 2))
+    F = fk.simulate(fk.LuGre(LAW, sigma0=1e5, sigma1=30.0), position=x, dt=dt).friction
+    res = fit_motion_error({"t": t, "x": x, "F": F}, fk.LuGre(LAW, sigma0=3e4, sigma1=60.0), free=("sigma0", "sigma1"),
+                           starts=1, refine=1, profile=False)
+    d = res.diagnostics
+    assert res.success and res["sigma0"] == pytest.approx(1e5, rel=1e-6)
+    # every evaluation of the search is one augmented run; plain simulations only outside it
+    # (the result's final residual and the prediction)
+    assert d["sensitivity_runs"] >= d["nfev"] and d["simulations"] <= 3

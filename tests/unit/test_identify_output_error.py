@@ -148,7 +148,7 @@ def test_unknown_and_repeated_names(record):
         fit_output_error(data, TRUE, inertia=1.0, free=("Fc", "Fc_pos"))
     with pytest.raises(ParameterError, match="must be 'v' or 'x'"):
         fit_output_error(data, TRUE, inertia=1.0, compare="F")
-    with pytest.raises(ParameterError, match="must be LuGre or GMS"):
+    with pytest.raises(ParameterError, match="must be LuGre, GMS or Dahl"):
         fit_output_error(data, LAW, inertia=1.0)
 
 

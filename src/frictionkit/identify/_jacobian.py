@@ -90,10 +90,12 @@ def _snap(d: np.ndarray) -> np.ndarray:
     return np.where(np.abs(d - r) <= 1e-6 * np.maximum(1.0, np.abs(r)), r, d)
 
 
-def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt: float, options: SimOptions,
+def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, options: SimOptions,
                  segments, compare: str = "v", cache: dict | None = None, spare: int = 0, work: dict | None = None,
                  S_out: np.ndarray | None = None):
     """Simulated ``x`` or ``v`` and ``d(.)/d theta`` (``N x p``) of the force-driven mass, each segment from rest.
+
+    ``dt``: the sample period, or one per segment.
 
     The state is integrated with the steps of :func:`frictionkit.simulate` (same tolerances), the
     sensitivities ride on them (:func:`frictionkit.kernels.sensitivity.lugre_force_sens`).
@@ -121,8 +123,9 @@ def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt: float, o
         work.update(off=off, ue=np.ascontiguousarray(u - off, dtype=float))
     ue = work["ue"]
     status = 0
-    for a, b in segments:
-        st, _, _ = _ks.lugre_force_sens(ue[a:b], dt, m, static, dyn, coef, dm, doff, options.rtol, atol_v, atol_z,
+    dts = [float(dt)] * len(segments) if np.ndim(dt) == 0 else [float(h) for h in dt]
+    for (a, b), h in zip(segments, dts):
+        st, _, _ = _ks.lugre_force_sens(ue[a:b], h, m, static, dyn, coef, dm, doff, options.rtol, atol_v, atol_z,
                                         int(options.max_substeps), _v_floor(options), want_x,
                                         x[a:b], v[a:b], z[a:b], Sx[a:b] if want_x else Sx, Sv[a:b])
         status = status or int(st)
@@ -181,6 +184,8 @@ def reduce_lsq(A: np.ndarray, col_scale: np.ndarray | None = None) -> tuple[np.n
 class ReducedProblem:
     """The force-driven fit for :func:`scipy.optimize.least_squares` as a ``(p + 1)``-row problem.
 
+    (:class:`MotionReducedProblem` is the same for the motion-driven fit.)
+
     Every evaluation is one augmented run (:func:`force_driven`: the residual *and* its
     Jacobian), reduced by :func:`reduce_lsq`; ``jac`` returns the Jacobian of the last ``fun``
     point (the trust-region method asks for it only at accepted points, right after ``fun``).
@@ -199,9 +204,27 @@ class ReducedProblem:
         self._work: dict = {}  # state buffers of force_driven
         self._bufs = [None, None]  # two [J r] buffers: the last jac point's is never overwritten
         self._held = 1
-        w = prob.w
+        self._setup()
+
+    def _setup(self) -> None:
+        w = self.prob.w
         self._binary = bool(np.all((w == 0.0) | (w == 1.0)))  # the usual mask: zero rows, no product
         self._zero = np.flatnonzero(w == 0.0)
+
+    def _buffer(self, shape: tuple[int, int]) -> np.ndarray:
+        """The ``[J r]`` buffer not holding the last accepted point (reused from call to call)."""
+        k = 1 - self._held
+        if self._bufs[k] is None or self._bufs[k].shape != shape:
+            self._bufs[k] = np.empty(shape)
+        return self._bufs[k]
+
+    def _record(self, cost: float) -> None:
+        """Count one evaluation on the problem (its counters and progress callback)."""
+        prob = self.prob
+        prob.nfev += 1
+        prob.cost_history.append(cost)
+        if prob.progress is not None:
+            prob.progress(prob.nfev, prob.nsim + prob.nsens, cost)
 
     def _exact(self, p: np.ndarray):
         """``([J r], d theta / d p)`` from one augmented run at transformed ``p`` (None if it fails)."""
@@ -211,12 +234,10 @@ class ReducedProblem:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
-                k = 1 - self._held
-                if self._bufs[k] is None or self._bufs[k].shape != (prob.u.size, P + 1):
-                    self._bufs[k] = np.empty((prob.u.size, P + 1))
-                yh, A, status = force_driven(lambda th: prob.tmpl.build(prob.free, th), theta, prob.u, prob.dt,
+                buf = self._buffer((prob.u.size, P + 1))
+                yh, A, status = force_driven(lambda th: prob.tmpl.build(prob.free, th), theta, prob.u, prob.dts,
                                              prob.options, prob.segments, prob.compare, prob._coef_cache, spare=1,
-                                             work=self._work, S_out=self._bufs[k])
+                                             work=self._work, S_out=buf)
         except ParameterError:
             return None
         finally:
@@ -256,12 +277,8 @@ class ReducedProblem:
             A, sc = self._fallback(p), None
             red = reduce_lsq(A)
         f, Jr = red
-        prob = self.prob
-        prob.nfev += 1
-        prob.cost_history.append(0.5 * float(f @ f))
         self._last = (key, f, Jr, A, sc, 1 - self._held if A is self._bufs[1 - self._held] else -1)
-        if prob.progress is not None:
-            prob.progress(prob.nfev, prob.nsim + prob.nsens, prob.cost_history[-1])
+        self._record(0.5 * float(f @ f))
         return f
 
     def jac(self, p):
@@ -282,3 +299,71 @@ class ReducedProblem:
         P = A.shape[1] - 1
         J = A[:, :P] if sc is None else A[:, :P] * sc[None, :]
         return A[:, P].copy(), J
+
+
+class MotionReducedProblem(ReducedProblem):
+    """The motion-driven fit (:mod:`.motion_error`) as a ``(p + 1)``-row problem.
+
+    Every evaluation is one run of :func:`motion_driven` per segment: the force (equal to
+    :func:`frictionkit.simulate`'s ``position=`` run to round-off, tested) *and* its
+    derivatives, plus the ``J a`` and ``offset`` columns. Where it fails (a law without
+    sensitivity kernels, a parameter the law refuses, a non-finite value) the residual
+    and a difference Jacobian come from ``prob`` (plain simulations).
+    """
+
+    def _setup(self) -> None:
+        prob = self.prob
+        md = prob.md
+        self._law = [i for i, n in enumerate(prob.names) if n not in ("J", "offset")]
+        self._a = np.concatenate([s.a[s.fit] for s in md.segments])
+        self._F = np.concatenate([s.F[s.fit] for s in md.segments])
+        self._rows = np.cumsum([0] + [int(s.fit.sum()) for s in md.segments])
+
+    def _record(self, cost: float) -> None:
+        self.prob.nfev += 1
+        self.prob.history.append(cost)
+
+    def _exact(self, p: np.ndarray):
+        prob = self.prob
+        theta = prob.to_nat(p)
+        P = theta.size
+        law = self._law
+
+        def build(th):
+            return prob.tmpl.build(prob.law_names, th), 1.0, 0.0
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                if not supports(build(theta[law])[0]):
+                    return None
+                A = self._buffer((prob.n, P + 1))
+                for s, a, b in zip(prob.md.segments, self._rows[:-1], self._rows[1:]):
+                    F, S, status = motion_driven(build, theta[law], s.x, s.dt, prob._coef_cache)
+                    if status != 0:
+                        return None
+                    A[a:b, law] = S[s.fit]
+                    A[a:b, P] = F[s.fit]
+        except ParameterError:
+            return None
+        finally:
+            prob.nsens += 1
+        vals = dict(zip(prob.names, theta))
+        J = vals.get("J", prob.fixed["J"])
+        off = vals.get("offset", prob.fixed["offset"])
+        A[:, P] += J * self._a + off - self._F
+        for j, n in enumerate(prob.names):
+            if n == "J":
+                A[:, j] = self._a
+            elif n == "offset":
+                A[:, j] = 1.0
+        return A, np.where(prob.log, theta, prob.scale)
+
+    def _fallback(self, p: np.ndarray):
+        prob = self.prob
+        exact, prob.exact = prob.exact, False
+        try:
+            r = prob.resid_nat(prob.to_nat(p))
+            J = prob.jac(p)
+        finally:
+            prob.exact = exact
+        return np.column_stack([J, r])

@@ -11,12 +11,14 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..models.gms import GMS
-from ..models.lugre import LuGre
+from ..models.lugre import Dahl, LuGre
 from ..models.static import CoulombViscous, Directional, Stribeck
 
 _STATIC_FIELDS = ("Fc", "Fs", "vs", "delta", "sigma2")
 _LOG = {"sigma0", "vs", "delta", "C", "m"}  # strictly positive: optimised as log
 _NONNEG = {"sigma1", "Fc", "Fs", "sigma2"}
+#: The fields a Dahl law has (its map is Coulomb-viscous: no Stribeck hump, no bristle damping).
+_DAHL_FIELDS = ("Fc", "sigma2")
 
 
 # --------------------------------------------------------------------------- parameter handling
@@ -34,7 +36,7 @@ def _stribeck_fields(law) -> dict:
 class _Template:
     """A model split into named scalar values and the recipe to rebuild it."""
 
-    kind: str  # "lugre" or "gms"
+    kind: str  # "lugre", "gms" or "dahl"
     values: dict  # every adjustable scalar, by name
     static_free: bool
     orig_static: object
@@ -42,13 +44,22 @@ class _Template:
 
     @classmethod
     def of(cls, model, mass: float, offset: float) -> _Template:
+        if isinstance(model, Directional) and isinstance(model.positive, Dahl) and isinstance(model.negative, Dahl):
+            if model.positive.sigma0 != model.negative.sigma0:
+                raise ParameterError(
+                    "fit_output_error: a Directional of Dahl laws must share sigma0 (the bristle stiffness; "
+                    f"got {model.positive.sigma0:g} and {model.negative.sigma0:g}); the levels Fc, sigma2 may differ")
+            st = Directional(positive=model.positive.static, negative=model.negative.static)
+            return cls._dahl(st, model.positive.sigma0, mass, offset)
         if isinstance(model, Directional):
             raise ParameterError(
                 "fit_output_error: a Directional of dynamic laws is not supported; put the direction "
                 "dependence in the static map, e.g. LuGre(Directional(positive=..., negative=...), ...)"
             )
+        if isinstance(model, Dahl):
+            return cls._dahl(model.static, model.sigma0, mass, offset)
         if not isinstance(model, (LuGre, GMS)):
-            raise ParameterError(f"fit_output_error: model0 = {type(model).__name__}: must be LuGre or GMS")
+            raise ParameterError(f"fit_output_error: model0 = {type(model).__name__}: must be LuGre, GMS or Dahl")
         vals: dict = {"m": float(mass), "offset": float(offset)}
         st = model.static
         pos, neg = (st.positive, st.negative) if isinstance(st, Directional) else (st, st)
@@ -64,6 +75,16 @@ class _Template:
         vals["C"] = model.C
         return cls("gms", vals, False, st, model.M)
 
+    @classmethod
+    def _dahl(cls, static, sigma0: float, mass: float, offset: float) -> _Template:
+        """A Dahl law (or a Directional of two sharing ``sigma0``): ``Fc``, ``sigma2`` per direction."""
+        vals: dict = {"m": float(mass), "offset": float(offset), "sigma0": float(sigma0)}
+        pos, neg = (static.positive, static.negative) if isinstance(static, Directional) else (static, static)
+        for side, law in (("pos", pos), ("neg", neg)):
+            vals[f"Fc_{side}"] = float(law.Fc)
+            vals[f"sigma2_{side}"] = float(law.sigma2)
+        return cls("dahl", vals, False, static, 0)
+
     def expand(self, free: Sequence[str]) -> list[str]:
         """Canonical names: ``Fc`` -> both directions tied, ``k`` -> every element."""
         out: list[str] = []
@@ -74,6 +95,9 @@ class _Template:
                 out += [f"k{i}" for i in range(1, self.M + 1)]
             elif name == "xi" and self.kind == "gms":
                 out += [f"xi{i}" for i in range(1, self.M + 1)]
+            elif self.kind == "dahl" and name in _STATIC_FIELDS and name not in _DAHL_FIELDS:
+                raise ParameterError(f"fit_output_error: Dahl has no {name!r} (its map is Coulomb-viscous: "
+                                     "free sigma0, Fc, sigma2, m, offset; Fc/sigma2 with _pos/_neg per direction)")
             elif name in _STATIC_FIELDS or name in self.values:
                 out.append(name)
             else:
@@ -89,7 +113,8 @@ class _Template:
         return out
 
     def _public_names(self) -> list[str]:
-        names = [n for n in self.values if not n.startswith("shape")] + list(_STATIC_FIELDS)
+        names = [n for n in self.values if not n.startswith("shape")]
+        names += list(_DAHL_FIELDS if self.kind == "dahl" else _STATIC_FIELDS)
         return names + (["k", "xi"] if self.kind == "gms" else [])
 
     def get(self, name: str) -> float:
@@ -106,6 +131,11 @@ class _Template:
             else:
                 v[n] = float(x)
         static_touched = any(n.split("_")[0] in _STATIC_FIELDS for n in free)
+        if self.kind == "dahl":
+            laws = [Dahl(Fc=v[f"Fc_{s}"], sigma0=v["sigma0"], sigma2=v[f"sigma2_{s}"]) for s in ("pos", "neg")]
+            per_dir = any(n.endswith(("_pos", "_neg")) for n in free) or isinstance(self.orig_static, Directional)
+            model = Directional(positive=laws[0], negative=laws[1]) if per_dir or laws[0] != laws[1] else laws[0]
+            return model, v["m"], v["offset"]
         if static_touched:
             laws = [Stribeck(**{f: v[f"{f}_{s}"] for f in (*_STATIC_FIELDS, "shape")}) for s in ("pos", "neg")]
             per_dir = any(n.endswith(("_pos", "_neg")) for n in free) or isinstance(self.orig_static, Directional)

@@ -38,6 +38,8 @@ class _Problem:
         self._coef_cache: dict = {}  # parameter -> packed-row derivatives (_jacobian.row_coefficients)
         #: ``[(start, stop), ...]``: the recordings concatenated in ``u``/``y``, each simulated from rest
         self.segments = [(0, u.size)]
+        #: the sample period of each segment (records may be sampled differently)
+        self.dts = [dt]
 
     def to_nat(self, p: np.ndarray) -> np.ndarray:
         return np.where(self.is_log, np.exp(np.clip(p, -700, 700)), p * self.scale)
@@ -54,9 +56,9 @@ class _Problem:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             if len(self.segments) == 1:
-                return simulate(model, plant=Mass(m), force=self.u - off, dt=self.dt, options=self.options)
-            parts = [simulate(model, plant=Mass(m), force=self.u[a:b] - off, dt=self.dt, options=self.options)
-                     for a, b in self.segments]
+                return simulate(model, plant=Mass(m), force=self.u - off, dt=self.dts[0], options=self.options)
+            parts = [simulate(model, plant=Mass(m), force=self.u[a:b] - off, dt=h, options=self.options)
+                     for (a, b), h in zip(self.segments, self.dts)]
         return SimpleNamespace(v=np.concatenate([p.v for p in parts]), x=np.concatenate([p.x for p in parts]))
 
     def _resid_nat(self, theta) -> np.ndarray:
@@ -90,7 +92,7 @@ class _Problem:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 _, S, status = _jacobian.force_driven(lambda th: self.tmpl.build(self.free, th), theta, self.u,
-                                                      self.dt, self.options, self.segments, self.compare,
+                                                      self.dts, self.options, self.segments, self.compare,
                                                       self._coef_cache)
         except ParameterError:
             return None
@@ -138,11 +140,11 @@ def _batch_costs(prob, points, w, options) -> np.ndarray:
     costs[idx] = 0.0
     for off_val in {b[2] for b in built}:
         sel = [j for j, b in enumerate(built) if b[2] == off_val]
-        for a, b in getattr(prob, "segments", [(0, prob.u.size)]):  # each recording from rest
+        for (a, b), h in zip(prob.segments, prob.dts):  # each recording from rest, at its own period
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
                 br = simulate_batch([built[j][0] for j in sel], masses=[built[j][1] for j in sel],
-                                    force=prob.u[a:b] - off_val, dt=prob.dt, target=prob.y[a:b],
+                                    force=prob.u[a:b] - off_val, dt=h, target=prob.y[a:b],
                                     compare=prob.compare, weight=w[a:b], options=options)
             prob.nsim += len(sel)
             for j, sse in zip(sel, br.sse):

@@ -127,11 +127,9 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
         w_all = np.ones(u.size) if weight is None else val.signal("weight", weight)
         if w_all.size != u.size or (w_all < 0).any():
             raise DataError("weight must have one non-negative entry per sample")
-        dt_k = float(np.median(np.diff(rec.t)))
+        dt_k = float(np.median(np.diff(rec.t)))  # each record simulated with its own sample period
         if dt is None:
             dt = dt_k
-        elif abs(dt_k - dt) > 1e-9 * dt:
-            raise DataError(f"{owner}: recording {k} is sampled every {dt_k:.6g} s, recording 0 every {dt:.6g} s")
         bounds = segment_bounds(rest)
         for s0, _start, stop in bounds:
             sl = slice(s0, stop)
@@ -141,7 +139,7 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
             x = None if rec.x is None else np.asarray(rec.x, float)[sl] - float(rec.x[s0])
             v = None if rec.v is None else np.asarray(rec.v, float)[sl]
             segs.append({"record": rec.name, "record_index": k, "t": rec.t[sl], "u": u[sl], "y": y, "w": w,
-                         "x": x, "v": v})
+                         "x": x, "v": v, "dt": dt_k})
         summary[rec.name] = {"samples": rec.n, "rest_samples": int(rest.sum()),
                              "segments": [[int(a), int(b)] for _, a, b in bounds], "dt": dt_k}
     if not segs:
@@ -156,7 +154,7 @@ def _force_segments(owner, data, compare, external_load, weight, rests, min_rest
         raise DataError(f"{owner}: no motion to fit: the measured {what} is exactly 0 on every sample the rest "
                         f"mask leaves ({sum(int((s['w'] > 0).sum()) for s in segs)} samples); a mask is non-zero "
                         "where the drive is disabled")
-    return recs, segs, summary, dt
+    return recs, segs, summary, dt  # dt: the first record's period (each segment carries its own)
 
 
 def _relative_percent(resid, y) -> float:
@@ -198,12 +196,13 @@ def fit_output_error(
     ----------
     data : Recording or mapping, or a list / dict of them
         Uniformly sampled ``t`` [s], force ``F`` (or ``u``) [N] and the compared
-        signal ``v`` [m/s] or ``x`` [m]. Several records (same sampling period) are
-        fitted jointly; every record is cut at its rests (``rests``) and every run
+        signal ``v`` [m/s] or ``x`` [m]. Several records (each uniformly sampled, the
+        periods may differ) are fitted jointly; every record is cut at its rests (``rests``) and every run
         between rests is simulated from rest, starting at the last rest sample.
-    model0 : "lugre", "gms", or a LuGre / GMS law
+    model0 : "lugre", "gms", "dahl", or a LuGre / GMS / Dahl law
         A name: the structure, with ``static`` the map and ``initial`` the start
-        values. A law: structure and start values as given (``static`` and an
+        values (Dahl: the map's Coulomb level ``Fc`` and ``sigma2``, per direction).
+        Dahl may be a ``Directional`` of two Dahl laws sharing ``sigma0``. A law: structure and start values as given (``static`` and an
         ``initial`` mapping are then refused).
     static : law, static-map result, or path, optional
         With a model name: the static map — a ``Stribeck``/``Directional`` law, the
@@ -214,9 +213,10 @@ def fit_output_error(
         (:func:`.start_values.output_error_start`: LuGre ``sigma0`` from the
         sub-breakaway branches, ``sigma1`` from critical damping; GMS stiffnesses
         sharing that total). A mapping gives some of them (LuGre ``sigma0``,
-        ``sigma1``; GMS ``k``, ``xi``, ``C``), the rest are computed.
+        ``sigma1``; GMS ``k``, ``xi``, ``C``; Dahl ``sigma0``), the rest are computed.
     free : sequence of str, optional
-        Parameters to fit (default LuGre ``sigma0, sigma1``; GMS ``k``):
+        Parameters to fit (default LuGre ``sigma0, sigma1``; GMS ``k``; Dahl ``sigma0``;
+        Dahl has ``sigma0``, ``Fc``, ``sigma2``, ``m``, ``offset``):
         ``sigma0``, ``sigma1`` (LuGre); ``k1..kM``, ``xi1..xiM``, ``C``, or
         ``k``/``xi`` for all elements (GMS); ``Fc``, ``Fs``, ``vs``, ``delta``,
         ``sigma2`` (both directions) or with ``_pos``/``_neg``; ``m``; ``offset``.
@@ -342,7 +342,7 @@ def fit_output_error(
     for s in segs:
         k = s["record_index"]
         if k not in shift:
-            shift[k] = 0.0 if last is None else last + dt - float(s["t"][0])
+            shift[k] = 0.0 if last is None else last + s["dt"] - float(s["t"][0])
         ts.append(s["t"] + shift[k])
         last = float(ts[-1][-1])
     t = np.concatenate(ts)
@@ -355,9 +355,10 @@ def fit_output_error(
     workers = cfg.workers or os.cpu_count() or 1
     prob = _Problem(tmpl, names, u, dt, y, compare, sw, options, theta0, workers)
     prob.segments = segments
+    prob.dts = [s["dt"] for s in segs]
     prob.diff_step = cfg.diff_step
     prob.progress = progress
-    prob.exact = cfg.jacobian == "auto" and tmpl.kind == "lugre"  # forward sensitivities (kernels.sensitivity)
+    prob.exact = cfg.jacobian == "auto" and tmpl.kind in ("lugre", "dahl")  # forward sensitivities (kernels.sensitivity)
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):
@@ -442,29 +443,33 @@ def fit_output_error(
     else:
         order = [0]
 
-    best = None
-    runs = []
-    for i in order[:refine]:
-        prob.cost_history = []
-        with warnings.catch_warnings(), _blas_limit():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            # exact Jacobians: every evaluation is one augmented run, handed to trf as the (p + 1)-row
-            # problem with the same cost, gradient and Gauss-Newton matrix (_jacobian.ReducedProblem)
-            red = _jacobian.ReducedProblem(prob) if prob.exact else prob
-            sol = least_squares(red.fun, pts[i], jac=red.jac, bounds=(lo, hi), method="trf",
-                                x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
-            sol.full = red.full(sol.x) if prob.exact else None  # (r, J) at the optimum, if at hand
-        runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
-                     "njev": int(sol.njev or 0), "message": sol.message, "history": list(prob.cost_history)})
-        if best is None or sol.cost < best[0].cost:
-            best = (sol, runs[-1])
-    sol, run = best
-    theta = prob.to_nat(sol.x)
-    # the simulation itself at the optimum (a cost as large as the data's is no failure: a mass of
-    # 1e300 kg that barely moves gave "the simulation fails" although every run succeeded)
-    sim_opt = prob.simulate_nat(theta) if np.isfinite(sol.cost) else None
-    y_opt = None if sim_opt is None else (sim_opt.x if compare == "x" else sim_opt.v)
-    if y_opt is None or not np.all(np.isfinite(y_opt)) or getattr(sim_opt, "status", 0) != 0:
+    def search():
+        best, runs = None, []
+        for i in order[:refine]:
+            prob.cost_history = []
+            with warnings.catch_warnings(), _blas_limit():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                # exact Jacobians: every evaluation is one augmented run, handed to trf as the (p + 1)-row
+                # problem with the same cost, gradient and Gauss-Newton matrix (_jacobian.ReducedProblem)
+                red = _jacobian.ReducedProblem(prob) if prob.exact else prob
+                sol = least_squares(red.fun, pts[i], jac=red.jac, bounds=(lo, hi), method="trf",
+                                    x_scale=1.0, max_nfev=cfg.max_nfev, ftol=cfg.ftol, xtol=cfg.xtol, gtol=1e-12)
+                sol.full = red.full(sol.x) if prob.exact else None  # (r, J) at the optimum, if at hand
+            runs.append({"start": i, "cost": float(sol.cost), "status": int(sol.status), "nfev": int(sol.nfev),
+                         "njev": int(sol.njev or 0), "message": sol.message, "history": list(prob.cost_history)})
+            if best is None or sol.cost < best[0].cost:
+                best = (sol, runs[-1])
+        sol, run = best
+        theta = prob.to_nat(sol.x)
+        # the simulation itself at the optimum (a cost as large as the data's is no failure: a mass of
+        # 1e300 kg that barely moves gave "the simulation fails" although every run succeeded)
+        sim_opt = prob.simulate_nat(theta) if np.isfinite(sol.cost) else None
+        y_opt = None if sim_opt is None else (sim_opt.x if compare == "x" else sim_opt.v)
+        ok = y_opt is not None and bool(np.all(np.isfinite(y_opt))) and getattr(sim_opt, "status", 0) == 0
+        return sol, run, runs, theta, sim_opt, y_opt, ok
+
+    sol, run, runs, theta, sim_opt, y_opt, ok = search()
+    if not ok:
         # a run the kernel stopped or flagged (e.g. sigma0 = 1e300: ringing far faster than the samples)
         # is no optimum, even where its truncated trace is finite
         why = f" ({sim_opt.message})" if sim_opt is not None and getattr(sim_opt, "message", "ok") != "ok" else ""
@@ -564,13 +569,13 @@ def evaluate_output_error(model, data, *, inertia: float, offset: float = 0.0, c
     if compare not in ("v", "x"):
         raise ParameterError(f"{owner}: compare = {compare!r}: must be 'v' or 'x'")
     inertia = val.positive(owner, "inertia", inertia)
-    _, segs, _, dt = _force_segments(owner, data, compare, external_load, None, rests, min_rest)
+    _, segs, _, _ = _force_segments(owner, data, compare, external_load, None, rests, min_rest)
     options = options or OUTPUT_ERROR_OPTIONS
     ys, ps, ts = [], [], []
     for s in segs:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            sim = simulate(model, plant=Mass(inertia), force=s["u"] - offset, dt=dt, options=options)
+            sim = simulate(model, plant=Mass(inertia), force=s["u"] - offset, dt=s["dt"], options=options)
         k = s["w"] > 0
         ys.append(s["y"][k])
         ps.append((sim.x if compare == "x" else sim.v)[k])

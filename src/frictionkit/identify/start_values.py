@@ -37,7 +37,7 @@ __all__ = ["FORCE_DRIVE_FREE", "GMS_C_START", "load_static_law", "motion_error_s
 
 #: Parameters the force-driven fit frees by default: LuGre ``sigma0, sigma1``; GMS the
 #: stiffnesses ``k`` (a force-driven velocity record rarely pins ``C`` or the weights).
-FORCE_DRIVE_FREE = {"lugre": ("sigma0", "sigma1"), "gms": ("k",)}
+FORCE_DRIVE_FREE = {"lugre": ("sigma0", "sigma1"), "gms": ("k",), "dahl": ("sigma0",)}
 
 #: Start (and, unless freed, fixed) GMS attraction constant [N/s] when none is given: the
 #: value ``identify output-error --model gms`` has always used. Assumption, not a
@@ -45,7 +45,7 @@ FORCE_DRIVE_FREE = {"lugre": ("sigma0", "sigma1"), "gms": ("k",)}
 #: force-driven velocity records rarely pin it; free it (``"C"``) when the data can.
 GMS_C_START = 20.0
 
-_GIVEN = {"lugre": ("sigma0", "sigma1"), "gms": ("k", "xi", "C")}
+_GIVEN = {"lugre": ("sigma0", "sigma1"), "gms": ("k", "xi", "C"), "dahl": ("sigma0",)}
 
 
 # --------------------------------------------------------------------------- static map
@@ -198,9 +198,9 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
 
     Parameters
     ----------
-    kind : {"lugre", "gms"}
+    kind : {"lugre", "gms", "dahl"}
     static : law
-        The static map.
+        The static map (Dahl takes its Coulomb level ``Fc`` and ``sigma2``, per direction).
     segments : sequence of mappings
         The runs the fit simulates, each with ``t`` [s], force ``F`` and position ``x``
         (or velocity ``v``, then integrated by the trapezoidal rule).
@@ -208,7 +208,7 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
         Moving mass [kg] (inertia correction and damping guess).
     given : mapping, optional
         Start values the caller fixes: LuGre ``sigma0``, ``sigma1``; GMS ``k``, ``xi``
-        (sequences of the same length) and ``C``.
+        (sequences of the same length) and ``C``; Dahl ``sigma0``.
     elements : int
         GMS elements when ``k`` and ``xi`` are not given.
 
@@ -224,15 +224,31 @@ def output_error_start(kind: str, static, segments: Sequence[Mapping[str, np.nda
     zero bristle deflection (:func:`~frictionkit.identify.initial_guess_lugre`);
     ``sigma1 = max(2 sqrt(sigma0 m) - sigma2, 0)`` (critical damping of the linearised
     pre-sliding oscillator, ``sigma2`` the static map's mean viscous coefficient).
+    Dahl: ``sigma0`` as LuGre's; ``Fc``, ``sigma2`` from the map (assumption: the map's
+    Coulomb level — Dahl has no Stribeck hump).
     GMS: that slope is the total stiffness ``sum k_i`` (all elements stick at a
     reversal); assumption: equal weights ``xi_i = 1/M`` and breakaway displacements a
     factor √10 apart, so ``k_i`` is proportional to ``10^(-i/2)``; ``C`` defaults to
     :data:`GMS_C_START`.
     """
     given = _given_starts(owner, kind, given, _GIVEN,
-                          f"model0 = {kind!r}: must be 'lugre', 'gms' or a LuGre/GMS law")
+                          f"model0 = {kind!r}: must be 'lugre', 'gms', 'dahl' or a LuGre/GMS/Dahl law")
     sigma2 = _mean_sigma2(static)
     info: dict = {}
+    if kind == "dahl":
+        from ..models.lugre import Dahl
+        from ..models.static import Directional
+
+        if "sigma0" not in given:
+            info = _stiffness_guess(segments, inertia, sigma2, owner)
+            info = {"sigma0": info["sigma0"], "branches": info["branches"]}
+        s0 = float(given.get("sigma0", info.get("sigma0", 0.0)))
+
+        def dahl(law):  # assumption: Dahl's level is the map's Coulomb level (it has no Stribeck hump)
+            return Dahl(Fc=float(getattr(law, "Fc")), sigma0=s0, sigma2=float(getattr(law, "sigma2", 0.0)))
+        if isinstance(static, Directional):
+            return Directional(positive=dahl(static.positive), negative=dahl(static.negative)), info
+        return dahl(static), info
     if kind == "lugre":
         if "sigma0" not in given:
             info = _stiffness_guess(segments, inertia, sigma2, owner)

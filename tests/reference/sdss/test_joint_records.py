@@ -14,9 +14,9 @@ TRUE = fk.LuGre(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), sigma0=1e5, si
 DT = 1e-3
 
 
-def _run(u, t0=0.0):
-    t = np.arange(u.size) * DT
-    sim = fk.simulate(TRUE, plant=fk.Mass(1.0), force=u, dt=DT)
+def _run(u, t0=0.0, dt=DT):
+    t = np.arange(u.size) * dt
+    sim = fk.simulate(TRUE, plant=fk.Mass(1.0), force=u, dt=dt)
     return {"t": t + t0, "F": u, "v": sim.v}
 
 
@@ -46,8 +46,10 @@ def test_joint_fit_recovers_truth_and_restarts_each_record_from_rest(runs):
 def test_joint_fit_checks_its_records(runs):
     sine, tri = runs
     start = fk.LuGre(TRUE.static, sigma0=3e4, sigma1=100.0)
-    coarse = {"t": sine["t"][::2], "F": sine["F"][::2], "v": sine["v"][::2]}
-    with pytest.raises(DataError, match="sampled every"):
-        fit_output_error([tri, coarse], start, inertia=1.0)
+    # a record at another sample period is simulated at its own period (issue 11: was refused)
+    coarse = _run(2.0 * np.sin(np.pi * np.arange(751) * 2 * DT), dt=2 * DT)
+    res = fit_output_error([tri, coarse], start, inertia=1.0)
+    assert [s["dt"] for s in res.diagnostics["segments"].values()] == pytest.approx([DT, 2 * DT])
+    assert res["sigma0"] == pytest.approx(1e5, rel=1e-3)
     with pytest.raises(DataError, match="2 recordings but 1 external_load"):
         fit_output_error([sine, tri], start, inertia=1.0, external_load=[np.zeros(sine["t"].size)])

@@ -72,7 +72,7 @@ from .._jit import njit
 from ._phi2 import phis
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, EXP_NORM_MAX, GAMMA, H_MIN, NONFINITE, OK, SPAN_MAX, TOLERANCE
-from .lugre import _atol_run, _flat, _force, _point
+from .lugre import _atol_run, _flat, _force, _point, _sharp_sample
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
@@ -457,6 +457,20 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                     e = q
                 if not ok or not math.isfinite(e):
                     e = 1e10
+                sharp = False
+                if j == 1 and 1.0 < e < 1e10:
+                    # as lugre_force: the corrected single sample's own error (_sharp_sample); its
+                    # two-node update enters the state, the sensitivities keep the end-only fit's
+                    es, gx, gv, gz = _sharp_sample(
+                        b11, b12, b21, b22, dt, vs_, zs, r0, r1, u[k] * im, (u[k + 1] - u[k]) / dt * im, ge,
+                        v[k + 1], z[k + 1], ev, ez, W2v, W3v, W2z, W3z, X3, X4, p0, p1, d0, d1, sd,
+                        tol_v + rtol * abs(va), atol_z + rtol * abs(za), 0.0, -np.inf, np.inf)
+                    if es <= 1.0:
+                        e = es
+                        sharp = True
+                        x[k + 1] += gx
+                        v[k + 1] = gv
+                        z[k + 1] = gz
                 if e <= 1.0:
                     _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, Ki, Kv, AB, want_delta, want_x,
                                E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv)
@@ -468,7 +482,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                     have = True
                     if vmax > vpk:
                         vpk = vmax
-                    if flip:
+                    if flip or sharp:
                         n_try = j
                     else:
                         fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0

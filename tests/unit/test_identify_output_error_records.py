@@ -101,7 +101,9 @@ def test_without_resets_the_same_data_fit_worse(records, fitted):
     ev_none = evaluate_output_error(TRUE, records, inertia=1.0, rests=None)
     assert ev_none["rms"] > 3 * ev_reset["rms"]  # the truth explains the data only with resets
     res = fit_output_error(records, start, inertia=1.0, rests=None)
-    assert res.rms > 2 * fitted.rms
+    # without resets the fit wanders to sigma0 ~ 6.7e7 N/m (omega dt 8, damping ratio 0.0075 on 1 kg),
+    # where simulate's accuracy check (issue 13) flags the run: a flagged fit is no better fit either
+    assert res.status != 0 or res.rms > 2 * fitted.rms
 
 
 def test_a_mask_gives_the_rests(records, fitted):

@@ -18,14 +18,19 @@ Peers, written the way a performance-minded engineer would:
 * **GMS, event-stepped numbalsoda**: GMS is hybrid (stick/slip flags), so LSODA runs
   between switches on the smooth right-hand side of the current flags; switches
   (breakaway, velocity reversal while an element slips) are detected at the samples of
-  each call (``CHUNK`` = 256 samples per call), located by bisection to ``1e-6 dt`` from
-  the last good sample, applied, and the integration restarts there. All in one njit
-  function. ``CHUNK`` checked (helper gms, 2026-11-23, thread CPU, GMS-4 rtol 1e-8): 256
-  samples 20.7 ms, 2048 samples 111.6 ms (a switch discards the rest of its call), so 256
-  stays. Known: on GMS-16 the peer's max|dF| stalls at 9.2e-3 N for every rtol (first off
-  the twin by 5e-4 N right after a velocity reversal at sample 8789 of the 10 s run, where
-  the kernel and the twin agree; the peer's reversal/re-stick handling there is not
-  resolved), so GMS-16 prints no ratio.
+  each call, located to ``1e-6 dt`` from the last good sample (each locating call
+  integrates over a grid of ``LOC_GRID`` = 16 points and keeps the first sub-interval with
+  the switch: 5 cold LSODA starts where bisection took 20), applied, and the integration
+  restarts there. Calls cover ``CHUNK`` = 256 samples; after a switch the next call covers
+  ``CHUNK_AFTER`` = 8 samples, doubling back to 256 (switches come in bursts -- GMS-16
+  breaks 15 elements away within 9 ms, and a sticking contact rings through grazing
+  reversals -- and a switch discards the rest of its call: with 256-sample calls GMS-16 cost
+  7.7 million right-hand-side calls, with this 0.5 million). All in one njit function.
+  A reversal while every element sticks is located too when a sticking element is within
+  reach of its breakaway (``_gms_grazing``): a breakaway just before the reversal is undone
+  by the sample after it. Without that check (before 2026-11-23, gms) the peer missed the
+  breakaway of element 13 0.09 ms before the reversal at t = 2.19712 s of the 10 s GMS-16 run
+  and its max|dF| stalled at 9.2e-3 N for every rtol.
 
 Accuracy: max |dx| and max |dF| against the ``solve_ivp`` LSODA twin at rtol 1e-11
 (GMS with located events; ``reference_force_driven``). A peer is run at the loosest
@@ -55,7 +60,9 @@ except ImportError as e:  # pragma: no cover - optional extra
 
 DT = 2.5e-4
 CHUNK = 256
+CHUNK_AFTER = 8  # samples in the first LSODA call after a switch (doubling back to CHUNK)
 EVENT_TOL = 1e-6
+LOC_GRID = 16  # points per LSODA call when locating a GMS switch
 TOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 
 
@@ -161,7 +168,10 @@ def lugre_batch_sse(datas, t_eval, rtol, atol, target, out):
 # --------------------------------------------------------------------------- GMS, event-stepped
 # data layout: [Fc, Fs, vs, sigma2, C, m, dt, N, M, k_0..k_{M-1}, xi_0..xi_{M-1},
 #               stick_0..stick_{M-1} (1.0/0.0), u_0 .. u_{N-1}]
-# state (x, v, F_0, ..., F_{M-1})
+# state (x, v, F_0, ..., F_{M-1}). Measured and not kept (gms, 2026-11-23): the slipping
+# elements' direction frozen per mode instead of sgn(v) in the right-hand side (smooth between
+# switches, ~35 % fewer calls) -- LSODA then missed its accuracy by 1e3-1e5 x rtol near the
+# reversals at rtol 1e-7 / 1e-8 (GMS-4 max|dF| 5e-3 N, GMS-16 1.4e-2 N).
 GMS_NP = 9
 
 
@@ -213,6 +223,17 @@ def _gms_switch(y, data, M):
 
 
 @nb.njit
+def _gms_grazing(y, data, M, reach):
+    """Whether a sticking element could break away within a displacement ``reach`` of ``y``
+    (its force ``F_i + k_i reach`` against ``xi_i min(Fc, Fs)``)."""
+    glo = min(data[0], data[1])
+    for i in range(M):
+        if data[GMS_NP + 2 * M + i] != 0.0 and abs(y[2 + i]) + data[GMS_NP + i] * reach >= data[GMS_NP + M + i] * glo:
+            return True
+    return False
+
+
+@nb.njit
 def gms_event_stepped(data, N, rtol, atol, x_out, F_out):
     """Event-stepped LSODA over the whole record; returns (ok, number of switches)."""
     M = int(data[8])
@@ -226,9 +247,9 @@ def gms_event_stepped(data, N, rtol, atol, x_out, F_out):
     t0 = 0.0
     k0 = 0  # last sample written
     nsw = 0
-    tt = np.empty(2)
+    chunk = CHUNK
     while k0 < N - 1:
-        k1 = min(k0 + CHUNK, N - 1)
+        k1 = min(k0 + chunk, N - 1)
         # t_eval: t0 then the samples k0+1 .. k1
         te = np.empty(k1 - k0 + 1)
         te[0] = t0
@@ -243,14 +264,24 @@ def gms_event_stepped(data, N, rtol, atol, x_out, F_out):
             if data[GMS_NP + 2 * M + i] == 0.0:
                 anyslip = True
         hit = -1
+        grazing = False
         v0 = y[1]
         for i in range(1, te.size):
             if _gms_switch(usol[i], data, M) >= 0:
                 hit = i
                 break
-            if anyslip and usol[i, 1] * (usol[i - 1, 1] if i > 1 else v0) < 0.0:
-                hit = i
-                break
+            vp = usol[i - 1, 1] if i > 1 else v0
+            if usol[i, 1] * vp < 0.0:
+                if anyslip:
+                    hit = i
+                    break
+                # every element sticks: a sticking element's force peaks at the reversal, so
+                # a breakaway just before it is undone by the sample after it (grazing). If one
+                # is within reach (the displacement to the turn is at most |v| dt), locate it.
+                if _gms_grazing(usol[i - 1] if i > 1 else y, data, M, 2.0 * abs(vp) * (te[i] - te[i - 1])):
+                    hit = i
+                    grazing = True
+                    break
         last = te.size - 1 if hit < 0 else hit - 1
         for i in range(1, last + 1):
             x_out[k0 + i] = usol[i, 0]
@@ -262,28 +293,32 @@ def gms_event_stepped(data, N, rtol, atol, x_out, F_out):
             y = usol[te.size - 1].copy()
             t0 = te[te.size - 1]
             k0 = k1
+            chunk = min(2 * chunk, CHUNK)
             continue
-        # locate the switch between te[hit-1] and te[hit] by bisection from the state there
+        # locate the switch between te[hit-1] and te[hit] to EVENT_TOL * dt: each LSODA call
+        # restarts cold, so every call integrates from the last good state over a grid of
+        # LOC_GRID points and keeps the first sub-interval with the switch (5 calls for 1e-6 dt
+        # where bisection took 20)
         ya = usol[hit - 1].copy()
+        y = usol[hit].copy()
         ta = te[hit - 1]
         tb = te[hit]
         va = ya[1]
+        tg = np.empty(LOC_GRID + 1)
         while tb - ta > EVENT_TOL * dt:
-            tm = 0.5 * (ta + tb)
-            tt[0] = ta
-            tt[1] = tm
-            us, ok = lsoda(GMS_PTR, ya, tt, data=data, rtol=rtol, atol=atol, mxstep=10**7)
-            ym = us[1]
-            if _gms_switch(ym, data, M) >= 0 or (anyslip and ym[1] * va < 0.0):
-                tb = tm
-            else:
-                ta = tm
-                ya = ym.copy()
-        # step to tb and apply the switches there
-        tt[0] = ta
-        tt[1] = tb
-        us, ok = lsoda(GMS_PTR, ya, tt, data=data, rtol=rtol, atol=atol, mxstep=10**7)
-        y = us[1].copy()
+            for j in range(LOC_GRID + 1):
+                tg[j] = ta + (tb - ta) * j / LOC_GRID
+            us, ok = lsoda(GMS_PTR, ya, tg, data=data, rtol=rtol, atol=atol, mxstep=10**7)
+            j = LOC_GRID  # the end state, from a path of its own, may disagree by round-off
+            for jj in range(1, LOC_GRID + 1):
+                ym = us[jj]
+                if _gms_switch(ym, data, M) >= 0 or ((anyslip or grazing) and ym[1] * va < 0.0):
+                    j = jj
+                    break
+            ta = tg[j - 1]
+            tb = tg[j]
+            ya = us[j - 1].copy()
+            y = us[j].copy()
         if anyslip and y[1] * va < 0.0:
             for i in range(M):
                 data[GMS_NP + 2 * M + i] = 1.0
@@ -293,6 +328,7 @@ def gms_event_stepped(data, N, rtol, atol, x_out, F_out):
                 break
             data[GMS_NP + 2 * M + i] = 0.0
         nsw += 1
+        chunk = CHUNK_AFTER  # switches come in bursts: short calls, doubling back to CHUNK
         t0 = tb
         k0 = k0 + hit - 1
         if tb >= (k0 + 1) * dt - 1e-12 * dt:

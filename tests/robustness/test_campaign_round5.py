@@ -144,3 +144,22 @@ def test_compensate_refuses_an_input_nothing_reads_and_an_output_over_its_data(m
                               "--json", str(folder / "ref.csv")])
     assert res.exit_code == 2 and "is the input file" in res.stderr, res.stderr
     assert (folder / "ref.csv").read_bytes() == before
+
+
+def test_a_corrupt_fleet_part_is_identified_again_not_a_dead_end(tmp_path):
+    """An empty, truncated or foreign part in R.parquet.parts/ made every later `fleet identify`
+    fail ("Parquet magic bytes not found") until deleted by hand; it now counts as not done."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from frictionkit.fleet.identify import _complete_part
+
+    good = tmp_path / "good.parquet"
+    pq.write_table(pa.table({"a": [1.0, 2.0]}), good)
+    raw = good.read_bytes()
+    cases = {"empty": b"", "truncated": raw[: len(raw) // 2], "foreign": b"t,F\n0,1\n" * 10}
+    assert _complete_part(good)
+    for name, data in cases.items():
+        (tmp_path / f"{name}.parquet").write_bytes(data)
+        assert not _complete_part(tmp_path / f"{name}.parquet"), name
+    assert not _complete_part(tmp_path / "missing.parquet")

@@ -325,7 +325,11 @@ def consolidate(logs: list[LogFile], parts: Path, config: FleetConfig, extra_row
     for log in logs:
         f = parts / log.part_name
         if log.fingerprint not in have and f.is_file():
-            tables.append(pq.read_table(f, schema=schema))
+            try:
+                tables.append(pq.read_table(f, schema=schema))
+            except (OSError, ValueError, pa.ArrowException) as exc:  # e.g. a part of another schema
+                raise DataError(f"result part '{f}' cannot be read ({' '.join(str(exc).split())[:200]}); delete it "
+                                "and rerun: its log is then identified again") from None
     if not tables:
         return schema.empty_table().to_pandas()
     df = pa.concat_tables(tables).to_pandas()
@@ -335,6 +339,23 @@ def consolidate(logs: list[LogFile], parts: Path, config: FleetConfig, extra_row
     df = pd.concat([dedup, df[~has_hash]], ignore_index=True)
     df = df.sort_values(["axis", "period", "file"], kind="stable").reset_index(drop=True)
     return df
+
+
+def _complete_part(f: Path) -> bool:
+    """A part ends with Parquet's ``PAR1`` trailer; an empty, truncated or foreign file is not done.
+
+    Such a part made every later run fail ("Parquet magic bytes not found") until it was deleted
+    by hand (campaign round 5); now its log is identified again and the part rewritten (atomically).
+    Reads 4 bytes per part.
+    """
+    try:
+        with open(f, "rb") as fh:
+            if fh.seek(0, 2) < 12:
+                return False
+            fh.seek(-4, 2)
+            return fh.read(4) == b"PAR1"
+    except OSError:
+        return False
 
 
 def _other_versions(todo: list[LogFile], parts: Path, done: set[str]) -> dict[str, str]:
@@ -459,7 +480,7 @@ def identify_fleet(
     logs, unmatched = discover(dataset, cfg, exclude=[out])
     parts = parts_dir(out)
     parts.mkdir(exist_ok=True)
-    done = {f.name for f in parts.glob("*.parquet")}
+    done = {f.name for f in parts.glob("*.parquet") if _complete_part(f)}
     todo = [log for log in logs if log.part_name not in done]
     other = _other_versions(todo, parts, done)
     if other:

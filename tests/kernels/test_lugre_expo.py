@@ -115,6 +115,25 @@ def test_spanning_steps_agree_with_ros2_sub_steps(name, u):
     assert nsub < 0.6 * nsub_o, (nsub, nsub_o)
 
 
+def test_dahl_reversal_takes_single_samples_not_ros2_sub_steps(u):
+    """After a velocity reversal the Dahl bristle swings from +Fc to -Fc over ~22 samples; each
+    single sample failed the conservative estimate (5-27 tolerances, true error 0.03-0.7) and took
+    ~30 ROS2 sub-steps. ``_sharp_sample`` measures the corrected sample's own error instead."""
+    model = fk.Dahl(Fc=1.0, sigma0=1e5, sigma2=0.4)  # the Dahl of benchmarks/peers.py
+    st_r, _, xr, _, Fr = _run(kl.lugre_force_ros2, model, 1.0, u, rtol=1e-8, atol_v=1e-10, atol_z=1e-13)
+    st, nsub, x, _, F = _run(kl.lugre_force, model, 1.0, u)
+    st_o, nsub_o, xo, _, Fo = _run(kl.lugre_force_ros2, model, 1.0, u)
+    assert st == st_r == st_o == kl.OK
+    dx, dF = np.abs(x - xr).max() / np.ptp(xr), np.abs(F - Fr).max() / np.ptp(Fr)
+    dx_o, dF_o = np.abs(xo - xr).max() / np.ptp(xr), np.abs(Fo - Fr).max() / np.ptp(Fr)
+    # measured (2 s, one reversal, rtol 1e-5): dx 5.2e-8, dF 1.4e-6 of the range (ROS2 in every
+    # interval 5.7e-7, 2.2e-5; before _sharp_sample 9.9e-8, 2.4e-6)
+    assert dx <= dx_o and dF <= dF_o, (dx, dF, dx_o, dF_o)
+    # measured 791 counted steps vs 13,364 for ROS2 in every interval (before _sharp_sample: 1,422,
+    # most of them ROS2 sub-steps in the samples after the reversal)
+    assert nsub < 0.08 * nsub_o, (nsub, nsub_o)
+
+
 def test_error_falls_with_the_tolerance(u):
     model = example_lugre()
     _, _, xr, _, Fr = _run(kl.lugre_force_ros2, model, 1.0, u, rtol=1e-8, atol_v=1e-10, atol_z=1e-13)

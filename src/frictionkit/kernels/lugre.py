@@ -26,8 +26,13 @@ limited only by how fast the linearisation changes: on the 10 s stick-slip bench
 ~990 exponential steps for 40,000 samples (0.17 sub-steps per sample counting the ROS2
 sub-steps at velocity reversals).
 
-Where the velocity reverses inside the next sample (the kink of ``|v|``), or one sample
-fails its tolerance, that sample interval is covered by adaptive ROS2 sub-steps
+A single sample that fails the conservative estimate is checked by its own error
+(:func:`_sharp_sample`: the remainder at mid-sample gives a two-node fit, whose difference
+from the end-only fit plus the Picard difference at the corrected end is the error; the
+sample then takes the two-node fit). After a Dahl velocity reversal this replaced ~22
+samples of ~30 ROS2 sub-steps each (10 s stick-slip Dahl: 6,907 -> 916 counted steps,
+and more accurate). Where the velocity reverses inside the next sample (the kink of
+``|v|``), or one sample fails this too, that sample interval is covered by adaptive ROS2 sub-steps
 (:func:`_interval`, below), the scheme that covered every interval before.
 
 ROS2 sub-steps

@@ -305,7 +305,7 @@ def output_error(
     no_profile: bool = typer.Option(False, "--no-profile", help="Motion drive: skip the likelihood profiles "
                                     "(intervals then from the log-scale Jacobian only)."),
     jacobian: str = typer.Option("auto", "--jacobian", help="auto: exact Jacobians from forward sensitivities "
-                                 "where the law has them (LuGre, Dahl; GMS differences); fd: forward differences."),
+                                 "where the law has them (LuGre, Dahl; GMS with --drive motion); fd: forward differences."),
     validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
                                             "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),

@@ -60,7 +60,8 @@ class FitOptions:
     jacobian : {"auto", "fd"}
         ``"auto"``: exact Jacobians from forward sensitivities (one augmented run
         instead of one simulation per parameter) for the laws that have them (LuGre,
-        Dahl, a ``Directional`` of them), forward differences for the others (GMS).
+        Dahl, a ``Directional`` of them; GMS in the motion drive), forward differences
+        for the others (GMS in the force drive).
         ``"fd"``: forward differences always.
     workers : int or None
         Threads for the Jacobian simulations of the force drive (None: CPU count).

@@ -472,7 +472,7 @@ def fit_motion_error(
     order = [int(i) for i in np.argsort(screened) if np.isfinite(screened[i])]
     refine = max(1, int(refine))
     best, runs = None, []
-    reduced = prob.exact and _jacobian.supports(model0)
+    reduced = prob.exact and _jacobian.supports_motion(model0)
     for i in order[:refine]:
         prob.history = []
         with warnings.catch_warnings():
@@ -546,7 +546,7 @@ def fit_motion_error(
                                "starts": starts if isinstance(starts, str) else int(starts), "profile": bool(profile),
                                "optimiser": "scipy.optimize.least_squares trf, log scale for positive parameters, "
                                             + ("exact Jacobian (forward sensitivities)"
-                                               if prob.exact and _jacobian.supports(model if model is not None else model0)
+                                               if prob.exact and _jacobian.supports_motion(model if model is not None else model0)
                                                else "forward-difference Jacobian")}})
     law = model.positive if isinstance(model, Directional) else (model if model is not None else model0)
     law = law.positive if isinstance(law, Directional) else law

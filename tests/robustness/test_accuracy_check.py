@@ -154,3 +154,24 @@ def test_simulate_batch_flags_the_same_sets(twins):
                                     target=ref[cmp], compare=cmp)
         assert res.status.tolist() == [2, 0] and np.isinf(res.sse[0]) and np.isfinite(res.sse[1])
         assert "Set 0: tolerance not met (accuracy check)" in res.message and "omega·dt" in res.message
+
+
+def test_gms_batch_sets_are_checked_without_false_alarms(monkeypatch):
+    """A GMS on 0.1 g (omega dt 33) is checked in the batch (the rerun at rtol/10 runs) and passes, as
+    simulate() passes it; measured: no GMS batch case flagged in this session's tries (the RMS check is
+    one-sided: the round-4 GMS on 7e-5 kg, off by 4.7 % of its friction range at one sample, keeps
+    its RMS within 10 %)."""
+    calls = []
+    orig = core._gms_batch_rerun
+
+    def spy(*a, **k):
+        rerun = orig(*a, **k)
+        return lambda idx, tight: (calls.append(idx.tolist()), rerun(idx, tight))[1]
+
+    monkeypatch.setattr(core, "_gms_batch_rerun", spy)
+    g = fk.GMS(LAW, k=[1e4, 1e5], xi=[0.5, 0.5], C=20.0)
+    u = 2 * np.sin(np.pi * np.arange(1500) * 1e-3)
+    ref = fk.simulate(g, plant=fk.Mass(1e-4), force=u, dt=1e-3)
+    assert ref.status == 0 and "accuracy check passed" in ref.message
+    b = fk.simulate_batch([g, g], masses=[1e-4, 1.0], force=u, dt=1e-3, target=ref.x, compare="x")
+    assert calls == [[0]] and b.status.tolist() == [0, 0]

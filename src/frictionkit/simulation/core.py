@@ -626,21 +626,18 @@ class BatchResult:
 BATCH_CHECK_REL = 0.1
 
 
-def _batch_accuracy_check(u, dt, m, static, dyn, s0, damp, F_sets, y, which, w, sse, status, options) -> dict:
-    """See :data:`BATCH_CHECK_REL`; flags sets in ``sse``/``status`` in place, returns {set: reason}."""
-    fast = np.maximum(np.sqrt(s0 / m), damp / m) * dt
+def _batch_accuracy_check(K, c, m, dt, y, w, sse, status, options, rerun, kind: str = "lugre") -> dict:
+    """See :data:`BATCH_CHECK_REL`; ``K``, ``c``, ``m``: per set; ``rerun(idx, tight)`` runs the sets
+    ``idx`` at the options ``tight`` and returns their (sse, status). Flags sets in ``sse``/``status``
+    in place, returns {set: reason}."""
+    fast = np.maximum(np.sqrt(K / m), c / m) * dt
     idx = np.flatnonzero((fast > FAST_LIMIT) & (status == 0))
     if idx.size == 0:
         return {}
     f = CHECK_FACTOR
     tight = SimOptions(rtol=options.rtol / f, atol_v=None if options.atol_v is None else options.atol_v / f,
                        atol_F=options.atol_F / f, max_substeps=options.max_substeps)
-    atol_v = np.array([_atol_v(tight, float(F_sets[j]), float(s0[j]), float(m[j]), float(damp[j])) for j in idx])
-    sse2 = np.empty(idx.size)
-    st2 = np.empty(idx.size, dtype=np.int64)
-    _lugre.lugre_batch_sse(u, dt, np.ascontiguousarray(m[idx]), np.ascontiguousarray(static[idx]),
-                           np.ascontiguousarray(dyn[idx]), tight.rtol, atol_v, tight.atol_F * F_sets[idx] / s0[idx],
-                           int(tight.max_substeps), y, which, w, sse2, st2, _v_floor(tight))
+    sse2, st2 = rerun(idx, tight)
     n = max(int((w[1:] > 0).sum()), 1)
     span = float(np.ptp(y))
     out = {}
@@ -653,10 +650,38 @@ def _batch_accuracy_check(u, dt, m, static, dyn, s0, damp, F_sets, y, which, w, 
             check = (f"the check run at rtol = {tight.rtol:.3g} failed (status {int(st2[i])})" if st2[i] != 0 else
                      f"at rtol = {tight.rtol:.3g} its RMS error moves from {r1:.4g} to {r2:.4g}")
             out[int(j)] = (f"tolerance not met (accuracy check): the contact is faster than the samples: "
-                           f"{oscillator_detail(float(s0[j]), float(damp[j]), float(m[j]), dt)}; {check}. Tighten "
-                           "SimOptions(rtol=...) or check sigma0, the mass and dt (see simulate(), which also "
+                           f"{oscillator_detail(float(K[j]), float(c[j]), float(m[j]), dt, kind)}; {check}. Tighten "
+                           "SimOptions(rtol=...) or check the stiffness, the mass and dt (see simulate(), which also "
                            "says which samples are right)")
     return out
+
+
+def _lugre_batch_rerun(u, dt, m, static, dyn, s0, damp, F_sets, y, which, w):
+    def rerun(idx, tight):
+        atol_v = np.array([_atol_v(tight, float(F_sets[j]), float(s0[j]), float(m[j]), float(damp[j])) for j in idx])
+        sse2 = np.empty(idx.size)
+        st2 = np.empty(idx.size, dtype=np.int64)
+        _lugre.lugre_batch_sse(u, dt, np.ascontiguousarray(m[idx]), np.ascontiguousarray(static[idx]),
+                               np.ascontiguousarray(dyn[idx]), tight.rtol, atol_v,
+                               tight.atol_F * F_sets[idx] / s0[idx], int(tight.max_substeps), y, which, w, sse2, st2,
+                               _v_floor(tight))
+        return sse2, st2
+    return rerun
+
+
+def _gms_batch_rerun(u, dt, m, static, k, xi, C, y, which, w):
+    def rerun(idx, tight):
+        F_scale = float(static[idx][:, :, :2].max())
+        sse2 = np.empty(idx.size)
+        st2 = np.empty(idx.size, dtype=np.int64)
+        _gms.gms_force_batch_sse(
+            u, dt, np.ascontiguousarray(m[idx]), np.ascontiguousarray(static[idx]), np.ascontiguousarray(k[idx]),
+            np.ascontiguousarray(xi[idx]), np.ascontiguousarray(C[idx]), tight.rtol,
+            _atol_v(tight, F_scale, float(k[idx].sum(axis=2).max()), float(m[idx].min()),
+                    float(static[idx][:, :, 4].max())),
+            tight.atol_F * F_scale, int(tight.max_substeps), y, which, w, sse2, st2, _v_floor(tight))
+        return sse2, st2
+    return rerun
 
 
 def simulate_batch(
@@ -828,8 +853,9 @@ def simulate_batch(
             u, dt, m, static, dyn, options.rtol, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status, _v_floor(options),
         )
-        checked = _batch_accuracy_check(u, dt, m, static, dyn, s0_sets, damp_sets, F_sets, y, which, w, sse, status,
-                                        options)
+        checked = _batch_accuracy_check(s0_sets, damp_sets, m, dt, y, w, sse, status, options,
+                                        _lugre_batch_rerun(u, dt, m, static, dyn, s0_sets, damp_sets, F_sets, y,
+                                                           which, w))
         failed = np.flatnonzero(np.isin(status, (1, 2, 3)))
         if failed.size:
             j = int(failed[0])
@@ -842,13 +868,19 @@ def simulate_batch(
         if len({p.k.shape[1] for p in packs}) != 1:
             raise ParameterError("simulate_batch: all GMS models must have the same number of elements")
         static = np.stack([p.static for p in packs])
+        kk, xis, Cs = np.stack([p.k for p in packs]), np.stack([p.xi for p in packs]), np.stack([p.C for p in packs])
         F_scale = float(static[:, :, :2].max())
         _gms.gms_force_batch_sse(
-            u, dt, m, static, np.stack([p.k for p in packs]), np.stack([p.xi for p in packs]),
-            np.stack([p.C for p in packs]), options.rtol,
+            u, dt, m, static, kk, xis, Cs, options.rtol,
             _atol_v(options, F_scale, max(float(p.k.sum(axis=1).max()) for p in packs), float(m.min()),
                     float(static[:, :, 4].max())),
             options.atol_F * F_scale,
             int(options.max_substeps), y, which, w, sse, status, _v_floor(options),
         )
+        checked = _batch_accuracy_check(kk.sum(axis=2).max(axis=1), static[:, :, 4].max(axis=1), m, dt, y, w, sse,
+                                        status, options, _gms_batch_rerun(u, dt, m, static, kk, xis, Cs, y, which, w),
+                                        "gms")
+        if checked:
+            j = min(checked)
+            return BatchResult(sse, status, int((w[1:] > 0).sum()), f"Set {j}: {checked[j]}")
     return BatchResult(sse, status, int((w[1:] > 0).sum()))

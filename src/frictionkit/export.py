@@ -328,7 +328,24 @@ def _check_name(name: str, fmt: str) -> str:
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,62}", name):
         raise ParameterError(f"export: name = {name!r}: must be an identifier (letters, digits, '_', "
                              f"not starting with a digit, at most 63 characters) for the {fmt} code")
+    if fmt == "structured-text" and (name.upper() in ST_KEYWORDS or "__" in name or name.endswith("_")):
+        # `--name END_FUNCTION_BLOCK` wrote "FUNCTION_BLOCK END_FUNCTION_BLOCK" with exit 0 (campaign round 5)
+        raise ParameterError(f"export: name = {name!r}: a reserved word of IEC 61131-3 or not a valid ST identifier "
+                             "(no '__', no trailing '_'); choose another function block name")
     return name
+
+
+#: IEC 61131-3 (3rd ed.) keywords and elementary type names: not usable as a function block
+#: name (ST is case-insensitive). Assumption: the common set; vendors reserve more.
+ST_KEYWORDS = frozenset("""
+ABS ACOS ACTION AND ANY ARRAY ASIN AT ATAN BOOL BY BYTE CASE CLASS CONFIGURATION CONSTANT COS DATE DATE_AND_TIME DINT
+DO DT DWORD ELSE ELSIF END_ACTION END_CASE END_CLASS END_CONFIGURATION END_FOR END_FUNCTION END_FUNCTION_BLOCK END_IF
+END_INTERFACE END_METHOD END_PROGRAM END_REPEAT END_RESOURCE END_STEP END_STRUCT END_TRANSITION END_TYPE END_VAR
+END_WHILE EXIT EXP EXTENDS FALSE FOR FROM FUNCTION FUNCTION_BLOCK IF IMPLEMENTS INITIAL_STEP INT INTERFACE LINT LN
+LOG LREAL LWORD METHOD MOD NOT NULL OF ON OR OVERLAP PRIVATE PROGRAM PROTECTED PUBLIC READ_ONLY READ_WRITE REAL
+REPEAT RESOURCE RETAIN RETURN SIN SINT SQRT STEP STRING STRUCT SUPER TAN TASK THEN THIS TIME TO TOD TRANSITION TRUE
+TYPE UDINT UINT ULINT UNTIL USINT VAR VAR_ACCESS VAR_CONFIG VAR_EXTERNAL VAR_GLOBAL VAR_INPUT VAR_IN_OUT VAR_OUTPUT
+VAR_TEMP WHILE WITH WORD WSTRING XOR""".split())
 
 
 def export_model(model: Any, fmt: str, *, name: str | None = None, v_max: float | None = None,

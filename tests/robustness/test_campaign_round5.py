@@ -163,3 +163,13 @@ def test_a_corrupt_fleet_part_is_identified_again_not_a_dead_end(tmp_path):
         (tmp_path / f"{name}.parquet").write_bytes(data)
         assert not _complete_part(tmp_path / f"{name}.parquet"), name
     assert not _complete_part(tmp_path / "missing.parquet")
+
+
+@pytest.mark.parametrize("name", ["END_FUNCTION_BLOCK", "var", "a__b"])
+def test_structured_text_export_refuses_a_reserved_function_block_name(name):
+    """`export --format st --name END_FUNCTION_BLOCK` wrote "FUNCTION_BLOCK END_FUNCTION_BLOCK", exit 0."""
+    from frictionkit.export import export_model
+
+    with pytest.raises(ParameterError, match=re.escape(f"name = {name!r}: a reserved word of IEC 61131-3")):
+        export_model(fk.CoulombViscous(Fc=1.0, sigma2=0.1), "st", name=name)
+    assert "FUNCTION_BLOCK FB_var\n" in export_model(fk.CoulombViscous(Fc=1.0, sigma2=0.1), "st", name="FB_var")

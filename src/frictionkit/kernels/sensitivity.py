@@ -72,7 +72,7 @@ from .._jit import njit
 from ._phi2 import phis
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, EXP_NORM_MAX, GAMMA, H_MIN, NONFINITE, OK, SPAN_MAX, TOLERANCE
-from .lugre import _atol_run, _flat, _force, _point, _sharp_sample
+from .lugre import _atol_run, _flat, _force, _point, _sharp_sample, _z_bounds, _z_excess
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
@@ -337,6 +337,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
             Sx[0, j] = 0.0
     total = 0
     vpk = 0.0
+    zlo, zhi = _z_bounds(p0, p1, d0, d1, 0.0)
     k = 0
     n_try = 1
     have = False
@@ -436,6 +437,8 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                 ev = 0.0
                 ez = 0.0
                 ok = True
+                zmx = zs
+                zmn = zs
                 for i in range(j):
                     c0 = (ca + cb * i * ij) * i * ij
                     c1 = ca * ij + 2.0 * cb * i * ij * ij
@@ -445,6 +448,9 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                     ex, ev, ez = nx, nv, nz
                     vv = v[k + i + 1] + ev
                     zz = z[k + i + 1] + ez
+                    zmx = max(zmx, zz)
+                    zmn = min(zmn, zz)
+                    zz = min(max(zz, zlo), zhi)  # as lugre_force: the invariant bounds of z (issue 13)
                     if vv * sd <= 0.0:
                         ok = False
                         break
@@ -453,6 +459,9 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                     z[k + i + 1] = zz
                 e = abs(ev) / (tol_v + rtol * abs(va))
                 q = abs(ez) / (atol_z + rtol * abs(za))
+                if q > e:
+                    e = q
+                q = max(_z_excess(zmx, zlo, zhi, atol_z, rtol), _z_excess(zmn, zlo, zhi, atol_z, rtol))
                 if q > e:
                     e = q
                 if not ok or not math.isfinite(e):
@@ -464,7 +473,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
                     es, gx, gv, gz = _sharp_sample(
                         b11, b12, b21, b22, dt, vs_, zs, r0, r1, u[k] * im, (u[k + 1] - u[k]) / dt * im, ge,
                         v[k + 1], z[k + 1], ev, ez, W2v, W3v, W2z, W3z, X3, X4, p0, p1, d0, d1, sd,
-                        tol_v + rtol * abs(va), atol_z + rtol * abs(za), 0.0, -np.inf, np.inf)
+                        tol_v + rtol * abs(va), atol_z + rtol * abs(za), q, zlo, zhi)
                     if es <= 1.0:
                         e = es
                         sharp = True

@@ -110,3 +110,13 @@ def test_unconverged_polish_is_a_result_not_an_exception(stroke):
     np.testing.assert_allclose(res.values, res.diagnostics["initial_k"] + res.diagnostics["initial_xi"], rtol=1e-12)
     with pytest.raises(IdentificationError, match="polish did not converge"):
         fit_presliding(data, elements=3, max_nfev=1, raise_on_failure=True)
+
+
+def test_records_at_different_periods(stroke):
+    """A second record of the same stroke at twice the period is simulated at its own period (was refused)."""
+    t, x, F = stroke
+    coarse = {"t": t[::2], "x": x[::2], "F": fk.simulate(TRUE, position=x[::2], dt=2 * DT).friction}
+    res = fit_presliding([{"t": t[:7501], "x": x[:7501], "F": F[:7501]}, coarse], elements=3, static=LAW,
+                         branch="virgin", rests=None)
+    assert res.success and abs(res.diagnostics["total_stiffness"] / K_TOTAL - 1) < 0.05
+    assert res.rms < 1e-3  # noise-free records of the true law, each at its own period

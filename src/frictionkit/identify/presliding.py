@@ -192,7 +192,8 @@ def fit_presliding(
         records, and the runs between rests inside a record, are cut into segments as
         in the motion-driven output error (:func:`.motion_data.motion_data`): the
         breakpoints come from the first segment with a suitable branch, the ``C`` grid
-        and the refinement use every segment, each simulated from the unloaded state.
+        and the polish use every segment, each simulated from the unloaded state at
+        its record's own sample period.
     elements : int
         Number ``M`` of Maxwell-slip elements (breakpoints), 1 … :data:`MAX_ELEMENTS` (32).
     static : Stribeck | CoulombViscous | Directional, optional
@@ -290,9 +291,6 @@ def fit_presliding(
         C = val.positive(owner, "C", C)
     md = motion_data(data, drive="position", rests=rests, min_rest=min_rest)
     segs = md.segments
-    dt = segs[0].dt
-    if any(abs(sg.dt - dt) > 1e-9 * dt for sg in segs):
-        raise DataError(f"{owner}: the records have different sample periods; resample them to one")
     want = 4
     pick = None
     for j, sg in enumerate(segs):  # the first segment with a usable branch
@@ -312,6 +310,7 @@ def fit_presliding(
         raise DataError(f"recording '{name}': the position does not move; no pre-sliding branch"
                         if branch != "reversal" else f"recording '{name}': no branch after a velocity reversal")
     seg = segs[pick]
+    dt = seg.dt  # the branch's period (records may be sampled differently: each is simulated at its own)
     rec_name = seg.record
     x, F = seg.x, seg.F
     brs = [b_ for b_ in _branches(x) if b_[1] - b_[0] >= want]
@@ -380,7 +379,8 @@ def fit_presliding(
     # the attraction constant: grid over the time constant |s|/C
     s_ref = max(_s_abs(static, v_new), 1e-12)
     if C is None:
-        taus = np.geomspace(10 * dt, max(max(float(sg.t[-1] - sg.t[0]) for sg in segs), 100 * dt), 13)
+        dts = [sg.dt for sg in segs]
+        taus = np.geomspace(10 * min(dts), max(max(float(sg.t[-1] - sg.t[0]) for sg in segs), 100 * max(dts)), 13)
         C_grid = s_ref / taus
     else:
         C_grid = np.array([C])

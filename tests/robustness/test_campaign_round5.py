@@ -173,3 +173,13 @@ def test_structured_text_export_refuses_a_reserved_function_block_name(name):
     with pytest.raises(ParameterError, match=re.escape(f"name = {name!r}: a reserved word of IEC 61131-3")):
         export_model(fk.CoulombViscous(Fc=1.0, sigma2=0.1), "st", name=name)
     assert "FUNCTION_BLOCK FB_var\n" in export_model(fk.CoulombViscous(Fc=1.0, sigma2=0.1), "st", name="FB_var")
+
+
+@pytest.mark.parametrize("rows", [[1], {}])
+def test_report_names_a_hand_edited_compensation_table(rows):
+    """A list read "malformed content (AttributeError: 'list' object has no attribute 'items')";
+    an empty object gave a page with an empty table and exit 0."""
+    from frictionkit.report.adapters import compensation_sections
+
+    with pytest.raises(DataError, match=re.escape(f'"compensators" = {rows}: expected an object')):
+        compensation_sections({"format": "frictionkit.compensation/1", "preset": "emps", "compensators": rows})

@@ -707,6 +707,10 @@ _SHOWN = {"m": ("µm", 1e6), "rad": ("arcsec", 648000.0 / math.pi)}
 def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
     """The error table (µm for a linear axis, arcsec for a rotary one) and a bar chart."""
     comp = d["compensators"]
+    if not isinstance(comp, Mapping) or not comp or not all(isinstance(r, Mapping) for r in comp.values()):
+        # a hand-edited list read "malformed content (AttributeError ...)", an empty object an empty table
+        raise DataError(f"\"compensators\" = {str(comp)[:80]}: expected an object {{name: {{max_error, rms_error, "
+                        "...}} with at least one compensator")
     unit = (d.get("units") or {}).get("error", "m")
     label, k = _SHOWN.get(unit, (unit, 1.0))
 

@@ -74,3 +74,12 @@ def test_motion_fit_uses_them_and_ends_at_equal_or_lower_cost():
     # here, and a lower cost for the exact fit on the 50,001-sample record of benchmarks/identify.py
     assert ex.rms <= fd.rms * (1 + 1e-5)
     np.testing.assert_allclose([ex["k1"], ex["k2"], ex["k3"]], [4e5, 1e5, 2e4], rtol=0.2)
+
+
+def test_a_gms_fit_that_frees_a_static_field_searches_with_differences():
+    x = _stroke(4001)
+    F = fk.simulate(TRUE, position=x, dt=DT).friction
+    res = fit_motion_error({"t": np.arange(x.size) * DT, "x": x, "F": F}, TRUE, free=("k1", "Fc"), starts=1, refine=1,
+                           profile=False)
+    assert res.success and res.diagnostics["sensitivity_runs"] == 0
+    assert "forward-difference" in res.provenance["procedure"]["optimiser"]

@@ -193,13 +193,13 @@ class _Problem:
         """``d r / d p`` from the exact sensitivities of the motion-driven update (None: not available)."""
         theta = self.to_nat(np.asarray(p, float))
         law = [i for i, n in enumerate(self.names) if n not in MOTION_EXTRAS]
-        self.nsens += 1
 
         def build(th):
             return self.tmpl.build(self.law_names, th), 1.0, 0.0
         try:
             if not _jacobian.supports(build(theta[law])[0]):
                 return None
+            self.nsens += 1
             rows = []
             for s in self.md.segments:
                 _, S, status = _jacobian.motion_driven(build, theta[law], s.x, s.dt, self._coef_cache)
@@ -473,6 +473,8 @@ def fit_motion_error(
     refine = max(1, int(refine))
     best, runs = None, []
     reduced = prob.exact and _jacobian.supports_motion(model0)
+    if reduced and _jacobian.kind_of(model0) == "gms":  # GMS sensitivities cover k, xi, C (and J, offset) only
+        reduced = all(base_name(n) in ("k", "xi", "C") or n in MOTION_EXTRAS for n in names)
     for i in order[:refine]:
         prob.history = []
         with warnings.catch_warnings():
@@ -546,7 +548,7 @@ def fit_motion_error(
                                "starts": starts if isinstance(starts, str) else int(starts), "profile": bool(profile),
                                "optimiser": "scipy.optimize.least_squares trf, log scale for positive parameters, "
                                             + ("exact Jacobian (forward sensitivities)"
-                                               if prob.exact and _jacobian.supports_motion(model if model is not None else model0)
+                                               if reduced
                                                else "forward-difference Jacobian")}})
     law = model.positive if isinstance(model, Directional) else (model if model is not None else model0)
     law = law.positive if isinstance(law, Directional) else law

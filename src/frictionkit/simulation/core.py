@@ -347,6 +347,11 @@ SUBSTEP_RISK = 2.0
 #: See :data:`FAST_LIMIT`: the check run's ``rtol``, ``atol_F`` (and an explicit ``atol_v``) are
 #: this many times tighter.
 CHECK_FACTOR = 10.0
+#: See :data:`FAST_LIMIT`: when the check run itself fails (a stiff contact whose error control underflows
+#: at rtol/10), it is tried once more this many times tighter. Measured on 84 random round-4-style cases:
+#: 4 check runs failed at rtol/10; 3 of those runs were right (within 5e-5 of the twin's ranges), 1 was
+#: 5 % off in x.
+CHECK_FACTOR_RETRY = 3.0
 #: See :data:`FAST_LIMIT`: a run fails the check when x of the tighter run differs from it by more
 #: than ``CHECK_BOUND * rtol`` of its range, v or the friction by more than ``CHECK_BOUND_RATE * rtol``
 #: (1e-3 and 1e-2 at the default rtol; the machines' sub-step check bounds positions and rates the
@@ -390,11 +395,13 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     per_sample = res.substeps / (n - 1)
     if not (fast > FAST_LIMIT and per_sample > SUBSTEP_RISK):
         return res
-    f = CHECK_FACTOR
-    tight = SimOptions(rtol=options.rtol / f, atol_v=None if options.atol_v is None else options.atol_v / f,
-                       atol_F=options.atol_F / f, max_substeps=options.max_substeps,
-                       batch_substeps=options.batch_substeps)
-    fine = rerun(tight)
+    for f in (CHECK_FACTOR, CHECK_FACTOR_RETRY):
+        tight = SimOptions(rtol=options.rtol / f, atol_v=None if options.atol_v is None else options.atol_v / f,
+                           atol_F=options.atol_F / f, max_substeps=options.max_substeps,
+                           batch_substeps=options.batch_substeps)
+        fine = rerun(tight)
+        if fine.status == 0:
+            break
     osc = oscillator_detail(K, c, m, dt, kind)
     zeta = c / (2.0 * math.sqrt(K * m))
     why = (f"the contact is faster than the samples and the run followed it ({per_sample:.3g} sub-steps per "
@@ -430,9 +437,14 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     if fine.status != 0 or first_bad is not None:
         at = (first_bad - 1) if first_bad is not None else end
         if fine.status != 0:
-            check = f"the check run at rtol = {tight.rtol:.3g} failed at t = {float(res.t[end]):.6g} s ({fine.message})"
+            check = (f"the result could not be verified: the check runs at rtol/{CHECK_FACTOR:g} and "
+                     f"rtol/{CHECK_FACTOR_RETRY:g} failed (at rtol = {tight.rtol:.3g}: at t = {float(res.t[end]):.6g} s, "
+                     f"{fine.message.split(':')[0]})")
             if first_bad is not None:
                 check += f" and before that moved {worst}"
+            else:
+                check += (" — it may be right (on random cases 2 of 3 such runs were), but it is unchecked; a looser "
+                          "rtol lets the check runs follow the contact")
         else:
             check = (f"a run at rtol = {tight.rtol:.3g} moves {worst}, first at t = {float(res.t[first_bad]):.6g} s")
         message = f"tolerance not met (accuracy check): {why}; {how}, and {check}. {todo}"

@@ -183,3 +183,32 @@ def test_report_names_a_hand_edited_compensation_table(rows):
 
     with pytest.raises(DataError, match=re.escape(f'"compensators" = {rows}: expected an object')):
         compensation_sections({"format": "frictionkit.compensation/1", "preset": "emps", "compensators": rows})
+
+
+def test_a_delay_as_long_as_the_run_is_refused_naming_the_part():
+    """An actuator delay of 10,000 samples spent 648 s in the loop screen; 10**9 grew to 7.6 GB
+    (round 5): a delay the run can never see the end of is refused, naming the part."""
+    m = fk.Machine("slider")
+    x = m.dof("x", inertia=1.0)
+    m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0))
+    m.actuator("u", x, delay=10**9)
+    with pytest.raises(ParameterError, match=r"actuator 'u' delay = 1000000000 samples.*\(101 samples\)"):
+        fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(101, 0.5)})
+
+
+def test_the_loop_screen_skips_a_state_too_large_to_linearise_and_says_so():
+    """A closed loop whose delay lines make the screen's state larger than SCREEN_MAX_DIM is run
+    without the screen and the message says why (it was minutes of eigenvalue work)."""
+    from frictionkit.machines import PID, Sum
+    from frictionkit.machines.stability import SCREEN_MAX_DIM
+
+    m = fk.Machine("slider")
+    x = m.dof("x", inertia=1.0)
+    m.friction("contact", x, law=fk.CoulombViscous(Fc=0.1, sigma2=1.0))
+    m.sensor("xs", x)
+    m.add(Sum("e", {"r": 1.0, "xs": -1.0}), PID("i", "e", Kp=10.0))
+    m.actuator("a", x, command="i", delay=SCREEN_MAX_DIM)
+    n = SCREEN_MAX_DIM + 50
+    res = fk.simulate_machine(m, dt=1e-3, inputs={"r": np.full(n, 1e-3)}, substeps=1)
+    assert res.status == 0
+    assert "stability screen was skipped" in res.message and str(SCREEN_MAX_DIM) in res.message

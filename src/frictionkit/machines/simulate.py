@@ -651,6 +651,14 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     N = _length(inputs, None if n_samples is None else int(n_samples))
     if N < 2:
         raise DataError(f"simulate_machine: {N} samples; need at least 2")
+    # a delay line as long as the run only ever outputs its initial value, and its memory and the
+    # loop screen's matrix grow with it (issue 13 round 5: delay 10000 spent 648 s in the screen,
+    # 10**9 grew to 7.6 GB): refused, naming the part
+    for kind, parts in (("actuator", machine.actuators), ("sensor", machine.sensors)):
+        for p in parts:
+            if p.delay >= N:
+                raise ParameterError(f"simulate_machine: {kind} {p.name!r} delay = {p.delay} samples: must be shorter "
+                                     f"than the run ({N} samples); nothing it delays would ever arrive")
 
     if fast_path:
         fast = _fast_path(machine, dt, inputs, N, raise_on_failure)

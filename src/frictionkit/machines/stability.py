@@ -283,6 +283,12 @@ def _disagreement(res, fine) -> tuple[float, str]:
     return frac, worst
 
 
+#: largest closed-loop state (DOF positions and velocities plus delay-line samples) the screen
+#: linearises: its eigenvalue problem grows as dim^3 (issue 13 round 5: an actuator delay of
+#: 10,000 samples spent 648 s here). Assumption: 2,000 keeps the screen under ~5 s.
+SCREEN_MAX_DIM = 2000
+
+
 def loop_check(machine: Machine, res, dt: float, rerun):
     """Flag ``res`` (status 2) when the loop is linearly unstable (:func:`loop_stability`) and
     the run does not converge: at ``SUBSTEP_CHECK_FACTOR`` x the sub-steps (``rerun(substeps)``
@@ -294,6 +300,11 @@ def loop_check(machine: Machine, res, dt: float, rerun):
 
     if res.status != 0 or res.substeps < 1:
         return res
+    dim = (2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators))
+    if has_feedback(machine) and dim > SCREEN_MAX_DIM:
+        return dataclasses.replace(res, message=f"{res.message}; note: the closed-loop stability screen was skipped "
+                                                f"(its state has {dim} > {SCREEN_MAX_DIM} entries, mostly delay-line "
+                                                "samples: an eigenvalue problem of that size costs minutes)")
     try:
         stab = loop_stability(machine, dt)
     except Exception as exc:  # a screen must never break a finished run (a TDMSSC site once did)

@@ -212,3 +212,15 @@ def test_the_loop_screen_skips_a_state_too_large_to_linearise_and_says_so():
     res = fk.simulate_machine(m, dt=1e-3, inputs={"r": np.full(n, 1e-3)}, substeps=1)
     assert res.status == 0
     assert "stability screen was skipped" in res.message and str(SCREEN_MAX_DIM) in res.message
+
+
+def test_identify_static_refuses_velocity_and_position_together(tmp_path, runner):
+    """`identify static --velocity v --position x` exited 0 and ignored --position (round 5)."""
+    from frictionkit.cli import app
+
+    t = np.arange(50) * 1e-2
+    np.savetxt(tmp_path / "d.csv", np.column_stack([t, 0.01 * t, 0.01 + 0 * t, 1 + 0 * t]), delimiter=",",
+               header="t,x,v,F", comments="")
+    res = runner.invoke(app, ["identify", "static", str(tmp_path / "d.csv"), "--time", "t", "--velocity", "v",
+                              "--position", "x", "--force", "F"])
+    assert res.exit_code == 2 and "not both" in res.stderr, res.stderr

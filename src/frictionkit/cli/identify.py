@@ -186,6 +186,8 @@ def static(
 
     if velocity is None and position is None:
         raise DataError("give --velocity or --position")
+    if velocity is not None and position is not None:  # one was silently ignored (issue 13 round 5)
+        raise DataError("give --velocity or --position, not both: the static map reads one speed column")
     scales = {"force": chk.scale(force_scale, "--force-scale"), "velocity": chk.scale(velocity_scale, "--velocity-scale"),
               "position": chk.scale(position_scale, "--position-scale")}
     trim = chk.optional(chk.fraction, trim, "--trim")

@@ -22,6 +22,10 @@ from frictionkit.kernels import lugre as kl
 from frictionkit.models.pack import pack_lugre
 from frictionkit.simulation.inputs import stick_slip_force
 
+# one worker: the parallel (prange, simd) fixed-step kernel otherwise compiles on both xdist
+# workers at once (~80 s each in a clean clone)
+pytestmark = pytest.mark.xdist_group("batch_kernel")
+
 DT = 2.5e-4
 LOOSE = 1e300
 

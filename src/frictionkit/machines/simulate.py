@@ -1026,6 +1026,9 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
               sig_out=sig_out, u_out=u_out)
     for name in _KARGS_MUTABLE:
         kw[name] = kw[name].copy()
+    # always given, as a bool: an omitted default is another numba signature, so a caller passing
+    # coarse=False (the tests) would compile the whole kernel a second time (~19 s CPU)
+    kw.setdefault("coarse", True)
     status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS],
                                   **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
     if k_end < N:

@@ -81,10 +81,10 @@ class _KernelClock:
         self.cpu = 0.0
         km.run = self
 
-    def __call__(self, *args):
+    def __call__(self, *args, **kwargs):
         c0 = time.thread_time()
         try:
-            return self.inner(*args)
+            return self.inner(*args, **kwargs)
         finally:
             self.cpu += time.thread_time() - c0
 

@@ -410,7 +410,10 @@ def main() -> None:
         print("  " + ", ".join(f"{n} {p[n]:.6g} ({100 * (p[n] / TRUE[n] - 1):+.2f} %)" for n in NAMES))
         print(f"  largest parameter difference from frictionkit's: {_pdiff(p, ours)}")
         print(f"  MEASURED ratio {wall / ours_wall:.1f}x wall, {sims['cpu'] / ours_cpu:.1f}x CPU time")
-        targets[f"numbalsoda rtol {nb_rtol:.0e}"] = (wall / ours_wall, sims["cpu"] / ours_cpu, ok, 5.0)
+        # the target compares fits at equal final cost: a peer that stops far above frictionkit's
+        # (RMS more than 1e-3 relative worse) is faster at a worse answer, not a comparison point
+        targets[f"numbalsoda rtol {nb_rtol:.0e}"] = (wall / ours_wall, sims["cpu"] / ours_cpu, ok, 5.0,
+                                                     rms <= rms_ours * (1 + 1e-3))
 
     lsoda_sims = None
     rk45_cap = None if args.rk45_nfev < 0 else (args.rk45_nfev or None)
@@ -454,7 +457,8 @@ def main() -> None:
             print(f"  MEASURED ratio {wall / ours_wall:.1f}x wall, {sims['cpu'] / ours_cpu:.1f}x CPU time "
                   f"({sims['cpu']:.2f} s) (full convergence of both)")
             if method == "LSODA":
-                targets["scipy LSODA"] = (wall / ours_wall, sims["cpu"] / ours_cpu, rms_ours <= rms * (1 + 1e-6), 50.0)
+                targets["scipy LSODA"] = (wall / ours_wall, sims["cpu"] / ours_cpu, rms_ours <= rms * (1 + 1e-6), 50.0,
+                                          rms <= rms_ours * (1 + 1e-3))
             hit = next(((tt, c, ns) for tt, c, ns in last_trace if c <= sol.cost), None)
             if hit is not None:
                 print(f"  time to equal error: frictionkit's cost first fell to this run's final cost "
@@ -467,7 +471,12 @@ def main() -> None:
         _motion(args.repeats)
 
     print("\nTARGETS (issue 11, same run; frictionkit trf with exact Jacobians):")
-    for name, (rw, rc, ok, goal) in targets.items():
+    for name, (rw, rc, ok, goal, equal) in targets.items():
+        if not equal:  # the peer stopped at a worse cost: its time is a lower bound of its time to equal cost
+            verdict = ("met: a lower bound, the peer's fit stops at a worse final cost" if min(rw, rc) >= goal else
+                       "not an equal-cost comparison: the peer's fit stops at a worse final cost")
+            print(f"  vs {name}: {rw:.1f}x wall, {rc:.1f}x CPU (target >= {goal:.0f}x: {verdict})")
+            continue
         print(f"  vs {name}: {rw:.1f}x wall, {rc:.1f}x CPU (target >= {goal:.0f}x: "
               f"{'met' if min(rw, rc) >= goal else ('met in ' + ('wall' if rw >= goal else 'CPU') + ' only' if max(rw, rc) >= goal else 'NOT met')}), "
               f"final cost {'equal or better' if ok else 'WORSE'}")

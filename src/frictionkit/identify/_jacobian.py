@@ -304,13 +304,18 @@ class ReducedProblem:
             A *= prob.w[:, None]
         return A, np.where(prob.is_log, theta, prob.scale)
 
+    def _residual(self, nat: np.ndarray) -> np.ndarray:
+        """The plain residual of ``prob`` at natural parameters ``nat`` (one simulation, counted)."""
+        r = self.prob._resid_nat(nat)
+        self.prob.nsim += 1
+        return r
+
     def _fallback(self, p: np.ndarray):
         """``[J r]`` from plain simulations: the residual of ``prob`` and a difference Jacobian."""
         prob = self.prob
         exact, prob.exact = prob.exact, False
         try:
-            r = prob._resid_nat(prob.to_nat(p))
-            prob.nsim += 1
+            r = self._residual(prob.to_nat(p))
             J = prob.jac(p)
         finally:
             prob.exact = exact
@@ -412,12 +417,5 @@ class MotionReducedProblem(ReducedProblem):
                 A[:, j] = 1.0
         return A, np.where(prob.log, theta, prob.scale)
 
-    def _fallback(self, p: np.ndarray):
-        prob = self.prob
-        exact, prob.exact = prob.exact, False
-        try:
-            r = prob.resid_nat(prob.to_nat(p))
-            J = prob.jac(p)
-        finally:
-            prob.exact = exact
-        return np.column_stack([J, r])
+    def _residual(self, nat: np.ndarray) -> np.ndarray:
+        return self.prob.resid_nat(nat)  # the motion problem counts its own simulations

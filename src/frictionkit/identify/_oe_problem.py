@@ -38,6 +38,8 @@ class _Problem:
         self._coef_cache: dict = {}  # parameter -> packed-row derivatives (_jacobian.row_coefficients)
         #: ``[(start, stop), ...]``: the recordings concatenated in ``u``/``y``, each simulated from rest
         self.segments = [(0, u.size)]
+        #: why the last :meth:`simulate_nat` gave no simulation (a parameter the law refused)
+        self.last_failure = ""
         #: the sample period of each segment (records may be sampled differently)
         self.dts = [dt]
 
@@ -49,9 +51,13 @@ class _Problem:
             return np.where(self.is_log, np.log(np.maximum(theta, 1e-300)), theta / self.scale)
 
     def simulate_nat(self, theta):
+        """The simulation at natural parameters, or None when they build no law/mass
+        (the reason kept in ``self.last_failure``); several segments give one namespace whose
+        ``status``/``message`` are the first failing segment's (named)."""
         try:
             model, m, off = self.tmpl.build(self.free, theta)
-        except ParameterError:
+        except ParameterError as exc:
+            self.last_failure = str(exc)
             return None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
@@ -59,7 +65,13 @@ class _Problem:
                 return simulate(model, plant=Mass(m), force=self.u - off, dt=self.dts[0], options=self.options)
             parts = [simulate(model, plant=Mass(m), force=self.u[a:b] - off, dt=h, options=self.options)
                      for (a, b), h in zip(self.segments, self.dts)]
-        return SimpleNamespace(v=np.concatenate([p.v for p in parts]), x=np.concatenate([p.x for p in parts]))
+        status, message = 0, "ok"
+        for i, part in enumerate(parts):
+            if getattr(part, "status", 0) != 0:
+                status, message = part.status, f"record {i + 1} of {len(parts)}: {part.message}"
+                break
+        return SimpleNamespace(v=np.concatenate([p.v for p in parts]), x=np.concatenate([p.x for p in parts]),
+                               status=status, message=message)
 
     def _resid_nat(self, theta) -> np.ndarray:
         res = self.simulate_nat(theta)

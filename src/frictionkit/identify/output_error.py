@@ -472,7 +472,17 @@ def fit_output_error(
     if not ok:
         # a run the kernel stopped or flagged (e.g. sigma0 = 1e300: ringing far faster than the samples)
         # is no optimum, even where its truncated trace is finite
-        why = f" ({sim_opt.message})" if sim_opt is not None and getattr(sim_opt, "message", "ok") != "ok" else ""
+        why = ""
+        if sim_opt is not None and getattr(sim_opt, "message", "ok") != "ok":
+            why = f" ({sim_opt.message})"  # simulate's own message
+        elif sim_opt is None and np.isfinite(sol.cost):
+            why = f" ({prob.last_failure})" if prob.last_failure else ""
+        elif sim_opt is None:
+            why = " (the cost is not finite)"
+        elif y_opt is not None:
+            bad = np.flatnonzero(~np.isfinite(y_opt))
+            if bad.size:
+                why = f" (the simulated {compare} is not finite from sample {int(bad[0])})"
         return failed(f"the simulation fails at the optimum{why}; check the start values and bounds", theta, sol,
                       run, start_costs)
     converged = sol.status != 0

@@ -19,7 +19,7 @@ WSIM (whole-system identification method, seed 000 §3 and Fig. 6), four steps
    ~10 µm, nut ~30 µm of linear equivalent); per shaft and direction the torque–angle curve of
    the virgin branch gives the breakpoints P1..P3 (M = 3), ``xi_i`` by eq. 19 with
    ``s = s(v)`` of step 1 at the creep speed (= T_S), ``C`` chosen for fast convergence and a
-   simulation refinement (:func:`~frictionkit.identify.fit_presliding`). Table 4 layout.
+   simulation-error polish (:func:`~frictionkit.identify.fit_presliding`). Table 4 layout.
 3. :func:`differential_static` — at each base speed ``b >= 0`` the nut is held at the base speed
    and the screw speed is raised (table speed ``v3 > 0``, screw driving, eq. 11) or lowered
    (``v3 < 0``) through plateaus (§5.2.2). The lumped per-motor torques are taken against the
@@ -90,7 +90,7 @@ from .. import _validate as val
 from ..data.recording import Recording
 from ..data.segmentation import Segment, find_plateaus
 from ..data.signals import derivative
-from ..errors import DataError, IdentificationError, ParameterError
+from ..errors import DataError, IdentificationError, ParameterError, warn_renamed
 from ..models.gms import GMS, GMSWeightWarning
 from ..models.static import Directional, Stribeck
 from .presliding import fit_presliding
@@ -603,9 +603,20 @@ def cospeed_static(run: TDMSRun | Sequence[TDMSRun], *, model: str = "exponentia
 
 
 # --------------------------------------------------------------------------- steps 2 and 4
-#: Retries of a pre-sliding fit that fails on a noisy record: (block-mean target samples, refine).
-#: Heavier averaging first, then the eq. 19 breakpoints without the simulation refinement.
+#: Retries of a pre-sliding fit that fails on a noisy record: (block-mean target samples, polish).
+#: Heavier averaging first, then the eq. 19 breakpoints without the simulation-error polish.
 PRESLIDING_RETRIES = ((120, True), (60, False))
+
+
+def _polish_arg(owner: str, polish, refine) -> bool:
+    """``polish`` (a bool), or the former name ``refine`` for one release (warned): one meaning per
+    name — :class:`~.fit_options.FitOptions`' ``refine`` counts optimised starts."""
+    if refine is not None:
+        warn_renamed(owner, "refine", "polish", stacklevel=4)
+        polish = refine
+    if not val.is_bool(polish):
+        raise ParameterError(f"{owner}: polish = {polish!r}: must be True or False")
+    return bool(polish)
 
 
 def _usable(fit) -> None:
@@ -615,11 +626,11 @@ def _usable(fit) -> None:
         raise IdentificationError(f"fit_presliding: {fit.message}")
 
 
-def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfev):
+def _fit_micro(rec: Recording, max_samples, *, elements, static, polish, max_nfev):
     """fit_presliding on the thinned record; on failure retried per :data:`PRESLIDING_RETRIES`.
     Returns (fit, notes, the record fitted)."""
     notes = []
-    attempts = [(max_samples, refine)] + [(m, r and refine) for m, r in PRESLIDING_RETRIES
+    attempts = [(max_samples, polish)] + [(m, r and polish) for m, r in PRESLIDING_RETRIES
                                           if max_samples is None or m < max_samples]
     last = None
     for m, ref in attempts:
@@ -634,11 +645,11 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             if seen:
                 notes.append(f"during the fit: {seen[-1]} (the stroke ends before the curve reaches s(v))")
             if notes:
-                notes.append(f"fitted with block means to {m} samples, refine={ref}")
+                notes.append(f"fitted with block means to {m} samples, polish={ref}")
             return fit, notes, used
         except (IdentificationError, DataError) as exc:
             last = exc
-            notes.append(f"{m} samples, refine={ref}: {exc}")
+            notes.append(f"{m} samples, polish={ref}: {exc}")
     # fewer elements, padded back to M by splitting the last one (k/2, xi/2 twice breaks away at
     # the same stroke: the same force curve), so that both directions keep M elements
     m = PRESLIDING_RETRIES[0][0]
@@ -647,7 +658,7 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
             used = _thin(rec, m)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", GMSWeightWarning)     # the table reports sum_xi
-                fit = fit_presliding(used, elements=e, static=static, branch="virgin", polish=refine,
+                fit = fit_presliding(used, elements=e, static=static, branch="virgin", polish=polish,
                                      max_nfev=max_nfev)
             _usable(fit)
             notes.append(f"fitted with M = {e} elements (block means to {m} samples), padded to M = {elements} "
@@ -669,14 +680,14 @@ def _fit_micro(rec: Recording, max_samples, *, elements, static, refine, max_nfe
 
 
 def _presliding_columns(shaft_runs: Mapping[str, Recording], static_of: Callable[[str], Any], R: float,
-                        elements: int, refine: bool, max_nfev: int, label: str,
+                        elements: int, polish: bool, max_nfev: int, label: str,
                         max_samples: int | None = 300) -> WSIMStep:
     warns, fits, laws, table, curves = [], {}, {}, {}, {}
     ok = True
     for col, rec0 in shaft_runs.items():
         static = static_of(col)
         try:
-            fit, notes, rec = _fit_micro(rec0, max_samples, elements=elements, static=static, refine=refine,
+            fit, notes, rec = _fit_micro(rec0, max_samples, elements=elements, static=static, polish=polish,
                                     max_nfev=max_nfev)
             warns += [f"{col}: {n}" for n in notes]
         except (IdentificationError, DataError) as exc:
@@ -687,7 +698,7 @@ def _presliding_columns(shaft_runs: Mapping[str, Recording], static_of: Callable
         laws[col] = fit.model
         warns += [f"{col}: {m}" for m in fit.warnings]
         table[col] = _gms_column(fit.model, R)
-        # eq. 19 from the breakpoints alone, before the simulation refinement
+        # eq. 19 from the breakpoints alone, before the simulation-error polish
         table[col]["eq19_k_N_um"] = [float(k) / R**2 * 1e-6 for k in fit.diagnostics["initial_k"]]
         table[col]["eq19_xi"] = [float(v) for v in fit.diagnostics["initial_xi"]]
         x = np.asarray(rec.x)
@@ -723,7 +734,7 @@ def _thin(rec: Recording, max_samples: int | None) -> Recording:
     jitter at standstill would be taken for tiny branches), then block means of ``k`` samples
     of angle and torque so that about ``max_samples`` remain (a creep-speed reciprocation is
     sampled far finer than its force-displacement curve needs; the breakpoint search and the
-    simulation refinement cost grows with the samples, and the means remove the count
+    simulation-error polish cost grows with the samples, and the means remove the count
     jitter and most of the current noise)."""
     x = np.asarray(rec.x, float)
     F = np.asarray(rec.force(), float)
@@ -750,7 +761,8 @@ def _thin(rec: Recording, max_samples: int | None) -> Recording:
 
 
 def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[str, Any], *, elements: int = 3,
-                       refine: bool = True, max_nfev: int = 40, max_samples: int | None = 300) -> WSIMStep:
+                       polish: bool = True, max_nfev: int = 40, max_samples: int | None = 300,
+                       refine: bool | None = None) -> WSIMStep:
     """WSIM step 2 (seed 000 §5.2.1, eq. 19, Table 4): GMS of each shaft from µm co-speed
     reciprocation.
 
@@ -766,11 +778,14 @@ def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[
         GMS; at the creep speed of the test ``s`` equals T_S, as in the paper).
     elements : int
         Number of GMS elements (the paper: M = 3).
-    refine, max_nfev
-        Simulation-error refinement (see :func:`~frictionkit.identify.fit_presliding`).
+    polish, max_nfev
+        Simulation-error polish (see :func:`~frictionkit.identify.fit_presliding`).
     max_samples : int, optional
         Longer records are thinned to about this many samples (every k-th angle, the torque
         averaged over k samples) before the fit; None keeps every sample.
+    refine : bool, optional
+        The former name of ``polish`` (works for one release, with a deprecation warning;
+        :class:`~.fit_options.FitOptions`' ``refine`` counts optimised starts).
 
     Returns
     -------
@@ -778,6 +793,7 @@ def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[
         Table 4 layout per column: ``k_i`` [N/µm], ``xi_i``, ``C`` [N/s], ``sum_xi``, the
         P-points (µm, N); ``laws`` column -> GMS (N·m, rad).
     """
+    polish = _polish_arg("cospeed_presliding", polish, refine)
     if not runs:
         raise DataError("cospeed_presliding: no run given")
     R = next(iter(runs.values())).R if isinstance(next(iter(runs.values())), TDMSRun) else None
@@ -788,12 +804,13 @@ def cospeed_presliding(runs: Mapping[str, TDMSRun | Recording], static: Mapping[
         recs[col] = _as_shaft_record(r, col.split()[0], None)
     if R is None:
         raise DataError("cospeed_presliding: pass TDMSRun objects (their lead ratio R sets the table's units)")
-    return _presliding_columns(recs, lambda col: static[col.split()[0]], R, elements, refine, max_nfev, "table4",
+    return _presliding_columns(recs, lambda col: static[col.split()[0]], R, elements, polish, max_nfev, "table4",
                                max_samples)
 
 
-def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: int = 3, refine: bool = True,
-                            max_nfev: int = 40, max_samples: int | None = 300) -> WSIMStep:
+def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: int = 3, polish: bool = True,
+                            max_nfev: int = 40, max_samples: int | None = 300,
+                            refine: bool | None = None) -> WSIMStep:
     """WSIM step 4 (seed 000 §5.2.2, Table 6): the nut held still, the screw reciprocating
     within microns; the screw motor's torque is the lumped friction.
 
@@ -804,12 +821,15 @@ def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: in
         that direction.
     static : law
         The screw's lumped differential static map (step 3, N·m and rad/s).
+    elements, polish, max_nfev, max_samples, refine
+        As :func:`cospeed_presliding` (``refine``: the former name of ``polish``).
 
     Returns
     -------
     WSIMStep
         Table 6 layout (columns ``"positive"``, ``"negative"``).
     """
+    polish = _polish_arg("differential_presliding", polish, refine)
     if not runs:
         raise DataError("differential_presliding: no run given")
     recs = {}
@@ -818,7 +838,7 @@ def differential_presliding(runs: Mapping[str, TDMSRun], static, *, elements: in
             raise ParameterError(f"differential_presliding: column {col!r}: must be 'positive' or 'negative'")
         recs[col] = _as_shaft_record(r, "screw", None)
     R = next(iter(runs.values())).R
-    return _presliding_columns(recs, lambda col: static, R, elements, refine, max_nfev, "table6", max_samples)
+    return _presliding_columns(recs, lambda col: static, R, elements, polish, max_nfev, "table6", max_samples)
 
 
 # --------------------------------------------------------------------------- step 3
@@ -1016,8 +1036,8 @@ def differential_static(runs: Sequence[TDMSRun], *, screw_base_speed: float = 4e
 # --------------------------------------------------------------------------- WSIM
 def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TDMSRun],
          differential: Sequence[TDMSRun], differential_micro: Mapping[str, TDMSRun] | None = None,
-         elements: int = 3, screw_base_speed: float = 4e-3, refine: bool = True, max_nfev: int = 40,
-         progress=None) -> WSIMResult:
+         elements: int = 3, screw_base_speed: float = 4e-3, polish: bool = True, max_nfev: int = 40,
+         progress=None, refine: bool | None = None) -> WSIMResult:
     """The four WSIM steps of seed 000 Fig. 6 on a TDMS's logs (see the module docstring).
 
     Parameters
@@ -1032,17 +1052,22 @@ def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TD
         Step 4 runs ``{"positive": ..., "negative": ...}`` (nut still, screw reciprocating).
     elements : int
         GMS elements (the paper: 3).
+    polish, max_nfev
+        Simulation-error polish of the pre-sliding fits (:func:`cospeed_presliding`).
+    refine : bool, optional
+        The former name of ``polish`` (one release, with a deprecation warning).
 
     Returns
     -------
     WSIMResult
     """
+    polish = _polish_arg("wsim", polish, refine)
     step = progress or (lambda label: None)
     steps = {}
     step("WSIM step 1: co-speed static (Table 3)")
     steps["table3"] = cospeed_static(cospeed)
     step("WSIM step 2: co-speed pre-sliding (Table 4)")
-    steps["table4"] = cospeed_presliding(cospeed_micro, steps["table3"].laws, elements=elements, refine=refine,
+    steps["table4"] = cospeed_presliding(cospeed_micro, steps["table3"].laws, elements=elements, polish=polish,
                                          max_nfev=max_nfev)
     step("WSIM step 3: differential static (Table 5)")
     steps["table5"] = differential_static(differential, screw_base_speed=screw_base_speed)
@@ -1055,7 +1080,7 @@ def wsim(*, cospeed: TDMSRun | Sequence[TDMSRun], cospeed_micro: Mapping[str, TD
         # speed nearest 0 (against the table speed; the fit runs on the screw angle)
         b0 = min(by_base, key=abs)
         steps["table6"] = differential_presliding(differential_micro, _to_shaft(by_base[b0][1], _run_R(cospeed)),
-                                                  elements=elements, refine=refine, max_nfev=max_nfev)
+                                                  elements=elements, polish=polish, max_nfev=max_nfev)
     worst = max(s.status for s in steps.values())
     msgs = [f"{k}: {s.message}" for k, s in steps.items() if s.status]
     return WSIMResult(steps=steps, R=_run_R(cospeed), status=min(worst, 1) if worst < 2 else 2,
@@ -1080,8 +1105,8 @@ def _to_shaft(law, R: float):
 
 
 # --------------------------------------------------------------------------- ACIM
-def acim(components: Mapping[str, Mapping[str, Any]], *, elements: int = 3, refine: bool = False,
-         max_nfev: int = 40, max_samples: int | None = 300) -> ACIMResult:
+def acim(components: Mapping[str, Mapping[str, Any]], *, elements: int = 3, polish: bool = False,
+         max_nfev: int = 40, max_samples: int | None = 300, refine: bool | None = None) -> ACIMResult:
     """ACIM: every component identified in isolation (documented assumption, module docstring).
 
     Parameters
@@ -1095,12 +1120,18 @@ def acim(components: Mapping[str, Mapping[str, Any]], *, elements: int = 3, refi
         :class:`~frictionkit.data.SteadyStatePoints`. ``presliding``: a µm reciprocation from
         rest (virgin branch first; ``x`` and ``F``).
 
+    elements, polish, max_nfev, max_samples
+        As :func:`cospeed_presliding` (``polish`` off by default here).
+    refine : bool, optional
+        The former name of ``polish`` (one release, with a deprecation warning).
+
     Returns
     -------
     ACIMResult
         ``steps[component]`` with ``laws["static"]`` (Directional Stribeck) and, with
         pre-sliding data, ``laws["dynamic"]`` (GMS on that map); tables in N, mm/s, N/µm.
     """
+    polish = _polish_arg("acim", polish, refine)
     steps = {}
     for name, recs in components.items():
         if name not in COMPONENTS:
@@ -1120,7 +1151,7 @@ def acim(components: Mapping[str, Mapping[str, Any]], *, elements: int = 3, refi
         if "presliding" in recs:
             try:
                 pf, notes, _ = _fit_micro(recs["presliding"], max_samples, elements=elements,
-                                          static=laws.get("static"), refine=refine, max_nfev=max_nfev)
+                                          static=laws.get("static"), polish=polish, max_nfev=max_nfev)
                 warns += notes
                 fits["presliding"] = pf
                 laws["dynamic"] = pf.model

@@ -72,14 +72,14 @@ import json
 import math
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 
 import numpy as np
 
 from ..data.recording import Recording
 from ..data.segmentation import Segment, steady_state_points
 from . import REPRODUCTION_FORMAT, ROBUSTNESS_FORMAT
-from ..errors import DataError, IdentificationError, ParameterError
+from ..errors import DataError, IdentificationError, ParameterError, warn_renamed
 from ..identify import wsim as W
 from ..models.gms import GMS, GMSWeightWarning
 from ..models.lugre import LuGre
@@ -115,8 +115,10 @@ class Design:
         (±2 mm/s, 1 s, not given).
     memory_amplitude, memory_speed : Fig. 14 command [m, m/s] (5 µm; the paper's 1 µm/s).
     crawl_speeds, crawl_duration : extension table speeds [m/s] and feed time [s].
-    refine : bool — WSIM's simulation refinement of the pre-sliding fits (the paper's Simulink
-        step); False keeps the eq. 19 breakpoints (faster; used by the tests).
+    polish : bool — WSIM's simulation-error polish of the pre-sliding fits (the paper's Simulink
+        step); False keeps the eq. 19 breakpoints (faster; used by the tests). ``refine=`` is its
+        former name (one release, with a deprecation warning: ``FitOptions.refine`` counts
+        optimised starts).
     m7_samples : int — block means of the Fig. 16 M = 7 fit (the breakpoint search grows with M
         and the samples).
     """
@@ -140,8 +142,16 @@ class Design:
     memory_speed: float = 1e-6
     crawl_speeds: tuple = (1e-6, 2e-6, 5e-6, 10e-6)
     crawl_duration: float = 2.0
-    refine: bool = True
+    polish: bool = True
     m7_samples: int = 200
+    refine: InitVar[bool | None] = None
+
+    def __post_init__(self, refine):
+        if refine is not None:  # the former name of polish (one release)
+            warn_renamed("Design", "refine", "polish", stacklevel=4)
+            object.__setattr__(self, "polish", refine)
+        if not isinstance(self.polish, (bool, np.bool_)):
+            raise ParameterError(f"Design: polish = {self.polish!r}: must be True or False")
 
 
 #: ``--quick``: fewer plateaus and base speeds, shorter tracking, the memory test at 10 µm/s.
@@ -240,7 +250,7 @@ def identify_wsim(design: Design = FULL, *, assumptions=None, truth=None, seed: 
     """WSIM's four steps on the virtual experiments (Tables 3-6 analogues)."""
     ex = experiments or wsim_experiments(design, assumptions=assumptions, truth=truth, seed=seed, progress=progress)
     return W.wsim(cospeed=ex["cospeed"], cospeed_micro=ex["cospeed_micro"], differential=ex["differential"],
-                  differential_micro=ex["differential_micro"], screw_base_speed=4e-3, refine=design.refine,
+                  differential_micro=ex["differential_micro"], screw_base_speed=4e-3, polish=design.polish,
                   progress=progress)
 
 
@@ -292,7 +302,7 @@ def acim_experiments(design: Design = FULL, *, assumptions=None, truth=None, see
 
 def identify_acim(design: Design = FULL, *, assumptions=None, truth=None, seed: int = 0) -> W.ACIMResult:
     """ACIM on the component bench tests of :func:`acim_experiments`."""
-    return W.acim(acim_experiments(design, assumptions=assumptions, truth=truth, seed=seed), refine=False)
+    return W.acim(acim_experiments(design, assumptions=assumptions, truth=truth, seed=seed), polish=False)
 
 
 # =========================================================================== feed-forward (eq. 16)
@@ -518,7 +528,7 @@ def fit_gms_one_stiffness(records: dict, statics: dict, *, elements: int, max_nf
     f0, breaks = {}, {}
     for lab in labs:
         try:
-            fit, how, _ = W._fit_micro(records[lab], None, elements=M, static=statics[lab], refine=False,
+            fit, how, _ = W._fit_micro(records[lab], None, elements=M, static=statics[lab], polish=False,
                                        max_nfev=max_nfev)
         except (IdentificationError, DataError) as exc:
             raise IdentificationError(f"fit_gms_one_stiffness (M = {M}): no eq. 19 start for the {lab} "
@@ -925,7 +935,7 @@ def run(*, quick: bool = False, seed: int = 0, assumptions: Z.Assumptions | None
     t0 = time.perf_counter()
     step("WSIM identification (Tables 3-6)")
     ws = W.wsim(cospeed=ex["cospeed"], cospeed_micro=ex["cospeed_micro"], differential=ex["differential"],
-                differential_micro=ex["differential_micro"], screw_base_speed=4e-3, refine=d.refine)
+                differential_micro=ex["differential_micro"], screw_base_speed=4e-3, polish=d.polish)
     step("ACIM: component bench tests")
     ac = identify_acim(d, assumptions=a, truth=tf, seed=seed)
     tm["identification"] = time.perf_counter() - t0

@@ -22,7 +22,7 @@ from frictionkit.reproduce import zhang2023 as zr
 TEST_DESIGN = zr.Design(cospeed_slow=(0.05e-3, 0.15e-3, 0.4e-3), cospeed_fast=(1e-3, 5e-3, 20e-3), hold_slow=1.5,
                         hold_fast=0.3, diff_bases=(0.0, 6e-3), diff_slow=(0.03e-3, 0.1e-3),
                         diff_fast=(0.3e-3, 1e-3, 2.5e-3, 5e-3), diff_hold_slow=1.0, tracking_duration=1.5,
-                        memory_speed=10e-6, crawl_speeds=(1e-6,), crawl_duration=1.0, refine=False, m7_samples=120)
+                        memory_speed=10e-6, crawl_speeds=(1e-6,), crawl_duration=1.0, polish=False, m7_samples=120)
 TIE = zr.TIE_UM
 
 # the module's run costs ~20-30 s: keep its tests on one xdist worker so it runs once

@@ -229,6 +229,9 @@ class MachineResult(TraceAccess):
     substeps: int
     status: int
     message: str
+    #: Which kernel ran and, for the general loop, why the one-DOF fast paths were not taken
+    #: (a debug note: ``"axis: ..."``, ``"single-axis: ..."`` or ``"general loop ..."``).
+    path: str = "general loop"
 
     @property
     def success(self) -> bool:
@@ -239,7 +242,7 @@ class MachineResult(TraceAccess):
 
     def summary(self) -> str:
         lines = [f"{self.machine.name}: {self.t.size} samples over {self.t[-1]:.6g} s, "
-                 f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})"]
+                 f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})", f"  kernel: {self.path}"]
         lines += self._dof_lines()
         for j, s in enumerate(self.site_names):
             lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}")
@@ -397,7 +400,74 @@ def _fast_path(machine: Machine, dt: float, inputs: dict, N: int, raise_on_failu
                          signals=np.column_stack([inputs[act.command], u]), u=u[:, None],
                          dof_names=(d.name,), site_names=(site.name,), signal_names=names,
                          actuator_names=(act.name,), substeps=0, status=int(r.status),
-                         message=f"{r.message} (one-DOF fast path: adaptive single-axis kernel)")
+                         message=f"{r.message} (one-DOF fast path: adaptive single-axis kernel)",
+                         path="single-axis: the adaptive kernel of frictionkit.simulate (one dynamic-law site, open loop)")
+
+
+def _axis_plan(machine: Machine, p: dict) -> tuple:
+    """``(plan, why_not)``: the one-DOF axis kernel's plant arguments
+    (:func:`frictionkit.kernels.machine_axis.run_axis`) when the machine qualifies, else
+    ``(None, reason)``. Qualifies: one degree of freedom, no springs or prescribed motions, one
+    friction site on it holding a static law with flat levels (``CoulombViscous``, ``Stribeck``
+    with ``Fs = Fc``, ``Directional`` of those; levels > 0, viscous >= 0, no normal load, no
+    schedule); any actuators (a controller signal held over the sample, or an input array
+    linear over it), sensors and controller blocks. ``p``: the machine's pack (:func:`_packed`)."""
+    from ..models.tdmssc import schedule_rows
+
+    if machine.n != 1:
+        return None, f"{machine.n} degrees of freedom"
+    if machine.springs or machine._motion_names:
+        return None, "springs or prescribed motions"
+    if len(machine.sites) != 1:
+        return None, f"{len(machine.sites)} sites (the axis kernel takes one friction site)"
+    site = machine.sites[0]
+    if site.role != "friction" or site.load is not None or getattr(site, "schedule", None) is not None:
+        return None, f"site {site.name!r} is not a plain friction site (compliance, load, normal load or schedule)"
+    law = site.law
+    if law_family(law) != "static":
+        return None, f"{type(law).__name__} is a dynamic law (no exact step of the axis kernel)"
+    r = np.asarray(schedule_rows(law), dtype=float)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
+    for x in r:
+        if not (x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 and x[6] >= 0.0):
+            return None, (f"{type(law).__name__} levels are not flat and positive (Fs != Fc, a schedule, eps or "
+                          "sigma2 < 0): the axis kernel's exact step needs Coulomb-viscous levels")
+    ka = p["kargs"]
+    c = float(ka["Cq"][0, 0])
+    if c == 0.0 or not math.isfinite(c):
+        return None, f"site {site.name!r} does not move with the degree of freedom"
+    M = float(machine.mass_matrix()[0, 0])
+    a = abs(c)
+    pos, neg = (r[0], r[1]) if c > 0.0 else (r[1], r[0])  # the site's row for the DOF's direction
+    gain = np.array([act.gain * float(machine.row(act.at)[0][0]) for act in machine.actuators], dtype=float)
+    plan = dict(Minv=1.0 / M, Lp=a * float(pos[0]), Ln=a * float(neg[0]), Vp=c * c * float(pos[6]),
+                Vn=c * c * float(neg[6]), c_site=c, act_gain=gain)
+    return plan, ""
+
+
+def _axis_loop_check(machine: Machine, res: MachineResult, dt: float, p: dict) -> MachineResult:
+    """The loop screen of an axis-kernel run (:func:`_loop_check`'s, with its eigenproblem
+    remembered with the pack): the exact step has no sub-steps to refine, so an unstable loop's
+    run is a converged limit cycle — status kept, the mode noted in ``message``."""
+    from .stability import SCREEN_MAX_DIM, has_feedback, loop_stability
+
+    if res.status != 0:
+        return res
+    if "loop_stability" not in p:
+        dim = 2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators)
+        if has_feedback(machine) and dim > SCREEN_MAX_DIM:
+            p["loop_stability"] = (f"note: the closed-loop stability screen was skipped (its state has {dim} > "
+                                   f"{SCREEN_MAX_DIM} entries, mostly delay-line samples: an eigenvalue problem of "
+                                   "that size costs minutes)")
+        else:
+            try:
+                stab = loop_stability(machine, dt)
+                p["loop_stability"] = (f"note: {stab.describe(dt)} (a limit cycle; the axis kernel's exact step has "
+                                       "no sub-steps to refine)") if stab.unstable else ""
+            except Exception as exc:  # a screen must never break a finished run
+                p["loop_stability"] = (f"note: the closed-loop stability screen was skipped "
+                                       f"({type(exc).__name__}: {exc})")
+    note = p["loop_stability"]
+    return dataclasses.replace(res, message=f"{res.message}; {note}") if note else res
 
 
 def _length(inputs: dict, n_samples):
@@ -597,10 +667,22 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         (:func:`frictionkit.machines.stability.loop_stability`) is checked the same way: status 2
         when its traces do not converge, else a note in ``message``.
     seed : int — seed of the sensor noise.
-    fast_path : bool — a machine that is one mass, one dynamic friction site (LuGre, Dahl, GMS)
-        and one open-loop force input, with nothing else, runs on the single-axis adaptive
-        kernels of :func:`frictionkit.simulate` (error-controlled, breakaways located inside
-        the step; ``substeps`` does not apply). ``False`` forces the general loop.
+    fast_path : bool — one-DOF fast paths of the core (``MachineResult.path`` says which kernel
+        ran and, for the general loop, why no fast path was taken):
+
+        * a machine that is one mass, one dynamic friction site (LuGre, Dahl, GMS) and one
+          open-loop force input, with nothing else, runs on the single-axis adaptive kernels
+          of :func:`frictionkit.simulate` (error-controlled, breakaways located inside the
+          step; ``substeps`` does not apply);
+        * a rigid axis (one DOF, no springs or motions) with one friction site holding a flat
+          static law (``CoulombViscous``, ``Stribeck`` with ``Fs = Fc``, ``Directional`` of
+          those) — the EMPS preset — runs on
+          :mod:`frictionkit.kernels.machine_axis`: the same controller, an exact plant step per
+          sample with stops located inside the sample (the limit of the general loop's
+          sub-steps; ``substeps``, ``atol`` and the sub-step check do not apply, ``substeps``
+          of the result is 0).
+
+        ``False`` forces the general loop.
     raise_on_failure : bool — raise :class:`SimulationError` instead of returning status 1.
     atol : float, optional — error control: a tolerance on the positions of the degrees of
         freedom [m or rad]. The run is repeated with ``substeps``, ``2 substeps``, ... and stops
@@ -671,12 +753,23 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
         if fp is not None:
             _CALL_FP[key] = fp
     try:
+        why = "fast_path=False"
+        if fast_path:
+            p = _packed(machine, dt, tuple(inputs), int(substeps))
+            if "axis" not in p:  # remembered with the pack (same machine, dt and input names)
+                p["axis"] = _axis_plan(machine, p)
+            why = p["axis"][1]
+            if p["axis"][0] is not None:  # exact already: atol and the sub-step check do not apply
+                res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure, axis=True)
+                return _axis_loop_check(machine, res, dt, p)
         if atol is not None:
-            return _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
-                                     val.positive("simulate_machine", "atol", atol), max_substeps)
-        res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
-        res = _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
-        return _loop_check(machine, res, dt, inputs, N, seed)
+            res = _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
+                                    val.positive("simulate_machine", "atol", atol), max_substeps)
+        else:
+            res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure)
+            res = _substep_check(machine, res, dt, inputs, N, int(substeps), seed, raise_on_failure)
+            res = _loop_check(machine, res, dt, inputs, N, seed)
+        return dataclasses.replace(res, path=f"general loop (one-DOF axis kernel not taken: {why})")
     finally:
         if _CALL_FP.get(key) is fp:
             _CALL_FP.pop(key, None)
@@ -999,7 +1092,7 @@ def _packed(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
     return p
 
 
-def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> MachineResult:
+def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis: bool = False) -> MachineResult:
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
         raise ParameterError(f"simulate_machine seed = {seed!r}: must be a non-negative integer or None")
     p = _packed(machine, dt, tuple(inputs), int(substeps))
@@ -1026,11 +1119,22 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
               sig_out=sig_out, u_out=u_out)
     for name in _KARGS_MUTABLE:
         kw[name] = kw[name].copy()
-    # always given, as a bool: an omitted default is another numba signature, so a caller passing
-    # coarse=False (the tests) would compile the whole kernel a second time (~19 s CPU)
-    kw.setdefault("coarse", True)
-    status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS],
-                                  **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
+    if axis:  # the one-DOF fast path (_axis_plan), same controller code and outputs
+        from ..kernels import machine_axis as _ka
+
+        a = p["axis"][0]
+        status, k_end, n_bad = _ka.run_axis(
+            dt, kw["X"], a["Minv"], a["Lp"], a["Ln"], a["Vp"], a["Vn"], a["c_site"], a["act_gain"],
+            in_arr, kw["in_sig"], kw["sen_row"], kw["sen_qty"], kw["sen_res"], kw["sen_delay"], kw["sen_sig"], noise,
+            kw["blk_code"], kw["blk_iptr"], kw["blk_idx"], kw["blk_fptr"], kw["blk_par"], kw["blk_sptr"], kw["blk_st"],
+            kw["act_sig"], kw["act_lim"], kw["act_delay"], kw["act_foh"], kw["act_applied_sig"], kw["act_col"], kw["sig"],
+            q_out, v_out, F_out, sig_out, u_out)
+    else:
+        # always given, as a bool: an omitted default is another numba signature, so a caller passing
+        # coarse=False (the tests) would compile the whole kernel a second time (~19 s CPU)
+        kw.setdefault("coarse", True)
+        status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS],
+                                      **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
             arr[k_end:] = np.nan
@@ -1048,4 +1152,10 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure) -> Ma
     return MachineResult(machine=machine, t=t, q=q_out, v=v_out, site_forces=F_out, signals=sig_out, u=u_out,
                          dof_names=tuple(machine._dof_names), site_names=tuple(s.name for s in machine.sites),
                          signal_names=tuple(sig_names), actuator_names=tuple(act_names),
-                         substeps=int(substeps), status=int(status), message=message)
+                         substeps=0 if axis else int(substeps), status=int(status), message=message,
+                         path=_AXIS_PATH if axis else "general loop")
+
+
+#: ``MachineResult.path`` of a run on the one-DOF axis kernel.
+_AXIS_PATH = ("axis: the one-DOF kernel kernels.machine_axis (exact step per sample, stops located inside "
+              "the sample; substeps do not apply)")

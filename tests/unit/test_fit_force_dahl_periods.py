@@ -66,13 +66,29 @@ def test_dahl_levels_per_direction_and_refused_fields(records):
 
 
 def test_dahl_map_levels_free_exact_and_difference_jacobians_agree(records):
-    start = fk.Dahl(Fc=0.95, sigma0=4e4, sigma2=0.38)
+    """From a poor start the first trust-region step lands at sigma0 ~ 7e7 N/m (omega dt 4.3-8.6,
+    ringing faster than the samples): the exact fit stopped there (sigma0 = 7.4e7; its sensitivities
+    grew to 1e79 while the state stayed bounded) until such points were left to plain simulations."""
+    start = fk.Dahl(Fc=0.8, sigma0=2e4, sigma2=0.3)
     fits = [fit_output_error(records, start, inertia=1.0, rests=None, free=("sigma0", "Fc", "sigma2"), jacobian=j)
             for j in ("auto", "fd")]
     for res in fits:
         assert res.success
         np.testing.assert_allclose([res["sigma0"], res["Fc"], res["sigma2"]], [5e4, 1.0, 0.4], rtol=1e-4)
     assert fits[0].diagnostics["sensitivity_runs"] > 0 and fits[1].diagnostics["sensitivity_runs"] == 0
+
+
+def test_exact_jacobian_leaves_a_contact_faster_than_the_samples_to_simulate():
+    from frictionkit.identify import _jacobian
+    from frictionkit.simulation.core import FAST_LIMIT
+
+    u = 0.5 * np.ones(50)
+    for s0, dt in ((7.4e7, 5e-4), (5e4, 1e-3)):  # omega dt = 4.3 and 0.22 on 1 kg
+        law = fk.Dahl(Fc=0.9, sigma0=s0, sigma2=1.3)
+        *_, status = _jacobian.force_driven(lambda th: (fk.Dahl(Fc=0.9, sigma0=th[0], sigma2=1.3), 1.0, 0.0),
+                                            np.array([s0]), u, dt, OUTPUT_ERROR_OPTIONS, [(0, u.size)])
+        fast = np.sqrt(law.sigma0 / 1.0) * dt > FAST_LIMIT
+        assert status == (_jacobian.UNRESOLVED if fast else 0)
 
 
 def test_cli_force_drive_dahl(tmp_path, records):

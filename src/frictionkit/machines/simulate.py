@@ -444,30 +444,27 @@ def _axis_plan(machine: Machine, p: dict) -> tuple:
     return plan, ""
 
 
-def _axis_loop_check(machine: Machine, res: MachineResult, dt: float, p: dict) -> MachineResult:
-    """The loop screen of an axis-kernel run (:func:`_loop_check`'s, with its eigenproblem
-    remembered with the pack): the exact step has no sub-steps to refine, so an unstable loop's
-    run is a converged limit cycle — status kept, the mode noted in ``message``."""
+def _axis_screen(machine: Machine, dt: float, p: dict) -> tuple:
+    """``(unstable, note)``: the loop screen (:func:`_loop_check`'s eigenproblem) of a machine
+    that qualifies for the axis kernel, remembered with its pack. An unstable loop goes to the
+    general loop, whose sub-step convergence check then decides its status (the fast path would
+    only drop that check); ``note`` is the screen's own note when it was skipped."""
     from .stability import SCREEN_MAX_DIM, has_feedback, loop_stability
 
-    if res.status != 0:
-        return res
     if "loop_stability" not in p:
         dim = 2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators)
         if has_feedback(machine) and dim > SCREEN_MAX_DIM:
-            p["loop_stability"] = (f"note: the closed-loop stability screen was skipped (its state has {dim} > "
-                                   f"{SCREEN_MAX_DIM} entries, mostly delay-line samples: an eigenvalue problem of "
-                                   "that size costs minutes)")
+            p["loop_stability"] = (False, f"note: the closed-loop stability screen was skipped (its state has {dim} > "
+                                          f"{SCREEN_MAX_DIM} entries, mostly delay-line samples: an eigenvalue problem "
+                                          "of that size costs minutes)")
         else:
             try:
                 stab = loop_stability(machine, dt)
-                p["loop_stability"] = (f"note: {stab.describe(dt)} (a limit cycle; the axis kernel's exact step has "
-                                       "no sub-steps to refine)") if stab.unstable else ""
-            except Exception as exc:  # a screen must never break a finished run
-                p["loop_stability"] = (f"note: the closed-loop stability screen was skipped "
-                                       f"({type(exc).__name__}: {exc})")
-    note = p["loop_stability"]
-    return dataclasses.replace(res, message=f"{res.message}; {note}") if note else res
+                p["loop_stability"] = (bool(stab.unstable), stab.describe(dt) if stab.unstable else "")
+            except Exception as exc:  # a screen must never break a run
+                p["loop_stability"] = (False, f"note: the closed-loop stability screen was skipped "
+                                              f"({type(exc).__name__}: {exc})")
+    return p["loop_stability"]
 
 
 def _length(inputs: dict, n_samples):
@@ -759,9 +756,15 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
             if "axis" not in p:  # remembered with the pack (same machine, dt and input names)
                 p["axis"] = _axis_plan(machine, p)
             why = p["axis"][1]
-            if p["axis"][0] is not None:  # exact already: atol and the sub-step check do not apply
-                res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure, axis=True)
-                return _axis_loop_check(machine, res, dt, p)
+            if p["axis"][0] is not None:
+                unstable, note = _axis_screen(machine, dt, p)
+                if unstable:
+                    why = f"{note}; the general loop checks such a run's convergence"
+                else:  # exact already: atol and the sub-step check do not apply
+                    res = _run_machine(machine, dt, inputs, N, int(substeps), seed, raise_on_failure, axis=True)
+                    if note and res.status == 0:
+                        res = dataclasses.replace(res, message=f"{res.message}; {note}")
+                    return res
         if atol is not None:
             res = _error_controlled(machine, dt, inputs, N, int(substeps), seed, raise_on_failure,
                                     val.positive("simulate_machine", "atol", atol), max_substeps)

@@ -1094,11 +1094,14 @@ def run(
                 Fbs[j] = Fbar[j]
                 kts[j] = kt[j]
                 lams[j] = lam[j]
-        for attempt in range(2):
+        # the attempt counter starts at a run-time value, so the compiler cannot unroll this loop
+        # into two copies of the whole sub-step body (an unrolled range(2) doubled the code: the
+        # compile time, and the sub-step path of machines that never keep a coarse step ran slower)
+        attempt = 0 if try_c else 1
+        while attempt < 2:
             coarse_now = attempt == 0
+            attempt += 1
             if coarse_now:
-                if not try_c:
-                    continue
                 nsa, ha, PhiTa, G0Ta, G1Ta, GfTa, Gssa, Hssa = 1, dt, PhiTC, G0TC, G1TC, GfTC, GssC, HssC
             else:
                 nsa, ha, PhiTa, G0Ta, G1Ta, GfTa, Gssa, Hssa = n_sub, h, PhiT, G0T, G1T, GfT, Gss, Hss
@@ -1246,7 +1249,11 @@ def run(
                         for j in range(ns):
                             Gjj = Gssa[j, j]
                             if Gjj > 0.0:
-                                Fs_j = _site_now(site_kind[j], par, site_po[j], st, site_so[j], s0[j], v0s[j], lam[j])
+                                if nmot == 0:  # the force recorded at t_k: same state, velocity and load
+                                    Fs_j = F_out[k, j]
+                                else:  # a motion's rate here is the departing one, the record's the arriving one
+                                    Fs_j = _site_now(site_kind[j], par, site_po[j], st, site_so[j], s0[j], v0s[j],
+                                                     lam[j])
                                 dev[j] = abs(Fs_j - Fbar[j]) * Gjj / (1.0 + Gjj * max(kt[j], 0.0))
                     for j in range(ns):  # commit the states (static and memoryless sites have none)
                         if site_kind[j] == S_LUGRE:

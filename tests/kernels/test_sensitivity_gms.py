@@ -53,11 +53,32 @@ def test_force_is_simulates_and_sensitivities_match_central_differences(directio
         assert np.linalg.norm(S[:, j] - d) <= 1e-6 * np.linalg.norm(d), name
 
 
-def test_a_static_field_keeps_differences():
-    tmpl = LawTemplate.of(TRUE)
-    names = tmpl.expand(("k", "Fc"))
+@pytest.mark.parametrize("shape", ["exponential", "lorentzian"])
+def test_static_fields_match_central_differences(shape):
+    """The map's fields reach the update through g (breakaway and slip targets, the slip decay) and
+    the output's sigma2 v: checked per field against central differences of fk.simulate."""
+    st = (fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=1.5, sigma2=0.4) if shape == "exponential"
+          else fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4, shape="lorentzian"))
+    law = fk.GMS(st, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
+    x = _stroke(8001)
+    tmpl = LawTemplate.of(law)
+    names = tmpl.expand(("Fc", "Fs", "vs", "sigma2", "C", "k2") + (("delta",) if shape == "exponential" else ()))
     theta = np.array([tmpl.get(n) for n in names])
-    assert _jacobian.gms_motion_driven(lambda q: (tmpl.build(names, q), 1.0, 0.0), theta, _stroke(100), DT) is None
+
+    def build(q):
+        return tmpl.build(names, q), 1.0, 0.0
+
+    F, S, status = _jacobian.gms_motion_driven(build, theta, x, DT)
+    assert status == 0
+    np.testing.assert_array_equal(F, fk.simulate(law, position=x, dt=DT).friction)
+    for j, name in enumerate(names):
+        h = 1e-6 * theta[j]
+        a, b = theta.copy(), theta.copy()
+        a[j] += h
+        b[j] -= h
+        d = (fk.simulate(build(a)[0], position=x, dt=DT).friction
+             - fk.simulate(build(b)[0], position=x, dt=DT).friction) / (2 * h)
+        assert np.linalg.norm(S[:, j] - d) <= 1e-6 * np.linalg.norm(d), name
 
 
 def test_motion_fit_uses_them_and_ends_at_equal_or_lower_cost():
@@ -76,10 +97,14 @@ def test_motion_fit_uses_them_and_ends_at_equal_or_lower_cost():
     np.testing.assert_allclose([ex["k1"], ex["k2"], ex["k3"]], [4e5, 1e5, 2e4], rtol=0.2)
 
 
-def test_a_gms_fit_that_frees_a_static_field_searches_with_differences():
+def test_a_gms_fit_that_frees_a_static_field_uses_them_too():
     x = _stroke(4001)
     F = fk.simulate(TRUE, position=x, dt=DT).friction
-    res = fit_motion_error({"t": np.arange(x.size) * DT, "x": x, "F": F}, TRUE, free=("k1", "Fc"), starts=1, refine=1,
-                           profile=False)
-    assert res.success and res.diagnostics["sensitivity_runs"] == 0
-    assert "forward-difference" in res.provenance["procedure"]["optimiser"]
+    start = fk.GMS(fk.Stribeck(Fc=0.9, Fs=1.5, vs=1e-3, sigma2=0.4), k=[3e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
+    fits = {jac: fit_motion_error({"t": np.arange(x.size) * DT, "x": x, "F": F}, start, free=("k1", "Fc"), starts=1,
+                                  refine=1, profile=False, jacobian=jac) for jac in ("auto", "fd")}
+    ex, fd = fits["auto"], fits["fd"]
+    assert ex.success and ex.diagnostics["sensitivity_runs"] > 0 and fd.diagnostics["sensitivity_runs"] == 0
+    assert "exact Jacobian" in ex.provenance["procedure"]["optimiser"]
+    np.testing.assert_allclose([ex["k1"], ex["Fc"]], [4e5, 1.0], rtol=1e-6)  # noise-free: the truth
+    assert ex.rms <= fd.rms * (1 + 1e-5) + 1e-12

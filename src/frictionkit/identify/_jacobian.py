@@ -7,9 +7,10 @@ The force-driven fit hands ``least_squares`` the ``(p + 1)``-row reduced problem
 (:class:`ReducedProblem`, :func:`reduce_lsq`). Used by :mod:`.output_error` (force-driven, velocity or
 position compared) and :mod:`.motion_error` (motion-driven, force compared) for the LuGre
 family (LuGre, Dahl, a ``Directional`` of them), and GMS in the motion drive
-(:func:`gms_motion_driven`, :mod:`frictionkit.kernels.sensitivity_gms`; ``benchmarks/identify.py``,
-50,001 samples, k1..k3 and C free: 0.26 s CPU vs 0.42 s with differences, final cost 25.7951 vs
-25.8010); GMS in the force drive keeps the finite differences.
+(:func:`gms_motion_driven`, :mod:`frictionkit.kernels.sensitivity_gms`, its static fields too;
+``benchmarks/identify.py``, 50,001 samples, k1..k3 and C free: 0.26 s CPU vs 0.42 s with
+differences, final cost 25.7951 vs 25.8010); GMS in the force drive keeps the finite differences
+(its kernel's spans, located switches and oscillator sub-steps have no sensitivity kernel yet).
 
 How a fitted parameter reaches the kernel: the kernels read packed rows
 (``frictionkit.models.pack``). The derivative of those rows with respect to each parameter is
@@ -173,9 +174,10 @@ def motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: float, 
 def gms_motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: float, cache: dict | None = None):
     """Force of the motion-driven GMS from the unloaded state and ``dF/d theta``: ``(F, S, status)``.
 
-    The parameters must reach only ``k``, ``xi``, ``C`` (checked by differencing the packing as
-    :func:`row_coefficients` does): None when one moves the static rows (a fit of the map's
-    fields keeps differences). Kernel: :func:`frictionkit.kernels.sensitivity_gms.gms_motion_sens`.
+    The parameters reach ``k``, ``xi``, ``C`` and the static rows ``[Fc, Fs, vs, delta, sigma2]``
+    (coefficients by differencing the packing, as :func:`row_coefficients` does). None when one
+    moves the Stribeck shape (not a parameter of any law today). Kernel:
+    :func:`frictionkit.kernels.sensitivity_gms.gms_motion_sens`.
     """
     from ..kernels import sensitivity_gms as _kg
     from ..models.pack import pack_gms
@@ -187,6 +189,7 @@ def gms_motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: flo
         dk = np.zeros((p,) + pk.k.shape)
         dxi = np.zeros((p,) + pk.xi.shape)
         dC = np.zeros((p,) + pk.C.shape)
+        dst = np.zeros((p, 2, 5))
         for j in range(p):
             h = 1e-6 * abs(theta[j]) if theta[j] != 0.0 else 1e-6
             q = theta.copy()
@@ -197,10 +200,11 @@ def gms_motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: flo
                 q[j] = theta[j] - h
                 pj = pack_gms(build(q)[0])
             step = q[j] - theta[j]
-            if not np.array_equal(pj.static, pk.static):
+            if not np.array_equal(pj.static[:, 5], pk.static[:, 5]):
                 return None
             dk[j], dxi[j], dC[j] = ((pj.k - pk.k) / step, (pj.xi - pk.xi) / step, (pj.C - pk.C) / step)
-        coef = tuple(_snap(a.ravel()).reshape(a.shape) for a in (dk, dxi, dC))
+            dst[j] = (pj.static[:, :5] - pk.static[:, :5]) / step
+        coef = tuple(_snap(a.ravel()).reshape(a.shape) for a in (dk, dxi, dC, dst))
         if cache is not None and all(np.array_equal(a, np.round(a)) for a in coef):
             cache["gms"] = coef
     else:

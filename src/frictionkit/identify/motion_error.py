@@ -473,8 +473,6 @@ def fit_motion_error(
     refine = max(1, int(refine))
     best, runs = None, []
     reduced = prob.exact and _jacobian.supports_motion(model0)
-    if reduced and _jacobian.kind_of(model0) == "gms":  # GMS sensitivities cover k, xi, C (and J, offset) only
-        reduced = all(base_name(n) in ("k", "xi", "C") or n in MOTION_EXTRAS for n in names)
     for i in order[:refine]:
         prob.history = []
         with warnings.catch_warnings():

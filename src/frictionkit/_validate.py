@@ -47,6 +47,26 @@ def positive(owner: str, name: str, value: Any) -> float:
     return out
 
 
+#: Largest start position [m or rad] a simulation accepts (assumption, issue 13): the
+#: float64 spacing there is 1.2e-10 m, below the ~1 nm resolution of fine linear
+#: encoders and the pre-sliding displacements (>= ~10 nm) the friction laws model, and
+#: no axis travels 1,000 km (a rotary axis at 1e6 rad has turned 160,000 revolutions:
+#: start it at its angle modulo 2 pi). Beyond it the motion per sample drowns in the
+#: position's rounding: x0 = 1e300 ran with status 0 while x never changed.
+MAX_POSITION = 1e6
+
+
+def position(owner: str, name: str, value: Any) -> float:
+    """A finite start position within :data:`MAX_POSITION` (message gives the float spacing)."""
+    out = finite(owner, name, value)
+    if abs(out) > MAX_POSITION:
+        raise ParameterError(
+            f"{owner}.{name} = {out!r}: |{name}| must be <= {MAX_POSITION:.0e} (m or rad): the float spacing "
+            f"there is {float(np.spacing(abs(out))):.3g}, coarser than the motion a friction contact resolves "
+            f"(positions would not move by it); start near 0 (subtract the offset)")
+    return out
+
+
 def nonnegative(owner: str, name: str, value: Any) -> float:
     out = finite(owner, name, value)
     if out < 0.0:

@@ -34,6 +34,9 @@ class Dof:
     x0: float
     v0: float
 
+    def __post_init__(self) -> None:  # here, not only in Machine.dof: dataclasses.replace passes by it
+        val.position(f"Machine.dof({self.name!r})", "x0", self.x0)
+
     @property
     def unit(self) -> str:
         return KINDS[self.kind]

@@ -456,6 +456,28 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     return dataclasses.replace(res, message=note)
 
 
+#: A prescribed position is refused when its float rounding (the spacing at its largest
+#: magnitude) exceeds this fraction of its largest motion per sample (assumption, issue 13):
+#: the velocity is its difference over dt, so a coarser rounding puts > 0.1 % noise on the
+#: fastest velocity and makes slower motion meaningless (an offset of 1e300 left no motion).
+POSITION_ROUNDING = 1e-3
+
+
+def _resolved_position(xpos: np.ndarray) -> None:
+    """Raise ParameterError when ``xpos``'s values are too large for the motion they carry.
+
+    A position that never moves is refused only beyond ``MAX_POSITION`` (1e300 plus a
+    sine rounds to a constant: the motion was lost before simulate saw it).
+    """
+    big = float(np.abs(xpos).max())
+    step = float(np.abs(np.diff(xpos)).max())
+    if float(np.spacing(big)) > POSITION_ROUNDING * step and (step > 0.0 or big > val.MAX_POSITION):
+        raise ParameterError(
+            f"simulate: position reaches {big:.6g} m, where the float spacing is {float(np.spacing(big)):.3g} m, "
+            f"more than {POSITION_ROUNDING:g} of its largest motion per sample ({step:.3g} m): velocities from its "
+            "differences would be rounding noise; subtract the offset (start near 0)")
+
+
 def simulate(
     model: FrictionLaw,
     *,
@@ -532,7 +554,7 @@ def simulate(
         if not isinstance(plant, Mass):
             raise ParameterError(f"simulate: plant = {type(plant).__name__}: must be frictionkit.Mass")
         u = val.signal("force", force)
-        x0 = val.finite("simulate", "x0", x0)
+        x0 = val.position("simulate", "x0", x0)
         v0 = val.finite("simulate", "v0", v0)
         run = _force_run(kind, pk, u, dt, plant.m, x0, v0, state0, options, F_scale, model)
         return _accuracy_check(run, lambda opts: _force_run(kind, pk, u, dt, plant.m, x0, v0, state0, opts,
@@ -546,6 +568,7 @@ def simulate(
         raise ParameterError("simulate: plant= is only used with force= (a motion-driven run has no plant)")
     if position is not None:
         xpos = val.signal("position", position)
+        _resolved_position(xpos)
     else:
         vel = val.signal("velocity", velocity)
         if velocity_integration == "held":

@@ -111,6 +111,10 @@ def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | No
     if st is not None and not stat.S_ISREG(st.st_mode):
         raise OSError(errno.EINVAL, f"cannot write '{target}': not a regular file (a device, pipe or socket); "
                                     "refusing to replace it")
+    if st is not None and not os.access(target, os.W_OK):
+        # the rename needs only the folder's permission: a file its owner made read-only was replaced (issue 13)
+        raise PermissionError(errno.EACCES, f"cannot write '{target}': the file is read-only; refusing to replace "
+                                            "it (make it writable or choose another path)")
     try:
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
     except OSError as exc:
@@ -247,6 +251,9 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
         raise DataError(f"{option} '{out}' is a folder; give a file name")
     if out.exists() and not out.is_file():
         raise DataError(f"{option} '{out}' is not a regular file (a device, pipe or socket); give a file name")
+    if out.is_file() and not os.access(out, os.W_OK):
+        raise DataError(f"{option} '{out}': the file is read-only; refusing to replace it (make it writable or "
+                        "choose another path)")
     folder = out.parent
     if make_parents and not folder.exists():
         base = _nearest_existing(folder)

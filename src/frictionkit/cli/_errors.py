@@ -116,6 +116,20 @@ def _usage_line(exc: Any) -> str:
     return msg
 
 
+def jit_disabled_note() -> str | None:
+    """One line when ``NUMBA_DISABLE_JIT`` is set: the kernels then run as plain Python.
+
+    Round 6 of issue 13 ran the README examples so: every result equal to the compiled run
+    (bit for bit on LuGre, Dahl, GMS, the batch and a machine), but the README's first
+    example (1,000 batch sets of 40,001 samples) took 429 s instead of seconds without a word.
+    """
+    value = os.environ.get("NUMBA_DISABLE_JIT", "").strip()
+    if value in ("", "0"):
+        return None
+    return (f"NUMBA_DISABLE_JIT={value}: the simulation kernels run as plain Python, the same results "
+            "much slower (unset it for compiled speed)")
+
+
 class FrictionKitGroup(TyperGroup):
     """The top-level click group: runs every verb inside the one error-handling path."""
 
@@ -135,6 +149,9 @@ class FrictionKitGroup(TyperGroup):
 
         try:
             with _one_line_warnings(debug_requested(ctx)):
+                note = jit_disabled_note()
+                if note:
+                    typer.echo(f"warning: {note}", err=True)
                 return super().invoke(ctx)
         except (typer.Exit, typer.Abort, cx.NoArgsIsHelpError):
             raise

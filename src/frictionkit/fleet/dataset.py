@@ -110,10 +110,17 @@ def _candidates(dataset) -> tuple[Path, list[Path]]:
         raise DataError(f"fleet dataset '{root}': not found")
     if root.is_file():  # one file (e.g. many axes and dates in one Parquet file)
         return root.parent.absolute(), [root.absolute()]
-    paths = []
-    for dirpath, dirnames, filenames in os.walk(root):
+    paths, unreadable = [], []
+    # os.walk skips a folder it cannot list without a word: an unreadable axis folder left that
+    # axis out of the table silently (issue 13 round 6); such a folder is named instead
+    for dirpath, dirnames, filenames in os.walk(root, onerror=unreadable.append):
         dirnames[:] = sorted(d for d in dirnames if not d.startswith(".") and not d.endswith(PARTS_SUFFIX))
         paths += [Path(dirpath, f).absolute() for f in sorted(filenames) if not f.startswith(".")]
+    if unreadable:
+        named = ", ".join(f"'{e.filename}' ({e.strerror or type(e).__name__})" for e in unreadable[:3])
+        raise DataError(f"fleet dataset '{root}': {len(unreadable)} folder(s) cannot be read: {named}"
+                        + (" ..." if len(unreadable) > 3 else "") + "; their logs would be left out — make them "
+                        "readable, or give the other folders or a glob")
     return root.absolute(), paths
 
 

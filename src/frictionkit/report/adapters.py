@@ -31,6 +31,7 @@ naming the file and why.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -717,7 +718,16 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
     def shown(x: Any) -> str:
         return "–" if x is None else fmt(k * float(x))
 
-    sec = Section(f"Compensation on the {d['preset']} preset ({fmt(d.get('duration_s'))} s, "
+    from ..compensate import PRESETS
+
+    preset = d["preset"]
+    if not isinstance(preset, str) or not preset.strip():
+        raise DataError(f"\"preset\" = {json.dumps(preset, default=str)[:80]}: expected a preset name ({', '.join(PRESETS)}) or the "
+                        "machine file compensate ran")
+    # a machine file's path was titled "the /path/emps.json preset" (round 6)
+    what = f"the {preset} preset" if preset in PRESETS else f"the machine file '{preset}'"
+    short = preset if preset in PRESETS else Path(preset).stem
+    sec = Section(f"Compensation on {what} ({fmt(d.get('duration_s'))} s, "
                   f"{len(d.get('reversals_s') or [])} reversal(s){', quick' if d.get('quick') else ''})")
     w = d.get("reversal_window_s") or [None, None]
     sec.text.append(f"Error of the true position r − x: max and RMS once the loop has settled, and the max "
@@ -740,10 +750,10 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
     for off, key, what in ((-0.2, "max_error", "max"), (0.2, "reversal_error", "at reversals")):
         ax.bar(x + off, [np.nan if comp[n].get(key) is None else k * comp[n][key] for n in names], 0.4, label=what)
     ax.set_xticks(x, names)
-    ax.set(ylabel=f"tracking error [{label}]", title=f"{d['preset']}: friction compensators")
+    ax.set(ylabel=f"tracking error [{label}]", title=f"{short}: friction compensators")
     ax.grid(alpha=0.3, axis="y")
     ax.legend(fontsize=8)
-    sec.figures.append((f"compensate_{d['preset']}.png", figure_png(fig)))
+    sec.figures.append((f"compensate_{short}.png", figure_png(fig)))
     return [sec]
 
 

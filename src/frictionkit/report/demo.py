@@ -10,6 +10,7 @@ reproduction findings table and the study summary are the same adapters
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 from typing import Callable
@@ -20,6 +21,7 @@ from .. import models as _m
 from ..plants import Mass
 from ..simulation import simulate
 from ..simulation.inputs import example_gms, example_law, example_lugre, reversal_position, stick_slip_force
+from ..errors import FrictionKitError
 from .builder import Report, Section, figure_png
 
 DT = 2.5e-4
@@ -119,15 +121,33 @@ def section_parity() -> _Section:
     return sec
 
 
+class _LeftOut(Exception):
+    """A section cannot run here; its message says why (it goes to the summary and the report)."""
+
+
+def _need(*paths: Path) -> None:
+    """Raise :class:`_LeftOut` naming the first of ``paths`` that is missing or unreadable."""
+    for p in paths:
+        if not p.is_file():
+            raise _LeftOut(f"its data were not found under '{p.parents[1]}'" if not p.parent.is_dir()
+                           else f"'{p}' not found")
+        if not os.access(p, os.R_OK):
+            raise _LeftOut(f"'{p}' is not readable")
+
+
 def section_emps(shared: Path) -> _Section | None:
     from ..data import load_csv
     from ..identify import fit_rigid_body
 
     path = shared / "emps" / "DATA_EMPS.csv"
-    if not path.exists():
-        return None
+    _need(path, shared / "emps" / "emps_constants.json")  # the constants were read without a check (round 6)
     sec = _Section("EMPS (real data): inverse-dynamics least squares")
-    const = json.loads((shared / "emps" / "emps_constants.json").read_text())
+    try:
+        const = json.loads((shared / "emps" / "emps_constants.json").read_text(encoding="utf-8"))
+        const["gtau_N_per_V"], const["reference_idim_ls_symmetric"]["std"]  # noqa: B018 - the keys used below
+    except (ValueError, KeyError, TypeError) as exc:
+        raise _LeftOut(f"'{shared / 'emps' / 'emps_constants.json'}' is not the expected JSON "
+                       f"({type(exc).__name__}: {exc})") from None
     rec = load_csv(path, time="t_s", position="qm_m", force="vir_V", scales={"force": const["gtau_N_per_V"]})
     res = fit_rigid_body(rec)
     pub = const["reference_idim_ls_symmetric"]
@@ -170,8 +190,7 @@ def section_screw(shared: Path) -> _Section | None:
     from ..identify import fit_static_records
 
     path = shared / "tro2021_screw_drives" / "steady_state_records.csv"
-    if not path.exists():
-        return None
+    _need(path)
     import matplotlib.pyplot as plt
 
     sec = _Section("Screw drives (real data): per-direction static maps")
@@ -201,8 +220,8 @@ def section_screw(shared: Path) -> _Section | None:
 def section_zhu_fujimoto() -> _Section | None:
     try:
         from ..reproduce.zhu_fujimoto import run
-    except ImportError:
-        return None
+    except ImportError as exc:
+        raise _LeftOut(f"its reproduction cannot be imported ({exc})") from None
     import matplotlib.pyplot as plt
 
     from .adapters import zhu_fujimoto_findings
@@ -329,6 +348,10 @@ def _render(sections: list[_Section], elapsed: float) -> str:
     return _report(sections, elapsed).html(footer="Built by 'frictionkit demo'.")
 
 
+#: Sections that read ``../shared/data`` (left out, with the reason, when those files cannot be read).
+_REAL_DATA = ("EMPS identification", "screw-drive static maps")
+
+
 def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str], None] | None = None) -> dict:
     """Run the demo job and write ``summary.txt``, ``report.html`` and PNGs under ``out``.
 
@@ -361,11 +384,20 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
     for label, fn in steps:
         if progress:
             progress(label)
-        sec = fn()
-        if sec is not None:
-            sections.append(sec)
-        else:
-            skipped.append(f"{label}: left out, its data were not found under '{shared}'")
+        try:
+            sec = fn()
+        except _LeftOut as exc:
+            skipped.append(f"{label}: left out, {exc}")
+            continue
+        except (FrictionKitError, OSError) as exc:
+            if label not in _REAL_DATA:
+                raise
+            # the shared files exist but cannot be read or fitted (truncated, edited): the section
+            # is left out with the reason; the rest of the demo still runs (round 6: the whole demo failed)
+            skipped.append(f"{label}: left out, its data under '{shared}' failed ({type(exc).__name__}: "
+                           f"{' '.join(str(exc).split())})")
+            continue
+        sections.append(sec)
     elapsed = time.perf_counter() - t0
     if skipped:
         sections.append(_Section("Left out", text=[f"{s}." for s in skipped]))

@@ -24,8 +24,10 @@ discretisation, result checks):
   Its closed loop is linearly stable (``loop_stability`` radius 0.965); the fraction of
   samples with an actuator at its limit is printed.
 * ``emps``: ``presets/emps.py`` (published rigid model, CoulombViscous + offset, gain 35.15,
-  ±10 V, one-sample delay) on the recorded EMPS reference at 1 ms, 40 sub-steps (its runner's
-  default) and 10.
+  ±10 V, one-sample delay) on the recorded EMPS reference at 1 ms: as a user runs it (the
+  core's one-DOF fast path ``kernels/machine_axis.py``, exact step per sample; this is
+  ``emps_realtime``) and on the general loop at 40 sub-steps (its runner's default) and 10,
+  interleaved in one loop; each with its distance from the general loop at 640 sub-steps.
 
 Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is faster):
 
@@ -71,15 +73,17 @@ class _KernelClock:
     """CPU time of the calling thread spent inside the machine kernel (``kernels.machine.run``),
     so a workload's cost splits into the compiled loop and the Python wrapper around it
     (packing, exact discretisation, the result checks). Installed by wrapping the module
-    attribute the wrapper calls through; adds one Python call per run."""
+    attribute the wrapper calls through; adds one Python call per run. The one-DOF fast path's
+    kernel (``kernels.machine_axis.run_axis``) has a clock of its own, :data:`AXIS_CLOCK`."""
 
-    def __init__(self):
-        from frictionkit.kernels import machine as km
+    def __init__(self, module: str = "machine", name: str = "run"):
+        import importlib
 
+        km = importlib.import_module(f"frictionkit.kernels.{module}")
         self.km = km
-        self.inner = km.run
+        self.inner = getattr(km, name)
         self.cpu = 0.0
-        km.run = self
+        setattr(km, name, self)
 
     def __call__(self, *args, **kwargs):
         c0 = time.thread_time()
@@ -90,6 +94,7 @@ class _KernelClock:
 
 
 KERNEL_CLOCK = _KernelClock()
+AXIS_CLOCK = _KernelClock("machine_axis", "run_axis")
 
 
 def best_of(fn, repeat):
@@ -102,13 +107,13 @@ def best_of(fn, repeat):
     fn()  # warm-up (compile / caches)
     best, best_cpu, best_kernel, out = math.inf, math.inf, math.inf, None
     for _ in range(repeat):
-        KERNEL_CLOCK.cpu = 0.0
+        KERNEL_CLOCK.cpu = AXIS_CLOCK.cpu = 0.0
         c0 = time.thread_time()
         t0 = time.perf_counter()
         out = fn()
         best = min(best, time.perf_counter() - t0)
         best_cpu = min(best_cpu, time.thread_time() - c0)
-        best_kernel = min(best_kernel, KERNEL_CLOCK.cpu)
+        best_kernel = min(best_kernel, KERNEL_CLOCK.cpu + AXIS_CLOCK.cpu)
     best_of.kernel_cpu = best_kernel
     return best, best_cpu, out
 
@@ -266,17 +271,71 @@ EMPS_CSV = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", 
 
 
 def bench_emps(repeat, csv=EMPS_CSV):
+    """The EMPS preset on its recorded reference: as a user runs it (``"axis"``: the one-DOF fast
+    path, ``kernels.machine_axis``) and on the general loop (``fast_path=False``) at 40 and 10
+    sub-steps. Interleaved: each repeat runs every variant once (the ratios share the machine's
+    load), best of ``max(repeat, 7)``. ``max_dq_vs_640_m``: each variant's largest position
+    difference from the general loop at 640 sub-steps (whose own error is about
+    ``general 320 -> 640``, also given)."""
     from frictionkit.presets.emps import PUBLISHED, emps_machine
 
     qg = np.loadtxt(csv, delimiter=",", skiprows=1, usecols=2)  # the recorded reference qg [m], 1 kHz
     m = emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]),
                      offset=PUBLISHED["offset"])
     duration = (qg.size - 1) * 1e-3
+    variants = {"axis": dict(substeps=40), 40: dict(substeps=40, fast_path=False), 10: dict(substeps=10, fast_path=False)}
+    fns = {k: (lambda kw=kw: simulate_machine(m, dt=1e-3, inputs={"qg": qg}, **kw)) for k, kw in variants.items()}
+    res = {k: f() for k, f in fns.items()}  # warm-up (compile, pack caches)
+    best = {k: [math.inf, math.inf, math.inf] for k in fns}
+    for _ in range(max(repeat, 7)):
+        for k, f in fns.items():
+            KERNEL_CLOCK.cpu = AXIS_CLOCK.cpu = 0.0
+            c0 = time.thread_time()
+            t0 = time.perf_counter()
+            f()
+            b = best[k]
+            b[0] = min(b[0], time.perf_counter() - t0)
+            b[1] = min(b[1], time.thread_time() - c0)
+            b[2] = min(b[2], KERNEL_CLOCK.cpu + AXIS_CLOCK.cpu)
+    ref = {n: simulate_machine(m, dt=1e-3, inputs={"qg": qg}, substeps=n, fast_path=False) for n in (320, 640)}
     out = {}
-    for n_sub in (40, 10):
-        t, c, r = best_of(lambda: simulate_machine(m, dt=1e-3, inputs={"qg": qg}, substeps=n_sub), repeat)
-        out[n_sub] = {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c,
-                      "kernel_cpu_s": best_of.kernel_cpu, "message": r.message}
+    for k, (t, c, kc) in best.items():
+        out[k] = {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c, "kernel_cpu_s": kc,
+                  "message": res[k].message, "path": res[k].path.split(":")[0],
+                  "max_dq_vs_640_m": float(np.max(np.abs(res[k].q - ref[640].q)))}
+    out["general_320_vs_640_dq_m"] = float(np.max(np.abs(ref[320].q - ref[640].q)))
+    return out
+
+
+AXIS_CHILD = """
+import time
+import numpy as np
+t0 = time.process_time()
+import frictionkit as fk
+from frictionkit.machines import simulate_machine
+from frictionkit.presets.emps import PUBLISHED, emps_machine
+m = emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]))
+qg = np.r_[np.zeros(10), np.full(990, 1e-3)]
+t1 = time.process_time()
+r = simulate_machine(m, dt=1e-3, inputs={"qg": qg})
+t2 = time.process_time()
+simulate_machine(m, dt=1e-3, inputs={"qg": qg})
+t3 = time.process_time()
+assert r.path.startswith("axis"), r.path
+print(t1 - t0, (t2 - t1) - (t3 - t2))
+"""
+
+
+def compile_axis() -> dict:
+    """Cold (empty ``NUMBA_CACHE_DIR``) and cached first-call compile CPU time of the one-DOF fast
+    path (``kernels.machine_axis.run_axis`` and what it calls), in fresh processes."""
+    out = {}
+    with tempfile.TemporaryDirectory(prefix="axis_numba_cache_") as d:
+        env = dict(os.environ, NUMBA_CACHE_DIR=d)
+        for label in ("cold", "cached"):
+            p = subprocess.run([sys.executable, "-c", AXIS_CHILD], env=env, capture_output=True, text=True, check=True)
+            t_imp, t_comp = map(float, p.stdout.split())
+            out[label] = {"import_cpu_s": t_imp, "first_call_minus_second_cpu_s": t_comp}
     return out
 
 
@@ -450,6 +509,7 @@ def main() -> None:
     except ImportError as e:  # numbalsoda missing
         lg = {"skipped": str(e)}
     ct = None if args.no_compile else compile_times()
+    ca = None if args.no_compile else compile_axis()
     load1 = os.getloadavg()
 
     print(f"machine: {os.cpu_count()} cores, shared with other jobs; load average {load0[0]:.2f} at start, "
@@ -468,9 +528,17 @@ def main() -> None:
           f"{ts['rt_cpu']:11,.0f} {_kshare(ts)}  "
           f"max table err {ts['max_table_err_um']:.2f} um; loop radius {ts['loop_radius']:.3f}; at limit "
           + ", ".join(f"{k} {100 * v:.1f} %" for k, v in ts["at_limit"].items()) + f"; {ts['message']}")
-    for n_sub, r in em.items():
-        print(f"{f'EMPS axis, 1 ms, {n_sub} sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} {r['rt_cpu']:11,.0f} "
-              f"{_kshare(r)}  {r['message']}")
+    for key in ("axis", 40, 10):
+        r = em[key]
+        label = ("EMPS axis, 1 ms (core, one-DOF fast path)" if key == "axis" else
+                 f"EMPS axis, 1 ms, {key} sub (core, general loop)")
+        print(f"{label:58s} {r['rt']:12,.0f} {r['core_s']:9.3f} {r['rt_cpu']:11,.0f} {_kshare(r)}  "
+              f"max|dq| vs general 640 sub {r['max_dq_vs_640_m']:.2e} m; {r['message']}")
+    print(f"{'':58s} (general loop 320 vs 640 sub: max|dq| {em['general_320_vs_640_dq_m']:.2e} m; fast path vs "
+          f"general 40 sub, same run: {em[40]['core_s'] / em['axis']['core_s']:.1f}x wall)")
+    if ca is not None:
+        print(f"{'':58s} (one-DOF fast path first-call compile: cold {ca['cold']['first_call_minus_second_cpu_s']:.1f} s "
+              f"CPU, cached {ca['cached']['first_call_minus_second_cpu_s']:.2f} s)")
     if "skipped" in lg:
         print(f"LuGre stick-slip vs numbalsoda: skipped ({lg['skipped']})")
     else:
@@ -500,10 +568,10 @@ def main() -> None:
         "ballscrew_dahl_realtime": bs["sliding"]["rt"],
         "ballscrew_gms4_realtime": bs["gms4"]["rt"],
         "two_shaft_gms_realtime": ts["rt"],
-        "emps_realtime": em[40]["rt"],
+        "emps_realtime": em["axis"]["rt"],  # the preset as a user runs it: the one-DOF fast path
         "peer_ratio": {},
         "details": {"ballscrew": bs, "two_shaft": ts, "emps": {str(k): v for k, v in em.items()},
-                    "lugre_numbalsoda": {str(k): v for k, v in lg.items()}, "compile": ct,
+                    "lugre_numbalsoda": {str(k): v for k, v in lg.items()}, "compile": ct, "compile_axis": ca,
                     "cpu_count": os.cpu_count(), "loadavg_start": load0, "loadavg_end": load1,
                     "note": "2-core machine shared with other jobs"},
     }

@@ -810,8 +810,9 @@ def run(
     rejected; a transient lasts several samples, and a machine whose sites never qualify pays
     ~1/32 of a coarse step per sample). ``coarse=False`` turns them off.
 
-    Returns ``(status, k_end, n_unconverged)``: samples ``k >= k_end`` are left
-    untouched.
+    Returns ``(status, k_end, n_unconverged, n_one_step)``: samples ``k >= k_end`` are left
+    untouched; ``n_one_step`` counts the samples advanced in one step of ``dt`` (a kept coarse
+    step or a sample-spanning step), the rest ran in the ``n_sub`` sub-steps.
     """
     n2 = X.size
     n = n2 // 2
@@ -880,6 +881,7 @@ def run(
             maxd_s = sen_delay[i]
     sbuf = np.zeros((nsen, maxd_s + 1))
     n_bad = 0
+    n_one = 0
     lam = np.ones(ns)
     has_sched = False
     for j in range(ns):
@@ -1077,9 +1079,10 @@ def run(
         # ---- plant: one sample-spanning step when every (flat static) site keeps sliding
         if mg_on and _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_delay, act_lim,
                                   Cq, Cm, par, site_po, mg_RT, mg_M, wA, wB, Fh, Xn, zm, Fbar, Vm):
+            n_one += 1
             for r in range(n2):
                 if not math.isfinite(X[r]):
-                    return STATUS_NONFINITE, k + 1, n_bad
+                    return STATUS_NONFINITE, k + 1, n_bad, n_one
             continue
         # ---- plant: first one coarse step of dt (maps *C), kept when every site's force stayed
         # within the error bound of its held mean (see "Coarse steps" above); else the sample
@@ -1301,6 +1304,7 @@ def run(
             if coarse_now:
                 if ok:
                     gap = 1
+                    n_one += 1
                 else:  # back off: the next try after 2, 4, ... 32 samples
                     gap = min(2 * gap, 32)
                     k_try = k + gap
@@ -1317,5 +1321,5 @@ def run(
             break
         for r in range(n2):
             if not math.isfinite(X[r]):
-                return STATUS_NONFINITE, k + 1, n_bad
-    return STATUS_OK, N, n_bad
+                return STATUS_NONFINITE, k + 1, n_bad, n_one
+    return STATUS_OK, N, n_bad, n_one

@@ -232,6 +232,10 @@ class MachineResult(TraceAccess):
     #: Which kernel ran and, for the general loop, why the one-DOF fast paths were not taken
     #: (a debug note: ``"axis: ..."``, ``"single-axis: ..."`` or ``"general loop ..."``).
     path: str = "general loop"
+    #: General loop: samples advanced in one step of ``dt`` (a kept coarse step or a
+    #: sample-spanning step, ``kernels.machine.run``); the others ran in ``substeps`` sub-steps.
+    #: 0 on the fast paths.
+    one_step_samples: int = 0
 
     @property
     def success(self) -> bool:
@@ -1132,11 +1136,12 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
             kw["blk_code"], kw["blk_iptr"], kw["blk_idx"], kw["blk_fptr"], kw["blk_par"], kw["blk_sptr"], kw["blk_st"],
             kw["act_sig"], kw["act_lim"], kw["act_delay"], kw["act_foh"], kw["act_applied_sig"], kw["act_col"], kw["sig"],
             q_out, v_out, F_out, sig_out, u_out)
+        n_one = 0
     else:
         # always given, as a bool: an omitted default is another numba signature, so a caller passing
         # coarse=False (the tests) would compile the whole kernel a second time (~19 s CPU)
         kw.setdefault("coarse", True)
-        status, k_end, n_bad = _k.run(*[kw[name] for name in _RUN_PARAMS],
+        status, k_end, n_bad, n_one = _k.run(*[kw[name] for name in _RUN_PARAMS],
                                       **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
@@ -1156,7 +1161,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
                          dof_names=tuple(machine._dof_names), site_names=tuple(s.name for s in machine.sites),
                          signal_names=tuple(sig_names), actuator_names=tuple(act_names),
                          substeps=0 if axis else int(substeps), status=int(status), message=message,
-                         path=_AXIS_PATH if axis else "general loop")
+                         path=_AXIS_PATH if axis else "general loop", one_step_samples=int(n_one))
 
 
 #: ``MachineResult.path`` of a run on the one-DOF axis kernel.

@@ -37,6 +37,9 @@ Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is fas
   pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
   ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
   max |dx| against a tight reference is <= the core's. Skipped if numbalsoda is missing.
+* ``emps_numbalsoda``, ``ballscrew_dahl_numbalsoda``: the EMPS loop and the Dahl ball-screw
+  stage written without frictionkit (controller in numba, plant per sample under numbalsoda
+  LSODA, one ``@njit`` loop) at matching accuracy: ``benchmarks/machine_peers.py``.
 
 Compile time: a fresh process with an empty ``NUMBA_CACHE_DIR`` runs the ball-screw stage
 twice (first call minus second = compile), then again with the filled cache; the cold run also
@@ -65,6 +68,7 @@ from frictionkit.control.trajectories import cosine_reference
 from frictionkit.machines import PID, Machine, Sum, simulate_machine
 from frictionkit.machines.stability import loop_stability
 from frictionkit.presets.ballscrew import simulate_stage
+from machine_peers import format_row as machine_peer_line, run_all as machine_peer_rows
 from frictionkit.reproduce.zhu_fujimoto import (_classify, paper_compensator, paper_controller, paper_plant,
                                                 paper_sensors)
 
@@ -508,6 +512,7 @@ def main() -> None:
         lg = bench_lugre_peer(repeat)
     except ImportError as e:  # numbalsoda missing
         lg = {"skipped": str(e)}
+    mpr = machine_peer_rows(dur, repeat, args.emps_csv)  # benchmarks/machine_peers.py
     ct = None if args.no_compile else compile_times()
     ca = None if args.no_compile else compile_axis()
     load1 = os.getloadavg()
@@ -552,6 +557,10 @@ def main() -> None:
                 s += (f" | numbalsoda LSODA rtol {r['peer_rtol']:.0e} atol {r['peer_atol']:.0e}: "
                       f"{r['peer_s'] * 1e3:7.2f} ms, max|dx| {r['peer_max_dx_m']:.2e} m -> ratio {r['ratio']:.3f}")
             print(s)
+    print("\nmachines vs numbalsoda peers (benchmarks/machine_peers.py)" + (f": skipped ({mpr['skipped']})"
+                                                                        if "skipped" in mpr else ""))
+    for r in ([] if "skipped" in mpr else mpr.values()):
+        print(machine_peer_line(r))
     if ct is not None:
         print("\nfirst-call compile time (fresh process, NUMBA_CACHE_DIR = empty temp dir, then the same dir):")
         for which, label in (("core", "machine kernel (ball-screw stage)"),):
@@ -572,11 +581,13 @@ def main() -> None:
         "peer_ratio": {},
         "details": {"ballscrew": bs, "two_shaft": ts, "emps": {str(k): v for k, v in em.items()},
                     "lugre_numbalsoda": {str(k): v for k, v in lg.items()}, "compile": ct, "compile_axis": ca,
+                    "machine_peers": mpr,
                     "cpu_count": os.cpu_count(), "loadavg_start": load0, "loadavg_end": load1,
                     "note": "2-core machine shared with other jobs"},
     }
     if "skipped" not in lg and "ratio" in lg[10]:
         summary["peer_ratio"]["lugre_stickslip_numbalsoda"] = lg[10]["ratio"]
+    summary["peer_ratio"].update({k: r["ratio"] for k, r in mpr.items() if k != "skipped" and "ratio" in r})
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(summary, fh, indent=1, default=float)

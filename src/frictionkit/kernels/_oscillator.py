@@ -28,24 +28,20 @@ def _cexp(z):
     return cmath.exp(z)
 
 
+#: ``1/(j+2)!`` for ``j = 0 .. 14``: the Taylor series of ``φ2`` to below 1e-16 of it for ``|z| < 0.5``.
+_IFACT2 = tuple(1.0 / math.factorial(j + 2) for j in range(15))
+
+
 @njit
 def _phi12(z):
     """``(φ1(z), φ2(z))`` with ``φ1 = (e^z - 1)/z``, ``φ2 = (e^z - 1 - z)/z^2``."""
     if abs(z) < 0.5:
-        # Taylor: φ_k(z) = sum_j z^j / (j+k)!
-        p1 = 0j
-        p2 = 0j
-        term = 1.0 + 0j  # z^j / (j+1)!
-        fact = 1.0
-        zj = 1.0 + 0j
-        for j in range(18):
-            fact1 = fact * (j + 1)  # (j+1)!
-            fact2 = fact1 * (j + 2)  # (j+2)!
-            p1 += zj / fact1
-            p2 += zj / fact2
-            zj *= z
-            fact = fact1
-        return p1, p2
+        # Taylor: φ2(z) = sum_j z^j / (j+2)! by Horner, φ1 = 1 + z φ2 (the loop of complex
+        # divisions this replaces cost ~0.3 µs per call: most of a GMS sub-step, issue 15)
+        p2 = complex(_IFACT2[14], 0.0)
+        for j in range(13, -1, -1):
+            p2 = p2 * z + _IFACT2[j]
+        return 1.0 + z * p2, p2
     ez = _cexp(z)
     p1 = (ez - 1.0) / z
     return p1, (p1 - 1.0) / z

@@ -224,54 +224,57 @@ def _compiled():
     bs_ptr = bs_rhs.address
 
     @nb.njit
-    def bs_loop(data, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
-        """ctl = [T, R, q_enc, q_scale, Kp, Ki, Kd, tau_d, K_dob, J_dob, B_dob, a_dob, i_max, K_tau]."""
+    def bs_control(k, th_m, x_t, ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale):
+        """The stage's controller at sample k (sensors, dual PID with conditional integration,
+        DOB, PTC feed-forward, compensation, current limit); returns the applied current.
+        ctl = [T, R, q_enc, q_scale, Kp, Ki, Kd, tau_d, K_dob, J_dob, B_dob, a_dob, i_max, K_tau];
+        cs = [I, D, ed_{k-1}, DOB x0..x3 (enc_{k-1}, omega_{k-1}, d_{k-1}, u_f,{k-1}), i_{k-1}]."""
         T, R, qe, qs = ctl[0], ctl[1], ctl[2], ctl[3]
         Kp, Ki, Kd, taud = ctl[4], ctl[5], ctl[6], ctl[7]
-        Kn, Jn, Bn, a = ctl[8], ctl[9], ctl[10], ctl[11]
-        imax, Ktau = ctl[12], ctl[13]
-        b = 1.0 - a
-        a1 = Bn + Jn / T
+        Kn, Jn, Bn, a, imax = ctl[8], ctl[9], ctl[10], ctl[11], ctl[12]
+        enc = th_m + n_enc[k]
+        if qe > 0.0:
+            enc = math.floor(enc / qe) * qe
+        sc = x_t + n_scale[k]
+        if qs > 0.0:
+            sc = math.floor(sc / qs) * qs
+        e = theta_d[k] - sc / R
+        ed = theta_d[k] - enc
+        if k == 0:
+            cs[2] = ed
+        cs[1] = (taud * cs[1] + Kd * (ed - cs[2])) / (taud + T)
+        cs[2] = ed
+        u_pid = Kp * e + cs[0] + cs[1]
+        d = a * cs[5] + (1.0 - a) * (Kn * (cs[7] - cs[6]) - (Bn + Jn / T) * (enc - cs[3]) / T + (Jn / T) * cs[4])
+        cs[4] = (enc - cs[3]) / T
+        cs[3] = enc
+        cs[5] = d
+        cs[6] = u_f[k]
+        i = u_ff[k] + u_pid + d / Kn + u_f[k]
+        sat = False
+        if i > imax:
+            i = imax
+            sat = True
+        elif i < -imax:
+            i = -imax
+            sat = True
+        cs[7] = i
+        if not sat:
+            cs[0] += Ki * T * e
+        return i
+
+    @nb.njit
+    def bs_loop(data, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
+        """The Dahl stage, one LSODA call per sample. Returns True on success."""
+        T, Ktau = ctl[0], ctl[13]
         y = np.zeros(14)
         te = np.array([0.0, T])
-        integ = 0.0
-        dterm = 0.0
-        ed_prev = 0.0
-        x0 = x1 = x2 = x3 = 0.0  # DOB: enc_{k-1}, omega_{k-1}, d_{k-1}, u_f,{k-1}
-        i_app = 0.0
+        cs = np.zeros(8)
         N = theta_d.size
         for k in range(N):
             xt_out[k] = y[5]
-            enc = y[0] + n_enc[k]
-            if qe > 0.0:
-                enc = math.floor(enc / qe) * qe
-            sc = y[5] + n_scale[k]
-            if qs > 0.0:
-                sc = math.floor(sc / qs) * qs
-            e = theta_d[k] - sc / R
-            ed = theta_d[k] - enc
-            if k == 0:
-                ed_prev = ed
-            dterm = (taud * dterm + Kd * (ed - ed_prev)) / (taud + T)
-            ed_prev = ed
-            u_pid = Kp * e + integ + dterm
-            d = a * x2 + b * (Kn * (i_app - x3) - a1 * (enc - x0) / T + (Jn / T) * x1)
-            x1 = (enc - x0) / T
-            x0 = enc
-            x2 = d
-            x3 = u_f[k]
-            i = u_ff[k] + u_pid + d / Kn + u_f[k]
-            sat = False
-            if i > imax:
-                i = imax
-                sat = True
-            elif i < -imax:
-                i = -imax
-                sat = True
-            i_app = i
+            i = bs_control(k, y[0], y[5], ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale)
             i_out[k] = i
-            if not sat:
-                integ += Ki * T * e
             if k == N - 1:
                 break
             data[0] = Ktau * i
@@ -282,7 +285,194 @@ def _compiled():
                 y[r] = us[1, r]
         return True
 
-    return emps_loop, bs_loop
+    return emps_loop, bs_loop, bs_control
+
+
+# ---- ball screw with a GMS at the nut and at the guide, event-stepped (issue 8 brief, item 3)
+# data = [tau_m, R, 1/m (6), K (36), D (36), guide block, nut block]; each block in the layout of
+# benchmarks/peers.py's GMS peer ([Fc, Fs, vs, sigma2, C, m, dt, N, M, k.., xi.., stick..]; m, dt,
+# N unused) so that its switch tests (_gms_switch, _gms_grazing) are reused by import.
+# y = [q (6), v (6), guide element forces (M), nut element forces (M)]
+GMS_M = 4
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_gms():
+    if MISSING:
+        raise ImportError(MISSING)
+    from peers import GMS_NP, _gms_grazing, _gms_switch
+
+    M = GMS_M
+    OM, OK_, OD = 2, 8, 44
+    OB = 80                       # the guide block; the nut block follows
+    NB_ = GMS_NP + 3 * M          # block length
+    NY = 12 + 2 * M
+
+    @nb.cfunc(lsoda_sig)
+    def rhs(t, y, dy, p):
+        R = p[1]
+        Fg = 0.0
+        Fn = 0.0
+        for j in range(2):
+            o = OB + j * NB_
+            v = y[11] if j == 0 else R * y[7]
+            r = v / p[o + 2]
+            g = p[o] + (p[o + 1] - p[o]) * math.exp(-r * r)
+            sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+            F = p[o + 3] * v
+            for i in range(M):
+                Fi = y[12 + j * M + i]
+                F += Fi
+                if p[o + GMS_NP + 2 * M + i] != 0.0:
+                    dy[12 + j * M + i] = p[o + GMS_NP + i] * v
+                else:
+                    dy[12 + j * M + i] = p[o + 4] * (p[o + GMS_NP + M + i] * sg - Fi / g)
+            if j == 0:
+                Fg = F
+            else:
+                Fn = F
+        for i in range(6):
+            f = 0.0
+            for j in range(6):
+                f -= p[OK_ + 6 * i + j] * y[j] + p[OD + 6 * i + j] * y[6 + j]
+            if i == 0:
+                f += p[0]
+            elif i == 1:
+                f -= R * Fn
+            elif i == 5:
+                f -= Fg
+            dy[i] = y[6 + i]
+            dy[6 + i] = f * p[OM + i]
+
+    ptr = rhs.address
+
+    @nb.njit
+    def site_y(y, j, R, ys):
+        """Site j's state in the peers' single-mass layout [x, v, F_0..F_{M-1}] (x unused)."""
+        ys[0] = 0.0
+        ys[1] = y[11] if j == 0 else R * y[7]
+        for i in range(M):
+            ys[2 + i] = y[12 + j * M + i]
+
+    @nb.njit
+    def event(ya, yb, data, h, grazing_ok, ys):
+        """Whether a switch happened between states ya and yb (h apart): a breakaway at yb, a
+        reversal of a site with slipping elements, or (grazing_ok) a reversal of an all-sticking
+        site with an element within reach of its breakaway. Returns 0 none, 1 switch, 2 grazing."""
+        R = data[1]
+        out = 0
+        for j in range(2):
+            blk = data[OB + j * NB_:OB + (j + 1) * NB_]
+            site_y(yb, j, R, ys)
+            if _gms_switch(ys, blk, M) >= 0:
+                return 1
+            vb = ys[1]
+            site_y(ya, j, R, ys)
+            va = ys[1]
+            if va * vb < 0.0:
+                anyslip = False
+                for i in range(M):
+                    if blk[GMS_NP + 2 * M + i] == 0.0:
+                        anyslip = True
+                if anyslip:
+                    return 1
+                if grazing_ok and _gms_grazing(ys, blk, M, 2.0 * abs(va) * h):
+                    out = 2
+        return out
+
+    @nb.njit
+    def apply_switches(y, va_sites, data, ys):
+        """At a located switch: a site whose velocity reversed with slipping elements sticks
+        all its elements, then every element at its breakaway slips."""
+        R = data[1]
+        for j in range(2):
+            blk = data[OB + j * NB_:OB + (j + 1) * NB_]
+            site_y(y, j, R, ys)
+            anyslip = False
+            for i in range(M):
+                if blk[GMS_NP + 2 * M + i] == 0.0:
+                    anyslip = True
+            if anyslip and ys[1] * va_sites[j] < 0.0:
+                for i in range(M):
+                    blk[GMS_NP + 2 * M + i] = 1.0
+            while True:
+                i = _gms_switch(ys, blk, M)
+                if i < 0:
+                    break
+                blk[GMS_NP + 2 * M + i] = 0.0
+
+    @nb.njit
+    def advance(y, data, T, rtol, atol, ys, counts):
+        """One sample of length T with the motor torque data[0]; switches located to EVENT_TOL T."""
+        t = 0.0
+        te = np.empty(2)
+        tg = np.empty(LOC_GRID + 1)
+        va_s = np.empty(2)
+        R = data[1]
+        while t < T:
+            te[0] = t
+            te[1] = T
+            us, ok = lsoda(ptr, y, te, data=data, rtol=rtol, atol=atol, mxstep=100000)
+            if not ok:
+                return False
+            ev = event(y, us[1], data, T - t, True, ys)
+            if ev == 0:
+                for r in range(NY):
+                    y[r] = us[1, r]
+                return True
+            counts[0] += 1
+            ya = y.copy()
+            yb = us[1].copy()
+            ta, tb = t, T
+            while tb - ta > EVENT_TOL * T:
+                for i in range(LOC_GRID + 1):
+                    tg[i] = ta + (tb - ta) * i / LOC_GRID
+                us, ok = lsoda(ptr, ya, tg, data=data, rtol=rtol, atol=atol, mxstep=100000)
+                if not ok:
+                    return False
+                jj = LOC_GRID  # the end state, from a path of its own, may disagree by round-off
+                for i in range(1, LOC_GRID + 1):
+                    if event(us[i - 1], us[i], data, tg[i] - tg[i - 1], ev == 2, ys) != 0:
+                        jj = i
+                        break
+                ta, tb = tg[jj - 1], tg[jj]
+                ya = us[jj - 1].copy()
+                yb = us[jj].copy()
+            for j in range(2):
+                site_y(ya, j, R, ys)
+                va_s[j] = ys[1]
+            apply_switches(yb, va_s, data, ys)
+            for r in range(NY):
+                y[r] = yb[r]
+            t = tb
+        return True
+
+    bs_control = _compiled()[2]
+
+    @nb.njit
+    def loop(data, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
+        """As the Dahl loop, event-stepped; returns the number of located switches (-1: LSODA failed)."""
+        T, Ktau = ctl[0], ctl[13]
+        for j in range(2):  # every element sticks at rest
+            for i in range(M):
+                data[OB + j * NB_ + GMS_NP + 2 * M + i] = 1.0
+        y = np.zeros(NY)
+        ys = np.zeros(2 + M)
+        counts = np.zeros(1, dtype=np.int64)
+        cs = np.zeros(8)
+        N = theta_d.size
+        for k in range(N):
+            xt_out[k] = y[5]
+            i = bs_control(k, y[0], y[5], ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale)
+            i_out[k] = i
+            if k == N - 1:
+                break
+            data[0] = Ktau * i
+            if not advance(y, data, T, rtol, atol, ys, counts):
+                return -1
+        return counts[0]
+
+    return loop, GMS_NP
 
 
 # --------------------------------------------------------------------------- EMPS
@@ -338,8 +528,9 @@ def ballscrew_matrices(plant):
     return 1.0 / m, K, D
 
 
-def ballscrew_setup(duration, seed=0, sensors=True):
-    """frictionkit's stage run (Dahl sites, sliding nut, sinc compensation) and the peer's runner."""
+def ballscrew_setup(duration, seed=0, sensors=True, gms=None):
+    """frictionkit's stage run (sliding nut, sinc compensation; Dahl sites, or ``gms(level)`` —
+    a GMS with ``GMS_M`` elements — at the nut and the guide) and the peer's runner."""
     from frictionkit.control.loop import Sensors
     from frictionkit.control.trajectories import cosine_reference
     from frictionkit.plants.ballscrew import DAHL_SPAN
@@ -371,21 +562,40 @@ def ballscrew_setup(duration, seed=0, sensors=True):
     rng = np.random.default_rng(seed)
     n_enc = rng.standard_normal(N) * sens.encoder_noise_counts * q_enc if sens.encoder_noise_counts > 0 else np.zeros(N)
     n_sc = rng.standard_normal(N) * sens.scale_noise if sens.scale_noise > 0 else np.zeros(N)
-    bs_loop = _compiled()[1]
+    laws = {}
+    if gms is None:
+        loop = _compiled()[1]
+    else:
+        loop, gms_np = _compiled_gms()
+        blocks = []
+        for level in (plant.guide_friction, plant.nut_friction):
+            law = gms(level)
+            st = law.static
+            if len(law.k) != GMS_M or getattr(st, "delta", 2.0) != 2.0 or st.shape != "exponential":
+                raise ValueError("the GMS peer is written for GMS-4 over an exponential Stribeck curve, delta 2")
+            blocks.append(np.concatenate([[st.Fc, st.Fs, st.vs, st.sigma2, law.C, 0.0, 0.0, 0.0, GMS_M],
+                                          np.zeros(gms_np - 9), law.k, law.xi, np.ones(GMS_M)]))
+            laws["guide_law" if not laws else "nut_law"] = law
+        data = np.concatenate([[0.0, plant.R], minv, K.ravel(), D.ravel(), *blocks])
+    switches = []
 
     def core(substeps):
-        return lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens, seed=seed, substeps=substeps)
+        return lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens, seed=seed, substeps=substeps,
+                                      **laws)
 
     def peer(rtol):
         xt = np.empty(N)
         i = np.empty(N)
 
         def run():
-            if not bs_loop(data.copy(), ctl, theta_d, u_ff, uf_a, n_enc, n_sc, rtol, rtol * ATOL_SCALE, xt, i):
+            n = loop(data.copy(), ctl, theta_d, u_ff, uf_a, n_enc, n_sc, rtol, rtol * ATOL_SCALE, xt, i)
+            if n is False or n < 0:
                 raise RuntimeError(f"ball-screw peer: LSODA failed at rtol {rtol:g}")
+            switches.append(int(n))
             return xt
         return run
 
+    peer.switches = switches  # GMS: located switches per run
     return core, peer, ref.x
 
 
@@ -444,19 +654,26 @@ def bench_emps(repeat, csv, substeps=40):
                    fk_label="(one-DOF fast path)")
 
 
-def bench_ballscrew(duration, repeat, substeps=10):
-    ideal = ballscrew_setup(duration, sensors=False)
-    paper = ballscrew_setup(duration, sensors=True)
-    return compare("ball screw, Dahl, sliding nut, 0.5 ms", ideal[:2], paper[:2], ideal[2], lambda res: res.x_t,
-                   substeps, repeat, duration)
+def bench_ballscrew(duration, repeat, substeps=10, gms=None):
+    ideal = ballscrew_setup(duration, sensors=False, gms=gms)
+    paper = ballscrew_setup(duration, sensors=True, gms=gms)
+    name = "ball screw, Dahl, sliding nut, 0.5 ms" if gms is None else "ball screw, GMS-4 at nut and guide, 0.5 ms"
+    out = compare(name, ideal[:2], paper[:2], ideal[2], lambda res: res.x_t, substeps, repeat, duration)
+    if gms is not None:  # located switches per peer run (last run of each: the timed tolerance)
+        out["switches"] = {"ideal_sensors": ideal[1].switches[-1], "paper_sensors": paper[1].switches[-1]}
+    return out
 
 
-def run_all(duration, repeat, emps_csv):
-    """The peers' rows for ``benchmarks/machines.py``: ``{key: row}`` or ``{"skipped": why}``."""
+def run_all(duration, repeat, emps_csv, gms=None):
+    """The peers' rows for ``benchmarks/machines.py``: ``{key: row}`` or ``{"skipped": why}``.
+    ``gms(level)``: the GMS-4 of the ball-screw GMS workload (``machines.gms4``); None: not run."""
     if not available():
         return {"skipped": MISSING}
-    return {"emps_numbalsoda": bench_emps(repeat, emps_csv),
-            "ballscrew_dahl_numbalsoda": bench_ballscrew(duration, repeat)}
+    out = {"emps_numbalsoda": bench_emps(repeat, emps_csv),
+           "ballscrew_dahl_numbalsoda": bench_ballscrew(duration, repeat)}
+    if gms is not None:
+        out["ballscrew_gms4_numbalsoda"] = bench_ballscrew(duration, repeat, gms=gms)
+    return out
 
 
 def format_row(r) -> str:
@@ -478,20 +695,32 @@ def format_row(r) -> str:
 
 
 def main() -> None:
-    from machines import EMPS_CSV
+    from machines import EMPS_CSV, gms4
 
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--emps-csv", default=EMPS_CSV)
+    ap.add_argument("--only", choices=("emps", "dahl", "gms4"), help="one peer only")
     args = ap.parse_args()
-    out = run_all(5.0 if args.quick else 20.0, args.repeat, args.emps_csv)
+    if not available():
+        print(f"machine peers: skipped ({MISSING})")
+        return
+    dur = 5.0 if args.quick else 20.0
+    if args.only:
+        out = {"emps": lambda: {"emps": bench_emps(args.repeat, args.emps_csv)},
+               "dahl": lambda: {"dahl": bench_ballscrew(dur, args.repeat)},
+               "gms4": lambda: {"gms4": bench_ballscrew(dur, args.repeat, gms=gms4)}}[args.only]()
+    else:
+        out = run_all(dur, args.repeat, args.emps_csv, gms=gms4)
     if "skipped" in out:
         print(f"machine peers: skipped ({out['skipped']})")
         return
     print(f"load average {os.getloadavg()[0]:.2f}")
     for r in out.values():
         print(format_row(r))
+        if "switches" in r:
+            print(f"    peer's located switches: {r['switches']}")
         for k, v in r["scan"].items():
             print(f"      rtol {k}: {v}")
 

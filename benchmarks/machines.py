@@ -37,9 +37,10 @@ Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is fas
   pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
   ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
   max |dx| against a tight reference is <= the core's. Skipped if numbalsoda is missing.
-* ``emps_numbalsoda``, ``ballscrew_dahl_numbalsoda``: the EMPS loop and the Dahl ball-screw
-  stage written without frictionkit (controller in numba, plant per sample under numbalsoda
-  LSODA, one ``@njit`` loop) at matching accuracy: ``benchmarks/machine_peers.py``.
+* ``emps_numbalsoda``, ``ballscrew_dahl_numbalsoda``, ``ballscrew_gms4_numbalsoda``: the EMPS
+  loop and the ball-screw stage (Dahl; GMS-4 event-stepped) written without frictionkit
+  (controller in numba, plant per sample under numbalsoda LSODA, one ``@njit`` loop) at
+  matching accuracy: ``benchmarks/machine_peers.py``.
 
 Compile time: a fresh process with an empty ``NUMBA_CACHE_DIR`` runs the ball-screw stage
 twice (first call minus second = compile), then again with the filled cache; the cold run also
@@ -512,7 +513,7 @@ def main() -> None:
         lg = bench_lugre_peer(repeat)
     except ImportError as e:  # numbalsoda missing
         lg = {"skipped": str(e)}
-    mpr = machine_peer_rows(dur, repeat, args.emps_csv)  # benchmarks/machine_peers.py
+    mpr = machine_peer_rows(dur, repeat, args.emps_csv, gms=gms4)  # benchmarks/machine_peers.py
     ct = None if args.no_compile else compile_times()
     ca = None if args.no_compile else compile_axis()
     load1 = os.getloadavg()

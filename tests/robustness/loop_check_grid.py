@@ -15,6 +15,10 @@ converged). Measured 2026-11-23: EMPS 11 flagged / 24 converged, ball screw 13 /
 The two-shaft counts are of the benchmark's first layout (motor rotors on couplings; its nut loop
 was linearly unstable); benchmarks/machines.py builds it like the zhang2023 preset since fc16060
 (rigid axes, loop radius 0.965), so a rerun gives other two-shaft counts.
+The hunting (Stribeck-slope) and barely-damped triggers (ring, f0e192b) came after that
+measurement: the grid prints their fields ("stribeck_rho", "zeta", "hunting", "borderline") but
+was not rerun with them (one case, the ball screw at gain x3, measured: 10 sub-steps 0.83 of the
+bound against 640, converged, now noted).
 """
 import json
 import math
@@ -78,7 +82,10 @@ if __name__ == "__main__":
                 raw = _run_machine(m, dt, inp, N, 10, 0, False)
                 ref = _run_machine(m, dt, inp, N, truth_n, 0, False)
                 frac = _disagreement(raw, ref)[0] if raw.status == 0 and ref.status == 0 else math.inf
-                print(json.dumps({"case": name, "inertia_x": f, "gain_x": g, "rho": loop_stability(m, dt).radius,
+                st = loop_stability(m, dt)
+                print(json.dumps({"case": name, "inertia_x": f, "gain_x": g, "rho": st.radius,
+                                  "stribeck_rho": st.stribeck_radius, "zeta": st.zeta, "hunting": st.stribeck_unstable,
+                                  "borderline": st.borderline,
                                   "status": res.status, "truth_frac": frac,
                                   "at_limit": max(_at_limit(m, raw).values(), default=0.0),
                                   "message": res.message}), flush=True)

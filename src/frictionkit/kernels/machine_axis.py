@@ -104,6 +104,98 @@ def _piece(x, v, U, T, dt, Lp, Ln, Vp, Vn, Minv, emp, emn):
 
 
 @njit(inline="always", error_model="numpy")
+def _level(av, L, S, vs, delta, shape):
+    """Stribeck level ``g(|v|)`` (``kernels.machine._g``'s formula, DOF units)."""
+    if S == L:
+        return L
+    r = av / vs
+    if r == 0.0:
+        return S
+    if shape == 0.0:
+        if delta == 2.0:
+            e = r * r
+        elif delta == 1.0:
+            e = r
+        else:
+            e = r**delta
+        if e > 700.0:
+            return L
+        return L + (S - L) * math.exp(-e)
+    return L + (S - L) / (1.0 + r * r)
+
+
+@njit(inline="always", error_model="numpy")
+def _acc(v, d, U, L, S, vs, delta, shape, V, Minv):
+    """``v'`` while sliding in direction ``d``: ``(U - d g(|v|) - V v) / M``."""
+    return (U - d * _level(abs(v), L, S, vs, delta, shape) - V * v) * Minv
+
+
+@njit(error_model="numpy")
+def _piece_str(x, v, U, T, Lp, Sp, vsp, dlp, shp, Vp, Ln, Sn, vsn, dln, shn, Vn, Minv, nrk):
+    """``(x, v, F_end)`` after ``T`` under the constant force ``U`` with Stribeck levels (``S``
+    at rest, ``L`` sliding, per direction): sticks while ``-Sn <= U <= Sp``, else slides with
+    ``nrk`` classical Runge-Kutta steps over ``T`` (the level is not linear in ``v``: no closed
+    form); a stop inside a step is located on the step's cubic Hermite interpolant of ``v``
+    (bisection) and ``x`` there is its integral."""
+    t = 0.0
+    F = 0.0
+    h0 = T / nrk
+    for seg in range(4):
+        if v == 0.0:
+            if U > Sp:
+                d = 1.0
+            elif U < -Sn:
+                d = -1.0
+            else:
+                return x, 0.0, U
+        else:
+            d = 1.0 if v > 0.0 else -1.0
+        if d > 0.0:
+            L, S, vs, dl, sh, V = Lp, Sp, vsp, dlp, shp, Vp
+        else:
+            L, S, vs, dl, sh, V = Ln, Sn, vsn, dln, shn, Vn
+        stopped = False
+        while t < T:
+            h = min(h0, T - t)
+            if T - t - h < 1e-9 * h0:
+                h = T - t
+            k1 = _acc(v, d, U, L, S, vs, dl, sh, V, Minv)
+            k2 = _acc(v + 0.5 * h * k1, d, U, L, S, vs, dl, sh, V, Minv)
+            k3 = _acc(v + 0.5 * h * k2, d, U, L, S, vs, dl, sh, V, Minv)
+            k4 = _acc(v + h * k3, d, U, L, S, vs, dl, sh, V, Minv)
+            vn = v + h * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
+            if d * vn > 0.0:
+                x += h * (v + h * (k1 + k2 + k3) / 6.0)
+                v = vn
+                t += h
+                continue
+            # stop inside the step: v(s) on [0, h] as the cubic Hermite of (v, k1) and (vn, f(vn))
+            f1 = _acc(vn, d, U, L, S, vs, dl, sh, V, Minv)
+            lo, hi = 0.0, 1.0
+            for it in range(60):
+                mid = 0.5 * (lo + hi)
+                w = mid
+                vm = ((2 * w**3 - 3 * w**2 + 1) * v + (w**3 - 2 * w**2 + w) * h * k1
+                      + (-2 * w**3 + 3 * w**2) * vn + (w**3 - w**2) * h * f1)
+                if d * vm > 0.0:
+                    lo = mid
+                else:
+                    hi = mid
+            w = hi
+            # integral of the Hermite cubic from 0 to w (times h)
+            x += h * ((w**4 / 2 - w**3 + w) * v + (w**4 / 4 - 2 * w**3 / 3 + w**2 / 2) * h * k1
+                      + (-w**4 / 2 + w**3) * vn + (w**4 / 4 - w**3 / 3) * h * f1)
+            v = 0.0
+            t += w * h
+            stopped = True
+            break
+        F = d * _level(abs(v), L, S, vs, dl, sh) + V * v
+        if not stopped:
+            return x, v, F
+    return x, v, F
+
+
+@njit(inline="always", error_model="numpy")
 def _lin_state(t, v0, a, b, beta, V, Minv, A, s):
     """``(dx, v)`` at ``t`` of a slide under a force linear in time (see :func:`_slide_lin`)."""
     if V > 0.0:
@@ -198,7 +290,7 @@ def _piece_lin(x, v, U0, s, T, Lp, Ln, Vp, Vn, Minv):
 
 
 @njit(error_model="numpy")
-def run_axis(dt, X, Minv, Lp, Ln, Vp, Vn, c_site, act_gain,
+def run_axis(dt, X, Minv, Lp, Ln, Vp, Vn, c_site, act_gain, stribeck,
              inputs, in_sig, sen_row, sen_qty, sen_res, sen_delay, sen_sig, noise,
              blk_code, blk_iptr, blk_idx, blk_fptr, blk_par, blk_sptr, blk_st,
              act_sig, act_lim, act_delay, act_foh, act_applied_sig, act_col, sig,
@@ -230,6 +322,13 @@ def run_axis(dt, X, Minv, Lp, Ln, Vp, Vn, c_site, act_gain,
     sslot = np.zeros(nsen, dtype=np.int64)
     sat = np.zeros(nact, dtype=np.bool_)
     u_now = np.zeros(nact)
+    # Stribeck levels (stribeck: Sp, vsp, delta, shape, Sn, vsn, delta, shape, n_rk; empty: flat)
+    n_rk = 0
+    Sp = vsp = dlp = shp = Sn = vsn = dln = shn = 0.0
+    if stribeck.size:
+        Sp, vsp, dlp, shp = stribeck[0], stribeck[1], stribeck[2], stribeck[3]
+        Sn, vsn, dln, shn = stribeck[4], stribeck[5], stribeck[6], stribeck[7]
+        n_rk = int(stribeck[8])
     has_foh = False
     for i in range(nact):
         if act_foh[i]:
@@ -406,6 +505,8 @@ def run_axis(dt, X, Minv, Lp, Ln, Vp, Vn, c_site, act_gain,
                     x, v, Fend = _piece_lin(x, v, Ua, sl, t1 - t0, Lp, Ln, Vp, Vn, Minv)
                 else:
                     x, v, Fend = _piece(x, v, Ua, t1 - t0, dt, Lp, Ln, Vp, Vn, Minv, emp, emn)
+        elif n_rk > 0:  # Stribeck levels
+            x, v, Fend = _piece_str(x, v, U, dt, Lp, Sp, vsp, dlp, shp, Vp, Ln, Sn, vsn, dln, shn, Vn, Minv, n_rk)
         else:
             x, v, Fend = _piece(x, v, U, dt, dt, Lp, Ln, Vp, Vn, Minv, emp, emn)
         if not (math.isfinite(x) and math.isfinite(v)):

@@ -432,10 +432,14 @@ def _axis_plan(machine: Machine, p: dict) -> tuple:
         return None, f"{type(law).__name__} is a dynamic law (no exact step of the axis kernel)"
     r = np.asarray(schedule_rows(law), dtype=float)  # Fc0 Fc1 Fs0 Fs1 vs delta sigma2 shape eps
     for x in r:
-        if not (x[0] == x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 and x[6] >= 0.0):
-            return None, (f"{type(law).__name__} levels are not flat and positive (Fs != Fc, a schedule, eps or "
-                          "sigma2 < 0): the axis kernel's exact step needs Coulomb-viscous levels")
+        if not (x[0] > 0.0 and x[2] > 0.0 and x[1] == x[3] == 0.0 and x[8] == 0.0 and x[6] >= 0.0):
+            return None, (f"{type(law).__name__} levels are not constant and positive (a schedule, eps, a level "
+                          "<= 0 or sigma2 < 0)")
+    flat = bool(np.all(r[:, 0] == r[:, 2]))
     ka = p["kargs"]
+    if not flat and np.any(ka["act_foh"]):
+        return None, ("Stribeck levels (Fs != Fc) with an input-array actuator (the axis kernel's Stribeck step "
+                      "holds the force over the sample)")
     c = float(ka["Cq"][0, 0])
     if c == 0.0 or not math.isfinite(c):
         return None, f"site {site.name!r} does not move with the degree of freedom"
@@ -443,8 +447,19 @@ def _axis_plan(machine: Machine, p: dict) -> tuple:
     a = abs(c)
     pos, neg = (r[0], r[1]) if c > 0.0 else (r[1], r[0])  # the site's row for the DOF's direction
     gain = np.array([act.gain * float(machine.row(act.at)[0][0]) for act in machine.actuators], dtype=float)
-    plan = dict(Minv=1.0 / M, Lp=a * float(pos[0]), Ln=a * float(neg[0]), Vp=c * c * float(pos[6]),
-                Vn=c * c * float(neg[6]), c_site=c, act_gain=gain)
+    Vp, Vn = c * c * float(pos[6]), c * c * float(neg[6])
+    stribeck = np.zeros(0)
+    if not flat:
+        # Runge-Kutta steps per sample: 20 per shortest time scale of the slide (assumption: RK4's
+        # local error ~ (h / tau)^5 ~ 3e-7 then): the Stribeck drop's M vs / |Fs - Fc| and the
+        # viscous M / sigma2, at least 2, at most 256
+        taus = [M / V for V in (Vp, Vn) if V > 0.0]
+        taus += [M * (x[4] / a) / abs(a * (x[2] - x[0])) for x in (pos, neg) if x[2] != x[0]]
+        n_rk = int(min(max(math.ceil(20.0 * float(p["kargs"]["dt"]) / min(taus)), 2), 256)) if taus else 2
+        stribeck = np.array([a * pos[2], pos[4] / a, pos[5], pos[7], a * neg[2], neg[4] / a, neg[5], neg[7], n_rk],
+                            dtype=float)
+    plan = dict(Minv=1.0 / M, Lp=a * float(pos[0]), Ln=a * float(neg[0]), Vp=Vp, Vn=Vn, c_site=c, act_gain=gain,
+                stribeck=stribeck)
     return plan, ""
 
 
@@ -1131,7 +1146,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
 
         a = p["axis"][0]
         status, k_end, n_bad = _ka.run_axis(
-            dt, kw["X"], a["Minv"], a["Lp"], a["Ln"], a["Vp"], a["Vn"], a["c_site"], a["act_gain"],
+            dt, kw["X"], a["Minv"], a["Lp"], a["Ln"], a["Vp"], a["Vn"], a["c_site"], a["act_gain"], a["stribeck"],
             in_arr, kw["in_sig"], kw["sen_row"], kw["sen_qty"], kw["sen_res"], kw["sen_delay"], kw["sen_sig"], noise,
             kw["blk_code"], kw["blk_iptr"], kw["blk_idx"], kw["blk_fptr"], kw["blk_par"], kw["blk_sptr"], kw["blk_st"],
             kw["act_sig"], kw["act_lim"], kw["act_delay"], kw["act_foh"], kw["act_applied_sig"], kw["act_col"], kw["sig"],

@@ -16,9 +16,12 @@ The two-shaft counts are of the benchmark's first layout (motor rotors on coupli
 was linearly unstable); benchmarks/machines.py builds it like the zhang2023 preset since fc16060
 (rigid axes, loop radius 0.965), so a rerun gives other two-shaft counts.
 The hunting (Stribeck-slope) and barely-damped triggers (ring, f0e192b) came after that
-measurement: the grid prints their fields ("stribeck_rho", "zeta", "hunting", "borderline") but
-was not rerun with them (one case, the ball screw at gain x3, measured: 10 sub-steps 0.83 of the
-bound against 640, converged, now noted).
+measurement: the grid prints their fields ("stribeck_rho", "zeta", "hunting", "borderline").
+Rerun with them (ring, 2026-11-23 13:20 UTC, `emps ballscrew`): ball screw 13 flagged, 0 missed,
+0 false alarms, 1 barely damped loop checked (gain x3: truth 0.83 of the bound at 10 sub-steps,
+converged, noted); EMPS 11 flagged, 0 missed, 0 false alarms (its 6 barely damped loops, all
+inertia x1e2-1e3, run on the exact one-DOF axis kernel, where sub-steps do not apply); no grid
+machine can hunt (flat friction). The two-shaft part was not rerun.
 """
 import json
 import math

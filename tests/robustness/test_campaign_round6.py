@@ -176,3 +176,12 @@ def test_the_cli_says_when_numba_jit_is_disabled(runner, monkeypatch):
     res = runner.invoke(app, ["models"])
     assert res.exit_code == 0, res.output
     assert res.stderr.startswith("warning: NUMBA_DISABLE_JIT=1: the simulation kernels run as plain Python")
+
+
+def test_a_column_given_twice_to_where_is_refused():
+    """Was: `--where drive_id=1 --where drive_id=2` fitted drive 2 only (the last value replaced the first)."""
+    from frictionkit.cli._common import where_items
+
+    assert where_items(["drive_id=1", "drive_id = 1", "side=a"]) == {"drive_id": "1", "side": "a"}
+    with pytest.raises(DataError, match=r"--where drive_id=1 and --where drive_id=2: one value per column"):
+        where_items(["drive_id=1", "drive_id=2"])

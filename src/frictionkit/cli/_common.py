@@ -120,7 +120,12 @@ def where_items(items: Iterable[str] | None) -> dict[str, str]:
         if "=" not in it or not it.split("=", 1)[0].strip():
             raise DataError(f"--where {it!r}: expected COLUMN=VALUE")
         k, v = it.split("=", 1)
-        out[k.strip()] = v.strip()
+        k, v = k.strip(), v.strip()
+        if k in out and out[k] != v:
+            # was: the last value silently replaced the first (--where drive_id=1 --where drive_id=2 fitted drive 2)
+            raise DataError(f"--where {k}={out[k]} and --where {k}={v}: one value per column (the rows must match "
+                            "every --where); run once per value")
+        out[k] = v
     return out
 
 

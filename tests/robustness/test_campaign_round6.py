@@ -185,3 +185,20 @@ def test_a_column_given_twice_to_where_is_refused():
     assert where_items(["drive_id=1", "drive_id = 1", "side=a"]) == {"drive_id": "1", "side": "a"}
     with pytest.raises(DataError, match=r"--where drive_id=1 and --where drive_id=2: one value per column"):
         where_items(["drive_id=1", "drive_id=2"])
+
+
+def test_report_of_a_flagged_run_summary_keeps_its_status(tmp_path):
+    """Was: report followed a simulate summary to its traces and dropped the summary's status 2 and
+    message (the traces do not carry them): a flagged run read as a good one."""
+    from frictionkit.report.adapters import _json_file
+
+    (tmp_path / "traces.csv").write_text("t [s],x [m],v [m/s],friction [N]\n0,0,0,0\n0.001,1e-6,1e-3,0.5\n")
+    doc = {"format": "frictionkit.simulation/1", "drive": "position", "samples": 2, "status": 2,
+           "message": "the accuracy check failed\nat t = 1 s", "outputs": {"traces": "traces.csv"}}
+    (tmp_path / "run.json").write_text(json.dumps(doc))
+    kind, secs = _json_file(tmp_path / "run.json", "result file 'run.json'")
+    assert kind == "traces"
+    assert secs[0].text[0] == ("Run status 2 (from the summary, result file 'run.json'): the accuracy check failed "
+                               "at t = 1 s")
+    (tmp_path / "run.json").write_text(json.dumps(dict(doc, status=0, message="ok")))
+    assert not any("Run status" in t for t in _json_file(tmp_path / "run.json", "x")[1][0].text)

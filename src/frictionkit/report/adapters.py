@@ -197,7 +197,12 @@ def _json_file(p: Path, where: str) -> tuple[str, list[Section]]:
             for cand in (p.parent / traces, Path(traces)):
                 if cand.is_file():
                     reader = _parquet_file if cand.suffix.lower() in (".parquet", ".pq") else _csv_file
-                    return reader(cand, f"traces '{cand}' (named by {where})")
+                    kind, secs = reader(cand, f"traces '{cand}' (named by {where})")
+                    status = doc.get("status", 0)
+                    if status != 0 and secs:  # the traces do not carry it: a flagged run read as a good one
+                        secs[0].text.insert(0, f"Run status {status} (from the summary, {where}): "
+                                               f"{' '.join(str(doc.get('message', '')).split())}")
+                    return kind, secs
         raise DataError(_run_summary_message(doc, where, traces))
     return _json_doc(doc, where, name=p.name)
 

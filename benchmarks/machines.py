@@ -88,12 +88,18 @@ class _KernelClock:
         self.km = km
         self.inner = getattr(km, name)
         self.cpu = 0.0
+        #: ``kernels.machine.run`` calls since the last reset: ``(samples advanced in one step,
+        #: samples, sub-steps)`` each (the wrapper's sub-step or loop check may add a run)
+        self.calls = []
         setattr(km, name, self)
 
     def __call__(self, *args, **kwargs):
         c0 = time.thread_time()
         try:
-            return self.inner(*args, **kwargs)
+            out = self.inner(*args, **kwargs)
+            if len(out) == 4:  # kernels.machine.run: (status, k_end, n_bad, n_one)
+                self.calls.append((int(out[3]), int(out[1]), int(args[0])))
+            return out
         finally:
             self.cpu += time.thread_time() - c0
 
@@ -113,6 +119,7 @@ def best_of(fn, repeat):
     best, best_cpu, best_kernel, out = math.inf, math.inf, math.inf, None
     for _ in range(repeat):
         KERNEL_CLOCK.cpu = AXIS_CLOCK.cpu = 0.0
+        KERNEL_CLOCK.calls = []
         c0 = time.thread_time()
         t0 = time.perf_counter()
         out = fn()
@@ -143,7 +150,7 @@ def bench_ballscrew(duration, repeat):
         t_new, c_new, r_new = best_of(lambda: simulate_stage(plant, ctrl, ref, compensation=u_f, sensors=sens), repeat)
         assert r_new.success, r_new.message
         out[nut_model] = {"core_s": t_new, "rt": duration / t_new, "cpu_s": c_new, "rt_cpu": duration / c_new,
-                          "kernel_cpu_s": best_of.kernel_cpu}
+                          "kernel_cpu_s": best_of.kernel_cpu, **_one_step()}
     plant = paper_plant()
     u_f = paper_compensator().signal(ref, "sinc", _classify(ref, plant))
     nut, guide = gms4(plant.nut_friction), gms4(plant.guide_friction)
@@ -152,7 +159,7 @@ def bench_ballscrew(duration, repeat):
     assert r_g.success, r_g.message
     out["gms4"] = {"core_s": t_g, "rt": duration / t_g, "cpu_s": c_g, "rt_cpu": duration / c_g,
                    "kernel_cpu_s": best_of.kernel_cpu, "message": r_g.message,
-                   "max_err_um": float(np.abs(r_g.error).max() * 1e6)}
+                   "max_err_um": float(np.abs(r_g.error).max() * 1e6), **_one_step()}
     return out
 
 
@@ -262,12 +269,13 @@ def bench_two_shaft(duration, repeat):
     m = two_shaft_machine(dt)
     inp = two_shaft_reference(duration, dt)
     t, c, r = best_of(lambda: simulate_machine(m, dt=dt, inputs=inp, substeps=10), repeat)
+    one = _one_step()
     x = r.position(R0 * (m.coord("screw") + m.coord("nut")))
     x_ref = R0 * (inp["th1_ref"] + inp["th2_ref"])
     at_limit = {a.name: float(np.mean(np.abs(r.u[:, i]) >= a.limit * (1 - 1e-9))) for i, a in enumerate(m.actuators)}
     return {"core_s": t, "rt": duration / t, "cpu_s": c, "rt_cpu": duration / c, "kernel_cpu_s": best_of.kernel_cpu,
             "message": r.message, "max_table_err_um": float(np.abs(x - x_ref)[int(0.5 / dt):].max() * 1e6),
-            "loop_radius": loop_stability(m, dt).radius, "at_limit": at_limit}
+            "loop_radius": loop_stability(m, dt).radius, "at_limit": at_limit, **one}
 
 
 # --------------------------------------------------------------------------- EMPS
@@ -495,6 +503,25 @@ def _kshare(r) -> str:
     return f"{100.0 * r['kernel_cpu_s'] / r['cpu_s']:9.0f}%"
 
 
+def _one_step() -> dict:
+    """The last timed run's kernel calls (:class:`_KernelClock`): the share of samples the
+    first (the user's) run advanced in one step of dt (kept coarse steps), and the sub-steps of
+    any further run the wrapper's checks made (a loop or sub-step check's rerun)."""
+    c = KERNEL_CLOCK.calls
+    if not c:
+        return {"one_step_share": None, "check_runs_substeps": []}
+    return {"one_step_share": c[0][0] / max(c[0][1], 1), "check_runs_substeps": [n for _, _, n in c[1:]]}
+
+
+def _one_step_note(r) -> str:
+    if r.get("one_step_share") is None:
+        return ""
+    s = f"  one-step samples {100 * r['one_step_share']:.0f} %"
+    if r["check_runs_substeps"]:
+        s += f"; + check run(s) at {', '.join(map(str, r['check_runs_substeps']))} sub"
+    return s
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="shorter runs (5 s instead of 20 s), 2 repeats")
@@ -526,12 +553,12 @@ def main() -> None:
     for nm in ("sliding", "flank", "hertz"):
         r = bs[nm]
         print(f"{'ball screw, Dahl, ' + nm + ' nut, 0.5 ms, 10 sub (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} "
-              f"{r['rt_cpu']:11,.0f} {_kshare(r)}")
+              f"{r['rt_cpu']:11,.0f} {_kshare(r)}{_one_step_note(r)}")
     r = bs["gms4"]
     print(f"{'ball screw, GMS-4 at nut and guide (core)':58s} {r['rt']:12,.0f} {r['core_s']:9.3f} "
-          f"{r['rt_cpu']:11,.0f} {_kshare(r)}  max|e| {r['max_err_um']:.2f} um; {r['message']}")
+          f"{r['rt_cpu']:11,.0f} {_kshare(r)}{_one_step_note(r)}  max|e| {r['max_err_um']:.2f} um; {r['message']}")
     print(f"{'two-shaft drive, GMS-3 x4, 2 PID, 250 us, 10 sub (core)':58s} {ts['rt']:12,.0f} {ts['core_s']:9.3f} "
-          f"{ts['rt_cpu']:11,.0f} {_kshare(ts)}  "
+          f"{ts['rt_cpu']:11,.0f} {_kshare(ts)}{_one_step_note(ts)}  "
           f"max table err {ts['max_table_err_um']:.2f} um; loop radius {ts['loop_radius']:.3f}; at limit "
           + ", ".join(f"{k} {100 * v:.1f} %" for k, v in ts["at_limit"].items()) + f"; {ts['message']}")
     for key in ("axis", 40, 10):

@@ -29,6 +29,14 @@ Peers
   diag(B) + beta K``; checked against ``ElasticBallScrew.linear_chain``), two Dahl states
   ``dF/dt = sigma0 v (1 - F sgn(v) / Fc)``; 14 states. The PTC feed-forward and the
   compensation are precomputed arrays for both (as for the core).
+* ``ballscrew_gms4``: the same stage with ``machines.gms4`` at the nut and the guide (GMS-4
+  over an exponential Stribeck curve; 20 states), event-stepped like the GMS peer of
+  ``benchmarks/peers.py`` (whose switch tests ``_gms_switch`` / ``_gms_grazing`` it imports):
+  LSODA per sample on the smooth right-hand side of the current stick/slip flags; a breakaway,
+  a reversal of a site with slipping elements, or a reversal of an all-sticking site with an
+  element within reach of its breakaway (grazing) at the sample's end is located by LSODA
+  calls over grids of ``LOC_GRID`` points to ``EVENT_TOL dt``, applied, and the sample
+  finished from there.
 
 Accuracy: errors are max |dq| of the position (EMPS: the axis; ball screw: the table ``x_t``)
 and the change of the RMS tracking error (``qg - q`` / ``r - x_t``) against a reference: the
@@ -42,13 +50,14 @@ whose two errors are both at or below ``max(frictionkit's, FLOOR_M)`` ("matching
 The ball screw's tolerance is matched with ideal sensors: with the paper's quantised, noisy
 sensors a one-count flip of the 100 nm scale or the encoder moves a run by a few 1e-8 m at any
 tolerance (2 s run: the peer at rtol 1e-3 ... 1e-11 is 3.3e-8 ... 5.2e-8 m from frictionkit at
-640 sub-steps, not falling with the tolerance), so accuracy cannot be compared there; the run with the paper sensors (the benchmark's workload) is then timed at that
+640 sub-steps, not falling with the tolerance), so accuracy cannot be compared there; the run
+with the paper sensors (the benchmark's workload) is then timed at that
 tolerance (``ratio``), the ideal-sensor run too (``acc_ratio``). Ratio = peer time /
 frictionkit time, measured interleaved in the same run, min of ``--repeat`` (wall time;
 the calling thread's CPU time ratio beside it is the steadier number on a loaded machine).
 
-Not done: an event-stepped peer for the GMS-4 ball screw and the two-shaft drive (issue 8
-brief, item 3).
+Not done: a peer for the two-shaft drive (GMS-3 over Stribeck curves with delta 1.5: the
+switch tests of benchmarks/peers.py assume delta 2).
 """
 
 from __future__ import annotations
@@ -70,8 +79,8 @@ except ImportError as e:  # pragma: no cover - optional extra
 
 TOLS = tuple(float(f"{10 ** (-k / 2):.0e}") for k in range(6, 21))  # 1e-3, 3e-4, ... 1e-10
 ATOL_SCALE = 1e-3   # atol = rtol * ATOL_SCALE (positions ~0.1 m / rad, velocities ~0.1 m/s)
-LOC_GRID = 16       # points per LSODA call when locating a stop (EMPS)
-EVENT_TOL = 1e-9    # a stop is located to EVENT_TOL * dt
+LOC_GRID = 16       # points per LSODA call when locating a stop (EMPS) or a GMS switch
+EVENT_TOL = 1e-9    # a stop / switch is located to EVENT_TOL * dt
 REF_RTOL = 1e-11    # the reference: the peer at rtol 1e-11, atol 1e-14 (stops located to EVENT_TOL dt)
 REF_SUBSTEPS = 640  # its cross-check: frictionkit at 640 sub-steps (EMPS: on the general loop)
 #: Accuracy floor [m]: a peer matches when its errors are <= max(frictionkit's, FLOOR_M). Named
@@ -630,7 +639,8 @@ def compare(name, acc, timed, target, core_pos, substeps, repeat, duration, fk_l
         if match is None and dq <= max(fk_dq, FLOOR_M) and drms <= max(fk_drms, FLOOR_M):
             match = rtol
     fk_ref = core_pos(core(REF_SUBSTEPS)())
-    out = {"name": name, "substeps": substeps, "fk_label": fk_label or f"{substeps} sub", "duration_s": duration, "rms_tracking_error_ref": e_ref,
+    out = {"name": name, "substeps": substeps, "fk_label": fk_label or f"{substeps} sub", "duration_s": duration,
+           "rms_tracking_error_ref": e_ref,
            "fk_max_dq": fk_dq, "fk_d_rms": fk_drms, "scan": {f"{k:.0e}": v for k, v in rows.items()},
            "fk_640_vs_ref_max_dq": float(np.abs(fk_ref - ref).max()), "peer_rtol": match}
     if match is None:

@@ -245,6 +245,63 @@ def _sharp_sample(b11, b12, b21, b22, dt, v0, z0, r0, r1, a0, a1, ge, v1, z1, ev
 
 
 @njit(inline="always")
+def _ros2_sub(x, v, z, h, w, du, im, zd, F, dzv, dzz, dFv, dFz, p0, p1, d0, d1, tol_v, rtol, atol_z, zlo, zhi):
+    """One ROS2 sub-step of ``h`` from ``(x, v, z)`` (input ``w`` at its start, slope ``du``;
+    ``zd, F, dzv, ...`` from :func:`_point` there) and its error in tolerances.
+
+    Returns ``(finite, xn, vn, zn, e, v2, z2, gh, a11, a12, a21, a22, idet)``: the new state, ``e``
+    (the filtered estimate of the embedded first-order solution and the excess of ``zn`` over
+    its invariant bounds ``zlo, zhi``; not accepted above 1), the second stage's state and the
+    matrix ``I - gamma h J`` with its inverse determinant -- what :func:`_interval` and the
+    sensitivity kernel's W-method (``sensitivity._ros2_sens``) both need. ``finite`` false: the
+    new state is inf or NaN (``e`` then 0, meaningless).
+    """
+    gh = GAMMA * h
+    # I - gamma h J on (v, z); rows of x and w are trivial
+    a11 = 1.0 + gh * dFv * im
+    a12 = gh * dFz * im
+    a21 = -gh * dzv
+    a22 = 1.0 - gh * dzz
+    idet = 1.0 / (a11 * a22 - a12 * a21)
+    # stage 1
+    b1 = (w - F + gh * du) * im
+    k1v = (b1 * a22 - a12 * zd) * idet
+    k1z = (a11 * zd - a21 * b1) * idet
+    k1x = v + gh * k1v
+    # stage 2 at y + h k1 (w advances by h du)
+    v2 = v + h * k1v
+    z2 = z + h * k1z
+    zd2, F2 = _force(v2, z2, p0, p1, d0, d1)
+    r_z = zd2 - 2.0 * k1z
+    b1 = (w + h * du - F2 - gh * du) * im - 2.0 * k1v
+    k2v = (b1 * a22 - a12 * r_z) * idet
+    k2z = (a11 * r_z - a21 * b1) * idet
+    k2x = v2 - 2.0 * k1x + gh * k2v
+    xn = x + h * (1.5 * k1x + 0.5 * k2x)
+    vn = v + h * (1.5 * k1v + 0.5 * k2v)
+    zn = z + h * (1.5 * k1z + 0.5 * k2z)
+    if not math.isfinite(xn + vn + zn):  # inf or NaN in any of them (inf - inf is NaN)
+        return False, xn, vn, zn, 0.0, v2, z2, gh, a11, a12, a21, a22, idet
+    # Error estimate of the embedded first-order solution, filtered through
+    # (I - gamma h J)^-1 so that stiff, quickly damped components (the bristle
+    # state while sliding) do not force needlessly small steps (Shampine).
+    e1 = 0.5 * h * (k1v + k2v)
+    e2 = 0.5 * h * (k1z + k2z)
+    ev = (e1 * a22 - a12 * e2) * idet
+    ez = (a11 * e2 - a21 * e1) * idet
+    e = abs(ev) / (tol_v + rtol * abs(vn))
+    q = abs(ez) / (atol_z + rtol * abs(zn))
+    if q > e:
+        e = q
+    # the filtered estimate can miss a whole-sample step that runs z past its bound
+    # (a near-singular I - gamma h J at breakaway, issue 13): the excess is an error too
+    q = _z_excess(zn, zlo, zhi, atol_z, rtol)
+    if q > e:
+        e = q
+    return True, xn, vn, zn, e, v2, z2, gh, a11, a12, a21, a22, idet
+
+
+@njit(inline="always")
 def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor, zlo, zhi):
     """Advance the force-driven state over one sample interval.
 
@@ -266,52 +323,14 @@ def _interval(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_
         rem = dt - t
         if h >= rem or rem - h < 1e-9 * dt:
             h = rem
-        gh = GAMMA * h
-        # I - gamma h J on (v, z); rows of x and w are trivial
-        a11 = 1.0 + gh * dFv * im
-        a12 = gh * dFz * im
-        a21 = -gh * dzv
-        a22 = 1.0 - gh * dzz
-        idet = 1.0 / (a11 * a22 - a12 * a21)
-        # stage 1
-        b1 = (w - F + gh * du) * im
-        k1v = (b1 * a22 - a12 * zd) * idet
-        k1z = (a11 * zd - a21 * b1) * idet
-        k1x = v + gh * k1v
-        # stage 2 at y + h k1 (w advances by h du)
-        v2 = v + h * k1v
-        z2 = z + h * k1z
-        zd2, F2 = _force(v2, z2, p0, p1, d0, d1)
-        r_z = zd2 - 2.0 * k1z
-        b1 = (w + h * du - F2 - gh * du) * im - 2.0 * k1v
-        k2v = (b1 * a22 - a12 * r_z) * idet
-        k2z = (a11 * r_z - a21 * b1) * idet
-        k2x = v2 - 2.0 * k1x + gh * k2v
-        xn = x + h * (1.5 * k1x + 0.5 * k2x)
-        vn = v + h * (1.5 * k1v + 0.5 * k2v)
-        zn = z + h * (1.5 * k1z + 0.5 * k2z)
+        fin, xn, vn, zn, e, _, _, _, _, _, _, _, _ = _ros2_sub(
+            x, v, z, h, w, du, im, zd, F, dzv, dzz, dFv, dFz, p0, p1, d0, d1, tol_v, rtol, atol_z, zlo, zhi)
         n += 1
-        if not math.isfinite(xn + vn + zn):  # inf or NaN in any of them (inf - inf is NaN)
+        if not fin:  # inf or NaN in the new state
             if h > H_MIN * dt:
                 h_try = 0.1 * h
                 continue
             return x, v, z, F, h_try, n, NONFINITE, vpk
-        # Error estimate of the embedded first-order solution, filtered through
-        # (I - gamma h J)^-1 so that stiff, quickly damped components (the bristle
-        # state while sliding) do not force needlessly small steps (Shampine).
-        e1 = 0.5 * h * (k1v + k2v)
-        e2 = 0.5 * h * (k1z + k2z)
-        ev = (e1 * a22 - a12 * e2) * idet
-        ez = (a11 * e2 - a21 * e1) * idet
-        e = abs(ev) / (tol_v + rtol * abs(vn))
-        q = abs(ez) / (atol_z + rtol * abs(zn))
-        if q > e:
-            e = q
-        # the filtered estimate can miss a whole-sample step that runs z past its bound
-        # (a near-singular I - gamma h J at breakaway, issue 13): the excess is an error too
-        q = _z_excess(zn, zlo, zhi, atol_z, rtol)
-        if q > e:
-            e = q
         if e > 1.0 and h <= H_MIN * dt:
             # step-size underflow: the tolerance cannot be met (e.g. a mass so small that
             # the velocity follows the force faster than 1e-7 dt); stop, do not accept
@@ -374,6 +393,210 @@ def lugre_force_ros2(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, ma
     return OK, u.size - 1, total
 
 
+@njit(inline="always")  # inlined (as a call it was a second compile: the sensitivity kernel's cold compile 3 s longer)
+def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, v_floor, zlo, zhi,
+          x, v, F, z):
+    """One spanning exponential step from sample ``k`` (state ``xs, vs_, zs``; module docstring).
+
+    Tries ``n_try`` samples (fewer after a failed estimate), writing the accepted samples into
+    ``x, v, F, z``. ``have``: ``pt`` holds :func:`_point` at the start (carried over from the
+    last accepted step). Returns ``(j, n_try, vpk, tries, pt, lin)``: ``j`` samples accepted
+    (0: the step cannot start -- a reversal inside the next sample, a linearisation too stiff
+    for the ``phi`` functions, or one sample that fails its estimate and :func:`_sharp_sample`
+    -- and an ROS2 interval covers sample ``k``), the next ``n_try``, the largest ``|v|`` so far,
+    the step attempts, ``pt`` at the new end (when ``j > 0``) and the step's linearisation
+    ``(side, E, phi1, phi2, phi3, b21, b22, w_v)`` that the sensitivity kernel propagates on.
+    The one step of both :func:`lugre_force` and ``sensitivity.lugre_force_sens`` (issue 11: it
+    held a copy), so their states are the same by construction.
+    """
+    im = 1.0 / m
+    dt2 = dt * dt
+    N = u.size
+    tries = 0
+    sd = vs_  # the side of |v| the step stays on
+    if sd == 0.0:
+        # at rest: the side the motion starts to (acceleration, else the input's trend)
+        ac = u[k] - _force(0.0, zs, p0, p1, d0, d1)[1]
+        if ac == 0.0:
+            ac = u[k + 1] - u[k]
+        sd = math.copysign(1e-300, ac) if ac != 0.0 else 0.0
+        have = False
+    z4 = (0.0, 0.0, 0.0, 0.0)
+    lin = (0.0, z4, z4, z4, z4, 0.0, 0.0, 0.0)
+    j = 0
+    if sd != 0.0:
+        if not have:
+            pt = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
+        zd0, F0, dzv, dzz, dFv, dFz = pt
+        s0, s1 = d0 if sd > 0.0 else d1
+        s2 = p0[R_S2] if sd > 0.0 else p1[R_S2]
+        # linearisation y' = B y + r + e_v u / m on (v, z); x' = v
+        b11 = -dFv * im
+        b12 = -dFz * im
+        b21 = dzv
+        b22 = dzz
+        if dt * (max(abs(b11), abs(b22)) + math.sqrt(abs(b12 * b21))) > EXP_NORM_MAX:
+            sd = 0.0  # too stiff for the phi functions: ROS2 interval (below)
+    if sd != 0.0:
+        E, P1, P2, P3, P4 = phis((b11 * dt, b12 * dt, b21 * dt, b22 * dt))
+        r0 = -F0 * im - (b11 * vs_ + b12 * zs)
+        r1 = zd0 - (b21 * vs_ + b22 * zs)
+        # one sample of the linearised model (input linear between samples)
+        Rv = dt * (P1[0] * r0 + P1[1] * r1)
+        Rz = dt * (P1[2] * r0 + P1[3] * r1)
+        Av = dt * P1[0] * im
+        Az = dt * P1[2] * im
+        Bv = dt * P2[0] * im
+        Bz = dt * P2[2] * im
+        Pxv = dt * P1[0]
+        Pxz = dt * P1[1]
+        Rx = dt2 * (P2[0] * r0 + P2[1] * r1)
+        Ax = dt2 * P2[0] * im
+        Bx = dt2 * P3[0] * im
+        # one sample of the correction, forced along w = (-sigma1 / m, 1) by the remainder
+        # polynomial c0 + c1 (s / dt) + c2 (s / dt)^2
+        wv = -s1 * im
+        W1v = dt * (P1[0] * wv + P1[1])
+        W1z = dt * (P1[2] * wv + P1[3])
+        W2v = dt * (P2[0] * wv + P2[1])
+        W2z = dt * (P2[2] * wv + P2[3])
+        W3v = 2.0 * dt * (P3[0] * wv + P3[1])
+        W3z = 2.0 * dt * (P3[2] * wv + P3[3])
+        X2 = dt2 * (P2[0] * wv + P2[1])
+        X3 = dt2 * (P3[0] * wv + P3[1])
+        X4 = 2.0 * dt2 * (P4[0] * wv + P4[1])
+        # linearised friction force F = cFv v + cFz z + cF0
+        cFv = s1 * b21 + s2
+        cFz = s0 + s1 * b22
+        cF0 = s1 * r1
+        tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+        while True:
+            n = min(n_try, N - 1 - k)
+            xa, va, za = xs, vs_, zs
+            vmax = vpk
+            flip = False
+            j = 0
+            acc = (u[k] - F0) * im  # linearised acceleration at the current sample
+            # pass 1: the linearised model, sample by sample, up to a reversal
+            while j < n:
+                uk = u[k + j]
+                du = u[k + j + 1] - uk
+                xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
+                vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
+                zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
+                if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
+                    flip = True
+                    break
+                # a reversal and back between two samples of one sign (a contact ringing
+                # at a few samples per period): |v| turns inside the interval and could
+                # dip through zero -- up to ~dt |a| / 4 below the nearer end for a parabola
+                acn = b11 * vn + b12 * zn + r0 + u[k + j + 1] * im
+                if acc * sd < 0.0 < acn * sd and min(abs(va), abs(vn)) < 0.25 * dt * (abs(acc) + abs(acn)):
+                    flip = True
+                    break
+                acc = acn
+                j += 1
+                x[k + j] = xn
+                v[k + j] = vn
+                z[k + j] = zn
+                xa, va, za = xn, vn, zn
+                if abs(vn) > vmax:
+                    vmax = abs(vn)
+            tries += 1
+            if j == 0:
+                break
+            # remainder of dz/dt along the linearised path, g(s) = ca (s/h) + cb (s/h)^2
+            ge = _force(va, za, p0, p1, d0, d1)[0] - (b21 * va + b22 * za + r1)
+            if j >= 2:
+                jm = j // 2
+                th = jm / j
+                vm = v[k + jm]
+                zm = z[k + jm]
+                gm = _force(vm, zm, p0, p1, d0, d1)[0] - (b21 * vm + b22 * zm + r1)
+                ca = (gm - th * th * ge) / (th - th * th)
+            else:
+                ca = 0.0
+            cb = ge - ca
+            # pass 2: add the correction d' = B d + g(s) w, d(0) = 0, sample by sample
+            ij = 1.0 / j
+            c2 = cb * ij * ij
+            ex = 0.0
+            ev = 0.0
+            ez = 0.0
+            ok = True
+            zmx = zs
+            zmn = zs
+            for i in range(j):
+                c0 = (ca + cb * i * ij) * i * ij
+                c1 = ca * ij + 2.0 * cb * i * ij * ij
+                nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
+                nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
+                nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
+                ex, ev, ez = nx, nv, nz
+                vv = v[k + i + 1] + ev
+                zz = z[k + i + 1] + ez
+                zmx = max(zmx, zz)
+                zmn = min(zmn, zz)
+                zz = min(max(zz, zlo), zhi)  # projected onto the invariant bounds (_z_bounds)
+                if vv * sd <= 0.0:
+                    ok = False  # the corrected path reverses: not this step
+                    break
+                x[k + i + 1] += ex
+                v[k + i + 1] = vv
+                z[k + i + 1] = zz
+                # linearised F plus sigma1 times the remainder of dz/dt there
+                th = (i + 1) * ij
+                F[k + i + 1] = cFv * vv + cFz * zz + cF0 + s1 * (ca + cb * th) * th
+            # the correction is the error of pass 1 (conservative for the corrected path)
+            e = abs(ev) / (tol_v + rtol * abs(va))
+            q = abs(ez) / (atol_z + rtol * abs(za))
+            if q > e:
+                e = q
+            # z outside its invariant bounds (from the step's start) is error too (issue 13)
+            q = max(_z_excess(zmx, zlo, zhi, atol_z, rtol), _z_excess(zmn, zlo, zhi, atol_z, rtol))
+            if q > e:
+                e = q
+            if not ok or not math.isfinite(e):
+                e = 1e10
+            sharp = False
+            if j == 1 and 1.0 < e < 1e10:
+                # a single sample that fails the conservative estimate: measure the error of
+                # the corrected sample itself before falling back to ROS2 (_sharp_sample)
+                es, gx, gv, gz = _sharp_sample(
+                    b11, b12, b21, b22, dt, vs_, zs, r0, r1, u[k] * im, (u[k + 1] - u[k]) / dt * im, ge,
+                    v[k + 1], z[k + 1], ev, ez, W2v, W3v, W2z, W3z, X3, X4, p0, p1, d0, d1, sd,
+                    tol_v + rtol * abs(va), atol_z + rtol * abs(za), q, zlo, zhi)
+                if es <= 1.0:
+                    e = es
+                    sharp = True
+                    x[k + 1] += gx
+                    v[k + 1] = gv
+                    z[k + 1] = gz
+            if e <= 1.0:
+                kn = k + j
+                # the next linearisation, at the corrected end (not to first order from the
+                # uncorrected one: dF/dz = sigma0 - sigma1 sigma0 |v| / g reaches -1e15 N/m
+                # for a level floored at G_FLOOR, so even a 1e-14 m correction would move F)
+                pt = _point(v[kn], z[kn], p0, p1, d0, d1)
+                F[kn] = pt[1]
+                if vmax > vpk:
+                    vpk = vmax
+                if flip or sharp:
+                    n_try = j  # after a sharp single sample: single samples until e <= 1 again
+                else:
+                    # local error O(h^3): growth 0.9 e^(-1/3) clipped to [0.2, 4]
+                    fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0
+                    n_try = max(1, min(SPAN_MAX, int(j * min(4.0, max(0.2, fac)))))
+                break
+            if j == 1:
+                j = 0
+                break
+            fac = 0.9 / e ** (1.0 / 3.0)
+            n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
+        lin = (sd, E, P1, P2, P3, b21, b22, wv)
+    return j, n_try, vpk, tries, pt, lin
+
+
 @njit
 def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub, x, v, F, z, v_floor=1.0):
     """Force-driven run over all samples; fills ``x, v, F, z``. Returns ``(status, k, substeps)``.
@@ -389,8 +612,6 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
     p1 = _flat(static_row(static, 1))
     d0 = (dyn[0, 0], dyn[0, 1])
     d1 = (dyn[1, 0], dyn[1, 1])
-    im = 1.0 / m
-    dt2 = dt * dt
     N = u.size
     xs, vs_, zs = x0, v0, z0
     x[0] = xs
@@ -402,193 +623,19 @@ def lugre_force(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, max_sub
     zlo, zhi = _z_bounds(p0, p1, d0, d1, z0)
     k = 0
     n_try = 1
-    have = False  # derivatives at (vs_, zs) carried over from the last accepted step
-    zd0 = F0 = dzv = dzz = dFv = dFz = 0.0
+    have = False  # pt: _point at (vs_, zs) carried over from the last accepted step
+    pt = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     h_ros = dt  # ROS2 sub-step carried over consecutive ROS2 intervals
     while k < N - 1:
-        sd = vs_  # the side of |v| the step stays on
-        if sd == 0.0:
-            # at rest: the side the motion starts to (acceleration, else the input's trend)
-            ac = u[k] - _force(0.0, zs, p0, p1, d0, d1)[1]
-            if ac == 0.0:
-                ac = u[k + 1] - u[k]
-            sd = math.copysign(1e-300, ac) if ac != 0.0 else 0.0
-            have = False
-        j = 0
-        if sd != 0.0:
-            if not have:
-                zd0, F0, dzv, dzz, dFv, dFz = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
-            have = False
-            s0, s1 = d0 if sd > 0.0 else d1
-            s2 = p0[R_S2] if sd > 0.0 else p1[R_S2]
-            # linearisation y' = B y + r + e_v u / m on (v, z); x' = v
-            b11 = -dFv * im
-            b12 = -dFz * im
-            b21 = dzv
-            b22 = dzz
-            if dt * (max(abs(b11), abs(b22)) + math.sqrt(abs(b12 * b21))) > EXP_NORM_MAX:
-                sd = 0.0  # too stiff for the phi functions: ROS2 interval (below)
-        if sd != 0.0:
-            E, P1, P2, P3, P4 = phis((b11 * dt, b12 * dt, b21 * dt, b22 * dt))
-            r0 = -F0 * im - (b11 * vs_ + b12 * zs)
-            r1 = zd0 - (b21 * vs_ + b22 * zs)
-            # one sample of the linearised model (input linear between samples)
-            Rv = dt * (P1[0] * r0 + P1[1] * r1)
-            Rz = dt * (P1[2] * r0 + P1[3] * r1)
-            Av = dt * P1[0] * im
-            Az = dt * P1[2] * im
-            Bv = dt * P2[0] * im
-            Bz = dt * P2[2] * im
-            Pxv = dt * P1[0]
-            Pxz = dt * P1[1]
-            Rx = dt2 * (P2[0] * r0 + P2[1] * r1)
-            Ax = dt2 * P2[0] * im
-            Bx = dt2 * P3[0] * im
-            # one sample of the correction, forced along w = (-sigma1 / m, 1) by the remainder
-            # polynomial c0 + c1 (s / dt) + c2 (s / dt)^2
-            wv = -s1 * im
-            W1v = dt * (P1[0] * wv + P1[1])
-            W1z = dt * (P1[2] * wv + P1[3])
-            W2v = dt * (P2[0] * wv + P2[1])
-            W2z = dt * (P2[2] * wv + P2[3])
-            W3v = 2.0 * dt * (P3[0] * wv + P3[1])
-            W3z = 2.0 * dt * (P3[2] * wv + P3[3])
-            X2 = dt2 * (P2[0] * wv + P2[1])
-            X3 = dt2 * (P3[0] * wv + P3[1])
-            X4 = 2.0 * dt2 * (P4[0] * wv + P4[1])
-            # linearised friction force F = cFv v + cFz z + cF0
-            cFv = s1 * b21 + s2
-            cFz = s0 + s1 * b22
-            cF0 = s1 * r1
-            tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
-            while True:
-                n = min(n_try, N - 1 - k)
-                xa, va, za = xs, vs_, zs
-                vmax = vpk
-                flip = False
-                j = 0
-                acc = (u[k] - F0) * im  # linearised acceleration at the current sample
-                # pass 1: the linearised model, sample by sample, up to a reversal
-                while j < n:
-                    uk = u[k + j]
-                    du = u[k + j + 1] - uk
-                    xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
-                    vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
-                    zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
-                    if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
-                        flip = True
-                        break
-                    # a reversal and back between two samples of one sign (a contact ringing
-                    # at a few samples per period): |v| turns inside the interval and could
-                    # dip through zero -- up to ~dt |a| / 4 below the nearer end for a parabola
-                    acn = b11 * vn + b12 * zn + r0 + u[k + j + 1] * im
-                    if acc * sd < 0.0 < acn * sd and min(abs(va), abs(vn)) < 0.25 * dt * (abs(acc) + abs(acn)):
-                        flip = True
-                        break
-                    acc = acn
-                    j += 1
-                    x[k + j] = xn
-                    v[k + j] = vn
-                    z[k + j] = zn
-                    xa, va, za = xn, vn, zn
-                    if abs(vn) > vmax:
-                        vmax = abs(vn)
-                total += 1
-                if j == 0:
-                    break
-                # remainder of dz/dt along the linearised path, g(s) = ca (s/h) + cb (s/h)^2
-                ge = _force(va, za, p0, p1, d0, d1)[0] - (b21 * va + b22 * za + r1)
-                if j >= 2:
-                    jm = j // 2
-                    th = jm / j
-                    vm = v[k + jm]
-                    zm = z[k + jm]
-                    gm = _force(vm, zm, p0, p1, d0, d1)[0] - (b21 * vm + b22 * zm + r1)
-                    ca = (gm - th * th * ge) / (th - th * th)
-                else:
-                    ca = 0.0
-                cb = ge - ca
-                # pass 2: add the correction d' = B d + g(s) w, d(0) = 0, sample by sample
-                ij = 1.0 / j
-                c2 = cb * ij * ij
-                ex = 0.0
-                ev = 0.0
-                ez = 0.0
-                ok = True
-                zmx = zs
-                zmn = zs
-                for i in range(j):
-                    c0 = (ca + cb * i * ij) * i * ij
-                    c1 = ca * ij + 2.0 * cb * i * ij * ij
-                    nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
-                    nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
-                    nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
-                    ex, ev, ez = nx, nv, nz
-                    vv = v[k + i + 1] + ev
-                    zz = z[k + i + 1] + ez
-                    zmx = max(zmx, zz)
-                    zmn = min(zmn, zz)
-                    zz = min(max(zz, zlo), zhi)  # projected onto the invariant bounds (_z_bounds)
-                    if vv * sd <= 0.0:
-                        ok = False  # the corrected path reverses: not this step
-                        break
-                    x[k + i + 1] += ex
-                    v[k + i + 1] = vv
-                    z[k + i + 1] = zz
-                    # linearised F plus sigma1 times the remainder of dz/dt there
-                    th = (i + 1) * ij
-                    F[k + i + 1] = cFv * vv + cFz * zz + cF0 + s1 * (ca + cb * th) * th
-                # the correction is the error of pass 1 (conservative for the corrected path)
-                e = abs(ev) / (tol_v + rtol * abs(va))
-                q = abs(ez) / (atol_z + rtol * abs(za))
-                if q > e:
-                    e = q
-                # z outside its invariant bounds (from the step's start) is error too (issue 13)
-                q = max(_z_excess(zmx, zlo, zhi, atol_z, rtol), _z_excess(zmn, zlo, zhi, atol_z, rtol))
-                if q > e:
-                    e = q
-                if not ok or not math.isfinite(e):
-                    e = 1e10
-                sharp = False
-                if j == 1 and 1.0 < e < 1e10:
-                    # a single sample that fails the conservative estimate: measure the error of
-                    # the corrected sample itself before falling back to ROS2 (_sharp_sample)
-                    es, gx, gv, gz = _sharp_sample(
-                        b11, b12, b21, b22, dt, vs_, zs, r0, r1, u[k] * im, (u[k + 1] - u[k]) / dt * im, ge,
-                        v[k + 1], z[k + 1], ev, ez, W2v, W3v, W2z, W3z, X3, X4, p0, p1, d0, d1, sd,
-                        tol_v + rtol * abs(va), atol_z + rtol * abs(za), q, zlo, zhi)
-                    if es <= 1.0:
-                        e = es
-                        sharp = True
-                        x[k + 1] += gx
-                        v[k + 1] = gv
-                        z[k + 1] = gz
-                if e <= 1.0:
-                    k += j
-                    xs = x[k]
-                    vs_ = v[k]
-                    zs = z[k]
-                    # the next linearisation, at the corrected end (not to first order from the
-                    # uncorrected one: dF/dz = sigma0 - sigma1 sigma0 |v| / g reaches -1e15 N/m
-                    # for a level floored at G_FLOOR, so even a 1e-14 m correction would move F)
-                    zd0, F0, dzv, dzz, dFv, dFz = _point(vs_, zs, p0, p1, d0, d1)
-                    have = True
-                    F[k] = F0
-                    if vmax > vpk:
-                        vpk = vmax
-                    if flip or sharp:
-                        n_try = j  # after a sharp single sample: single samples until e <= 1 again
-                    else:
-                        # local error O(h^3): growth 0.9 e^(-1/3) clipped to [0.2, 4]
-                        fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0
-                        n_try = max(1, min(SPAN_MAX, int(j * min(4.0, max(0.2, fac)))))
-                    break
-                if j == 1:
-                    j = 0
-                    break
-                fac = 0.9 / e ** (1.0 / 3.0)
-                n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
+        j, n_try, vpk, tries, pt, _ = _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol,
+                                            atol_v, atol_z, v_floor, zlo, zhi, x, v, F, z)
+        total += tries
+        have = j > 0
         if j > 0:
+            k += j
+            xs = x[k]
+            vs_ = v[k]
+            zs = z[k]
             h_ros = dt
             continue
         # one ROS2 interval: a reversal inside the next sample, or one sample too nonlinear

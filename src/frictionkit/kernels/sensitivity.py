@@ -26,11 +26,11 @@ Force-driven (``lugre_force_sens``)
 -----------------------------------
 State ``y = (v, z)`` (and ``x``), ``v' = (u(t) - F - offset) / m``, ``z' = v - a z``, the input
 linear between samples. The sensitivities ``S = dy/dtheta`` obey ``S' = J(y(t)) S + f_theta(y(t))``.
-The state is integrated with the very steps of :func:`.lugre.lugre_force` (the same spanning
-exponential steps, the same ROS2 intervals at reversals, the same tolerances: the trajectory is
-that of :func:`frictionkit.simulate`; the step logic is a copy of ``lugre_force``'s, to be kept in
-step with it — tests/kernels/test_sensitivity.py compares the two trajectories), and the
-sensitivities ride on every accepted step:
+The state is integrated with the very steps of :func:`.lugre.lugre_force`: both call the one
+spanning step :func:`.lugre._span` and, in the ROS2 intervals at reversals, the one sub-step
+:func:`.lugre._ros2_sub` (with its invariant bounds of ``z``), at the same tolerances, so the
+trajectory is that of :func:`frictionkit.simulate` (tests/kernels/test_sensitivity.py compares the
+two; issue 11: this kernel held a copy of the step). The sensitivities ride on every accepted step:
 
 * spanning step (linearisation ``B = J(y_k)`` on one side of ``|v|``): the only nonlinearity
   is ``dz/dt``, so along the step ``J(y(t)) = B + w c(t)^T`` exactly, with ``w = (-sigma1/m, 1)``
@@ -71,8 +71,8 @@ import numpy as np
 from .._jit import njit
 from ._phi2 import phis
 from ._stribeck import row as static_row
-from .lugre import BUDGET, E_GROW, EXP_NORM_MAX, GAMMA, H_MIN, NONFINITE, OK, SPAN_MAX, TOLERANCE
-from .lugre import _atol_run, _flat, _force, _point, _sharp_sample, _z_bounds, _z_excess
+from .lugre import BUDGET, E_GROW, H_MIN, NONFINITE, OK, TOLERANCE
+from .lugre import _atol_run, _flat, _force, _point, _ros2_sub, _span, _z_bounds
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
@@ -195,7 +195,7 @@ def _ftheta(coef, j, row, dmj, doffj, v, z, av, im, fv, zd, ig, Fc, Fs, s0, s1, 
 
 
 @njit(error_model="numpy")  # a call, not inlined: reached only at reversals and where a step cannot start
-def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor,
+def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub, vpk, v_floor, zlo, zhi,
                static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz):
     """One sample interval by adaptive ROS2 sub-steps (the scheme of ``lugre._interval``), the
     sensitivities ``sx, sv, sz`` (updated in place) riding on every accepted sub-step as a
@@ -213,41 +213,14 @@ def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol
         rem = dt - t
         if h >= rem or rem - h < 1e-9 * dt:
             h = rem
-        gh = GAMMA * h
-        a11 = 1.0 + gh * dFv * im
-        a12 = gh * dFz * im
-        a21 = -gh * dzv
-        a22 = 1.0 - gh * dzz
-        idet = 1.0 / (a11 * a22 - a12 * a21)
-        b1 = (w - F + gh * du) * im
-        k1v = (b1 * a22 - a12 * zd) * idet
-        k1z = (a11 * zd - a21 * b1) * idet
-        k1x = v + gh * k1v
-        v2 = v + h * k1v
-        z2 = z + h * k1z
-        zd2, F2 = _force(v2, z2, p0, p1, d0, d1)
-        r_z = zd2 - 2.0 * k1z
-        b1 = (w + h * du - F2 - gh * du) * im - 2.0 * k1v
-        k2v = (b1 * a22 - a12 * r_z) * idet
-        k2z = (a11 * r_z - a21 * b1) * idet
-        k2x = v2 - 2.0 * k1x + gh * k2v
-        xn = x + h * (1.5 * k1x + 0.5 * k2x)
-        vn = v + h * (1.5 * k1v + 0.5 * k2v)
-        zn = z + h * (1.5 * k1z + 0.5 * k2z)
+        fin, xn, vn, zn, e, v2, z2, gh, a11, a12, a21, a22, idet = _ros2_sub(
+            x, v, z, h, w, du, im, zd, F, dzv, dzz, dFv, dFz, p0, p1, d0, d1, tol_v, rtol, atol_z, zlo, zhi)
         n += 1
-        if not math.isfinite(xn + vn + zn):
+        if not fin:
             if h > H_MIN * dt:
                 h_try = 0.1 * h
                 continue
             return x, v, z, h_try, n, NONFINITE, vpk
-        e1 = 0.5 * h * (k1v + k2v)
-        e2 = 0.5 * h * (k1z + k2z)
-        ev = (e1 * a22 - a12 * e2) * idet
-        ez = (a11 * e2 - a21 * e1) * idet
-        e = abs(ev) / (tol_v + rtol * abs(vn))
-        q = abs(ez) / (atol_z + rtol * abs(zn))
-        if q > e:
-            e = q
         if e > 1.0 and h <= H_MIN * dt:
             return x, v, z, h_try, n, TOLERANCE, vpk
         if e <= 1.0:
@@ -283,7 +256,7 @@ def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol
                 sz[j] += h * (1.5 * q1z + 0.5 * q2z)
             x = xn
             v = vn
-            z = zn
+            z = min(max(zn, zlo), zhi)  # projected onto the invariant bounds (lugre._z_bounds)
             t += h
             w = u0 + du * t
             if abs(v) > vpk:
@@ -341,173 +314,27 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
     k = 0
     n_try = 1
     have = False
-    zd0 = F0 = dzv = dzz = dFv = dFz = 0.0
+    pt = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    F = np.empty(N)  # the friction force of the shared step (the fits take theirs from simulate)
     h_ros = dt
     while k < N - 1:
-        sd = vs_
-        if sd == 0.0:
-            ac = u[k] - _force(0.0, zs, p0, p1, d0, d1)[1]
-            if ac == 0.0:
-                ac = u[k + 1] - u[k]
-            sd = math.copysign(1e-300, ac) if ac != 0.0 else 0.0
-            have = False
-        j = 0
-        if sd != 0.0:
-            if not have:
-                zd0, F0, dzv, dzz, dFv, dFz = _point(sd if vs_ == 0.0 else vs_, zs, p0, p1, d0, d1)
-            have = False
-            s0, s1 = d0 if sd > 0.0 else d1
-            b11 = -dFv * im
-            b12 = -dFz * im
-            b21 = dzv
-            b22 = dzz
-            if dt * (max(abs(b11), abs(b22)) + math.sqrt(abs(b12 * b21))) > EXP_NORM_MAX:
-                sd = 0.0
-        if sd != 0.0:
-            E, P1, P2, P3, P4 = phis((b11 * dt, b12 * dt, b21 * dt, b22 * dt))
-            r0 = -F0 * im - (b11 * vs_ + b12 * zs)
-            r1 = zd0 - (b21 * vs_ + b22 * zs)
-            Rv = dt * (P1[0] * r0 + P1[1] * r1)
-            Rz = dt * (P1[2] * r0 + P1[3] * r1)
-            Av = dt * P1[0] * im
-            Az = dt * P1[2] * im
-            Bv = dt * P2[0] * im
-            Bz = dt * P2[2] * im
-            Pxv = dt * P1[0]
-            Pxz = dt * P1[1]
-            Rx = dt2 * (P2[0] * r0 + P2[1] * r1)
-            Ax = dt2 * P2[0] * im
-            Bx = dt2 * P3[0] * im
-            wv = -s1 * im
-            W1v = dt * (P1[0] * wv + P1[1])
-            W1z = dt * (P1[2] * wv + P1[3])
-            W2v = dt * (P2[0] * wv + P2[1])
-            W2z = dt * (P2[2] * wv + P2[3])
-            W3v = 2.0 * dt * (P3[0] * wv + P3[1])
-            W3z = 2.0 * dt * (P3[2] * wv + P3[3])
-            X2 = dt2 * (P2[0] * wv + P2[1])
-            X3 = dt2 * (P3[0] * wv + P3[1])
-            X4 = 2.0 * dt2 * (P4[0] * wv + P4[1])
-            tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
-            while True:
-                n = min(n_try, N - 1 - k)
-                xa, va, za = xs, vs_, zs
-                vmax = vpk
-                flip = False
-                j = 0
-                acc = (u[k] - F0) * im
-                while j < n:
-                    uk = u[k + j]
-                    du = u[k + j + 1] - uk
-                    xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
-                    vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
-                    zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
-                    if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
-                        flip = True
-                        break
-                    acn = b11 * vn + b12 * zn + r0 + u[k + j + 1] * im
-                    if acc * sd < 0.0 < acn * sd and min(abs(va), abs(vn)) < 0.25 * dt * (abs(acc) + abs(acn)):
-                        flip = True
-                        break
-                    acc = acn
-                    j += 1
-                    x[k + j] = xn
-                    v[k + j] = vn
-                    z[k + j] = zn
-                    xa, va, za = xn, vn, zn
-                    if abs(vn) > vmax:
-                        vmax = abs(vn)
-                total += 1
-                if j == 0:
-                    break
-                ge = _force(va, za, p0, p1, d0, d1)[0] - (b21 * va + b22 * za + r1)
-                if j >= 2:
-                    jm = j // 2
-                    th = jm / j
-                    vm = v[k + jm]
-                    zm = z[k + jm]
-                    gm = _force(vm, zm, p0, p1, d0, d1)[0] - (b21 * vm + b22 * zm + r1)
-                    ca = (gm - th * th * ge) / (th - th * th)
-                else:
-                    ca = 0.0
-                cb = ge - ca
-                ij = 1.0 / j
-                c2 = cb * ij * ij
-                ex = 0.0
-                ev = 0.0
-                ez = 0.0
-                ok = True
-                zmx = zs
-                zmn = zs
-                for i in range(j):
-                    c0 = (ca + cb * i * ij) * i * ij
-                    c1 = ca * ij + 2.0 * cb * i * ij * ij
-                    nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
-                    nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
-                    nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
-                    ex, ev, ez = nx, nv, nz
-                    vv = v[k + i + 1] + ev
-                    zz = z[k + i + 1] + ez
-                    zmx = max(zmx, zz)
-                    zmn = min(zmn, zz)
-                    zz = min(max(zz, zlo), zhi)  # as lugre_force: the invariant bounds of z (issue 13)
-                    if vv * sd <= 0.0:
-                        ok = False
-                        break
-                    x[k + i + 1] += ex
-                    v[k + i + 1] = vv
-                    z[k + i + 1] = zz
-                e = abs(ev) / (tol_v + rtol * abs(va))
-                q = abs(ez) / (atol_z + rtol * abs(za))
-                if q > e:
-                    e = q
-                q = max(_z_excess(zmx, zlo, zhi, atol_z, rtol), _z_excess(zmn, zlo, zhi, atol_z, rtol))
-                if q > e:
-                    e = q
-                if not ok or not math.isfinite(e):
-                    e = 1e10
-                sharp = False
-                if j == 1 and 1.0 < e < 1e10:
-                    # as lugre_force: the corrected single sample's own error (_sharp_sample); its
-                    # two-node update enters the state, the sensitivities keep the end-only fit's
-                    es, gx, gv, gz = _sharp_sample(
-                        b11, b12, b21, b22, dt, vs_, zs, r0, r1, u[k] * im, (u[k + 1] - u[k]) / dt * im, ge,
-                        v[k + 1], z[k + 1], ev, ez, W2v, W3v, W2z, W3z, X3, X4, p0, p1, d0, d1, sd,
-                        tol_v + rtol * abs(va), atol_z + rtol * abs(za), q, zlo, zhi)
-                    if es <= 1.0:
-                        e = es
-                        sharp = True
-                        x[k + 1] += gx
-                        v[k + 1] = gv
-                        z[k + 1] = gz
-                if e <= 1.0:
-                    _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, Ki, Kv, AB, want_delta, want_x,
-                               E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv)
-                    k += j
-                    xs = x[k]
-                    vs_ = v[k]
-                    zs = z[k]
-                    zd0, F0, dzv, dzz, dFv, dFz = _point(vs_, zs, p0, p1, d0, d1)
-                    have = True
-                    if vmax > vpk:
-                        vpk = vmax
-                    if flip or sharp:
-                        n_try = j
-                    else:
-                        fac = 0.9 / e ** (1.0 / 3.0) if e > 1e-4 else 4.0
-                        n_try = max(1, min(SPAN_MAX, int(j * min(4.0, max(0.2, fac)))))
-                    break
-                if j == 1:
-                    j = 0
-                    break
-                fac = 0.9 / e ** (1.0 / 3.0)
-                n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
+        j, n_try, vpk, tries, pt, lin = _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol,
+                                              atol_v, atol_z, v_floor, zlo, zhi, x, v, F, z)
+        total += tries
+        have = j > 0
         if j > 0:
+            sd, E, P1, P2, P3, b21, b22, wv = lin
+            _span_sens(k, j, sd, vs_, zs, u, dt, dt2, im, static, dyn, K, Ki, Kv, AB, want_delta, want_x,
+                       E, P1, P2, P3, b21, b22, wv, v, z, sx, sv, sz, qv, qz, Sx, Sv)
+            k += j
+            xs = x[k]
+            vs_ = v[k]
+            zs = z[k]
             h_ros = dt
             continue
         xs, vs_, zs, h_ros, nn, st, vpk = _ros2_sens(
             xs, vs_, zs, min(h_ros, dt), u[k], u[k + 1], dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, max_sub,
-            vpk, v_floor, static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz)
+            vpk, v_floor, zlo, zhi, static, dyn, coef, dm, doff, want_delta, want_x, sx, sv, sz)
         have = False
         total += nn
         k += 1

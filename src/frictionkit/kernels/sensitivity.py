@@ -69,10 +69,9 @@ import math
 import numpy as np
 
 from .._jit import njit
-from ._phi2 import phis
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, H_MIN, NONFINITE, OK, TOLERANCE
-from .lugre import _atol_run, _flat, _force, _point, _ros2_sub, _span, _z_bounds
+from .lugre import _atol_run, _flat, _point, _ros2_sub, _span, _z_bounds
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6

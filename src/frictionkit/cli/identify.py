@@ -307,7 +307,9 @@ def output_error(
     no_profile: bool = typer.Option(False, "--no-profile", help="Motion drive: skip the likelihood profiles "
                                     "(intervals then from the log-scale Jacobian only)."),
     jacobian: str = typer.Option("auto", "--jacobian", help="auto: exact Jacobians from forward sensitivities "
-                                 "where the law has them (LuGre, Dahl; GMS with --drive motion); fd: forward differences."),
+                                 "where the law has them (LuGre, Dahl; GMS with --drive motion); fd: forward "
+                                 "differences; sensitivity: also GMS with --drive force (sensitivities along the "
+                                 "simulated trajectory; opt-in: ~2x the CPU of differences, no better fits)."),
     validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
                                             "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
@@ -347,7 +349,7 @@ def output_error(
     if C is not None:
         C = chk.positive(C, "--C")
     chk.choice(rests, "--rests", ("auto", "none"))
-    chk.choice(jacobian, "--jacobian", ("auto", "fd"))
+    chk.choice(jacobian, "--jacobian", ("auto", "fd", "sensitivity"))
     chk.choice(velocity_integration, "--velocity-integration", ("held", "trapezoidal"))
     min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS)

@@ -9,8 +9,12 @@ position compared) and :mod:`.motion_error` (motion-driven, force compared) for 
 family (LuGre, Dahl, a ``Directional`` of them), and GMS in the motion drive
 (:func:`gms_motion_driven`, :mod:`frictionkit.kernels.sensitivity_gms`, its static fields too;
 ``benchmarks/identify.py``, 50,001 samples, k1..k3 and C free: 0.26 s CPU vs 0.42 s with
-differences, final cost 25.7951 vs 25.8010); GMS in the force drive keeps the finite differences
-(its kernel's spans, located switches and oscillator sub-steps have no sensitivity kernel yet).
+differences, final cost 25.7951 vs 25.8010). GMS in the force drive keeps the finite differences
+by default; ``jacobian="sensitivity"`` takes :func:`gms_force_driven` (sensitivities along the
+simulated trajectory, not of the kernel's discrete map: measured within 1e-4 ... 5e-3 of central
+differences, but ~2x the CPU of differences per Jacobian, and fits that end no better — the
+stick/slip switches make the cost piecewise smooth, where a difference over the jumps guides trf
+better than the local derivative).
 
 How a fitted parameter reaches the kernel: the kernels read packed rows
 (``frictionkit.models.pack``). The derivative of those rows with respect to each parameter is
@@ -132,6 +136,10 @@ def force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, options:
     to 1e79 over 1,000 samples, the velocity within 2e-7 m/s; the fit from a poor start stepped there
     and stopped at sigma0 = 7.4e7). The caller then uses plain simulations (differences).
     """
+    if cache is not None and cache.get("kind") is None:
+        cache["kind"] = kind_of(build(np.asarray(theta, float))[0])
+    if (cache["kind"] if cache is not None else kind_of(build(np.asarray(theta, float))[0])) == "gms":
+        return gms_force_driven(build, theta, u, dt, options, segments, compare, cache, spare=spare, S_out=S_out)
     static, dyn, m, off, coef, dm, doff = row_coefficients(build, theta, cache)
     F_scale = _f_scale(static)
     sigma0 = float(dyn[:, 0].max())
@@ -214,6 +222,108 @@ def gms_motion_driven(build: Callable, theta: np.ndarray, x: np.ndarray, dt: flo
     S = np.empty((x.size, theta.size))
     st = _kg.gms_motion_sens(x, float(dt), pk.static, pk.k, pk.xi, pk.C, *coef, F, S)
     return F, S, int(st)
+
+
+def _gms_coefficients(build: Callable, theta: np.ndarray, cache: dict | None):
+    """``(law, m, off, packed, (dk, dxi, dC, dst), dm, doff)``: the packed GMS rows at ``theta`` and
+    their derivatives by differencing the packing (exact for the linear packings; cached when
+    integral), or None when a parameter moves the Stribeck shape."""
+    from ..models.pack import pack_gms
+
+    theta = np.asarray(theta, float)
+    law, m, off = build(theta)
+    pk = pack_gms(law)
+    if cache is not None and "gms_force" in cache:
+        return law, float(m), float(off), pk, *cache["gms_force"]
+    p = theta.size
+    dk = np.zeros((p,) + pk.k.shape)
+    dxi = np.zeros((p,) + pk.xi.shape)
+    dC = np.zeros((p,) + pk.C.shape)
+    dst = np.zeros((p, 2, 5))
+    dm = np.zeros(p)
+    doff = np.zeros(p)
+    for j in range(p):
+        h = 1e-6 * abs(theta[j]) if theta[j] != 0.0 else 1e-6
+        q = theta.copy()
+        q[j] += h
+        try:
+            lj, mj, oj = build(q)
+        except ParameterError:
+            q[j] = theta[j] - h
+            lj, mj, oj = build(q)
+        pj = pack_gms(lj)
+        step = q[j] - theta[j]
+        if not np.array_equal(pj.static[:, 5], pk.static[:, 5]):
+            return None
+        dk[j], dxi[j], dC[j] = ((pj.k - pk.k) / step, (pj.xi - pk.xi) / step, (pj.C - pk.C) / step)
+        dst[j] = (pj.static[:, :5] - pk.static[:, :5]) / step
+        dm[j] = (float(mj) - float(m)) / step
+        doff[j] = (float(oj) - float(off)) / step
+    coef = tuple(_snap(a.ravel()).reshape(a.shape) for a in (dk, dxi, dC, dst))
+    dmo = tuple(_snap(a) for a in (dm, doff))
+    if cache is not None and all(np.array_equal(a, np.round(a)) for a in coef + dmo):
+        cache["gms_force"] = (coef, *dmo)
+    return law, float(m), float(off), pk, coef, *dmo
+
+
+#: Sub-steps per sample of :func:`gms_force_driven`'s sensitivity sweep: enough that the stiffest
+#: sticking contact turns by at most ``GMS_SENS_OMEGA_H`` radians per sub-step (its load, taken
+#: affine per sub-step from a cubic Hermite of the trajectory, is then within ~(omega h)^2 / 8).
+GMS_SENS_OMEGA_H = 0.2
+
+
+def gms_force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, options: SimOptions, segments,
+                     compare: str = "v", cache: dict | None = None, spare: int = 0, S_out: np.ndarray | None = None):
+    """Simulated ``x`` or ``v`` of the force-driven GMS (:func:`frictionkit.simulate`, each segment from
+    rest) and its sensitivities ``N x p``: ``(y, S, status)``.
+
+    The signal is ``simulate``'s own (its accuracy check included); the sensitivities come from one
+    sweep along that recorded trajectory (:func:`frictionkit.kernels.sensitivity_gms.gms_force_sens`):
+    second order between switches, each switch the record shows located on the interpolated
+    trajectory and its saltation applied there. They are the derivatives of the continuous model along
+    the simulated trajectory, not of the kernel's discrete map (its spans and located switches are not
+    differentiated): measured within 1e-4 ... 5e-3 of central differences of simulations at rtol 1e-9
+    in stick-slip, the differences themselves scattering by as much for the stiffnesses
+    (tests/kernels/test_sensitivity_gms.py). ``spare``/``S_out`` as :func:`force_driven`. ``status``
+    as :func:`force_driven`.
+    """
+    from ..kernels import sensitivity_gms as _kg
+    from ..plants.mass import Mass
+    from ..simulation.core import simulate
+
+    out = _gms_coefficients(build, theta, cache)
+    if out is None:
+        return None, None, UNRESOLVED
+    law, m, off, pk, (dk, dxi, dC, dst), dm, doff = out
+    dts = [float(dt)] * len(segments) if np.ndim(dt) == 0 else [float(h) for h in dt]
+    K = float(pk.k.sum(axis=1).max())
+    c = float(pk.static[:, 4].max())
+    if max(math.sqrt(K / m), c / m) * max(dts) > FAST_LIMIT:
+        return None, None, UNRESOLVED
+    N, P = u.size, np.asarray(theta).size
+    y = np.empty(N)
+    if S_out is not None:
+        Sx = Sv = S_out  # the first P columns are written
+    else:
+        Sx = np.empty((N, P + spare))
+        Sv = Sx
+    for (a, b), h in zip(segments, dts):
+        ue = np.ascontiguousarray(u[a:b] - off, dtype=float)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = simulate(law, plant=Mass(m), force=ue, dt=h, options=options)
+        if res.status != 0:
+            return None, None, int(res.status)
+        Fel = np.ascontiguousarray(res.states["F_elements"], dtype=float)
+        stick = np.ascontiguousarray(res.states["stick"], dtype=np.bool_)
+        nsub = max(1, int(math.ceil(math.sqrt(K / m) * h / GMS_SENS_OMEGA_H)))
+        sx = np.empty((b - a, P))
+        sv = np.empty((b - a, P))
+        _kg.gms_force_sens(ue, h, m, pk.static, pk.k, pk.xi, pk.C, np.ascontiguousarray(res.x),
+                           np.ascontiguousarray(res.v), Fel, stick, dk, dxi, dC, dst, dm, doff, nsub, sx, sv)
+        Sx[a:b, :P] = sx if compare == "x" else sv
+        y[a:b] = res.x if compare == "x" else res.v
+    return y, Sx, 0
 
 
 def reduce_lsq(A: np.ndarray, col_scale: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray] | None:

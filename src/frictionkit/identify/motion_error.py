@@ -461,7 +461,7 @@ def fit_motion_error(
     theta0 = np.array([max(th, floors.get(n, th)) if n not in (bounds or {}) else th
                        for n, th in zip(names, theta0)])  # starts below a floor move up to it
     prob = _Problem(tmpl, names, md, {"J": inertia, "offset": offset}, theta0, F_scale)
-    prob.exact = cfg.jacobian == "auto"  # where the law has sensitivity kernels (else differences)
+    prob.exact = cfg.jacobian in ("auto", "sensitivity")  # where the law has sensitivity kernels (else differences)
     p0 = prob.to_tr(theta0)
     lo, hi = _bounds(prob, p0, bounds, floors)
     if np.any(p0 < lo) or np.any(p0 > hi):

@@ -358,7 +358,9 @@ def fit_output_error(
     prob.dts = [s["dt"] for s in segs]
     prob.diff_step = cfg.diff_step
     prob.progress = progress
-    prob.exact = cfg.jacobian == "auto" and tmpl.kind in ("lugre", "dahl")  # forward sensitivities (kernels.sensitivity)
+    # forward sensitivities (kernels.sensitivity; GMS: kernels.sensitivity_gms along the simulated trajectory)
+    prob.exact = (cfg.jacobian in ("auto", "sensitivity") and tmpl.kind in ("lugre", "dahl")
+                  or cfg.jacobian == "sensitivity" and tmpl.kind == "gms")
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):
@@ -384,7 +386,9 @@ def fit_output_error(
                                "initial": start_from,
                                "free": list(names),
                                "optimiser": "scipy.optimize.least_squares trf"
-                                            + (", exact Jacobian (forward sensitivities)" if prob.exact else
+                                            + ((", exact Jacobian (forward sensitivities)" if tmpl.kind != "gms" else
+                                                ", Jacobian from forward sensitivities along the simulated "
+                                                "trajectory") if prob.exact else
                                                ", forward-difference Jacobian (threaded nogil simulations)"),
                                "starts": int(cfg.starts), "refine": refine, "seed": int(cfg.seed),
                                "rtol": options.rtol, "atol_v": options.atol_v, "atol_F": options.atol_F}})

@@ -561,6 +561,7 @@ def _drive(
             xi_n = E12 * v + q1 * f0 + q2 * f1
             vn = E22 * v + r1 * f0 + r2 * f1
             e = 0.0
+            g_n = -1.0  # g at the trial end, when the slip update needs it
             if any_slip:
                 v_prev = vn
                 for sweep in range(2):
@@ -667,7 +668,7 @@ def _drive(
                 if theta > 1.0 and (any_slip or directional):
                     theta = th_r
             rown, pn, _ = _side(vn, p0, p1, C0, C1)
-            gn = g_row(pn, abs(vn))
+            gn = g_n if g_n >= 0.0 else g_row(pn, abs(vn))
             svn = _sgn(vn)
             if reversed_ and theta > 1.0 and vn != 0.0:
                 # A breakaway in the new direction after a reversal inside this step would

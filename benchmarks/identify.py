@@ -307,6 +307,37 @@ def _motion(repeats: int) -> None:
               f"{(out['auto'].rms / out['fd'].rms) ** 2:.9f} (exact / differences)")
 
 
+def _gms_force(repeats: int) -> None:
+    """GMS in the force drive: forward sensitivities along the simulated trajectory
+    (``jacobian="sensitivity"``, opt-in) vs forward differences (the default), interleaved, best of
+    ``repeats`` (CPU), 5,001 samples with velocity noise 1e-4 m/s."""
+    from frictionkit.identify import fit_output_error
+
+    st = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
+    true = fk.GMS(st, k=[4e4, 6e4], xi=[0.4, 0.6], C=20.0)
+    t = np.arange(5001) * 1e-3
+    u = 2.0 * np.sin(np.pi * t)
+    v = fk.simulate(true, plant=fk.Mass(1.0), force=u, dt=1e-3).v + 1e-4 * np.random.default_rng(1).standard_normal(
+        t.size)
+    start = fk.GMS(fk.Stribeck(Fc=0.9, Fs=1.4, vs=1.2e-3, sigma2=0.35), k=[2e4, 9e4], xi=[0.4, 0.6], C=30.0)
+    for free in (("k", "C"), ("k", "C", "Fc", "Fs", "sigma2")):
+        print(f"\nFORCE DRIVE, GMS-2: {t.size} samples, {', '.join(free)} free (truth k 4e4, 6e4, C 20, map 1, 1.5, 0.4)")
+        cpu = {"sensitivity": [], "fd": []}
+        out = {}
+        for _ in range(repeats):
+            for jac in cpu:
+                c0 = time.process_time()
+                out[jac] = fit_output_error({"t": t, "F": u, "v": v}, start, inertia=1.0, free=free, jacobian=jac)
+                cpu[jac].append(time.process_time() - c0)
+        for jac, r in out.items():
+            d = r.diagnostics
+            print(f"  {jac:11s}: {min(cpu[jac]):.3f} s CPU, {d['nfev']} evaluations, {d['simulations']} simulations + "
+                  f"{d['sensitivity_runs']} sensitivity runs, final cost {0.5 * r.rms ** 2 * r.n_obs:.9e}; "
+                  f"{r.message}")
+        print(f"  ratio {min(cpu['fd']) / min(cpu['sensitivity']):.2f}x CPU (differences / sensitivities) at cost "
+              f"ratio {(out['sensitivity'].rms / out['fd'].rms) ** 2:.6f} (sensitivities / differences)")
+
+
 def _pdiff(p: dict, ref: dict) -> str:
     """The parameter farthest (relatively) from ``ref``'s: ``"vs 21.5 %"``."""
     n = max(NAMES, key=lambda k: abs(p[k] / ref[k] - 1))
@@ -330,6 +361,8 @@ def main() -> None:
                     help="skip the second record (accuracy check of the contenders on data not tuned on)")
     ap.add_argument("--no-motion", dest="motion", action="store_false",
                     help="skip the motion-driven fit (exact on the reduced problem vs differences)")
+    ap.add_argument("--no-gms-force", dest="gms_force", action="store_false",
+                    help="skip the GMS force-drive fit (sensitivities along the trajectory vs differences)")
     ap.add_argument("--rk45-budget", type=float, default=3600.0,
                     help="wall-time budget [s] of the uncapped RK45 fit; stopped there, it is reported "
                          "as a measured lower bound")
@@ -471,6 +504,8 @@ def main() -> None:
         _second(args.numbalsoda)
     if args.motion:
         _motion(args.repeats)
+    if args.gms_force:
+        _gms_force(args.repeats)
 
     print("\nTARGETS (issue 11, same run; frictionkit trf with exact Jacobians):")
     for name, (rw, rc, ok, goal, equal) in targets.items():

@@ -450,7 +450,7 @@ class Clock(event.Listener):
         if stack:
             stack[-1][1] += d
         f = ev.data["dispatcher"].py_func
-        name = f.__module__.rsplit(".", 1)[-1] + "." + f.__name__
+        name = (f.__module__ or "?").rsplit(".", 1)[-1] + "." + f.__name__  # a jitclass getter has no module
         self_cpu[name] = self_cpu.get(name, 0.0) + d - inner
 event.register("numba:compile", Clock())
 t0 = time.perf_counter()

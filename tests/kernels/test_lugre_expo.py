@@ -222,3 +222,23 @@ def test_the_issue_13_case_slides_or_is_flagged():
     else:
         assert "sigma0 = 1e+16 N/m" in res.message and "omega" in res.message, res.message
         assert np.nanmax(np.abs(res.v)) > 0.1  # and what it did return before stopping slid
+
+
+def test_a_tight_tolerance_starts_from_rest():
+    """Issue 13: at rtol 1e-9 the README's LuGre stopped at sample 1 (sub-step budget): from rest
+    the velocity tolerance was its floor, 4.7e-18 m/s, and ROS2's first-order estimate needed
+    > 1e5 sub-steps for the first interval (``core.V_FLOOR_RTOL``). 0.1 s of the README's input,
+    each run to the end and against the solve_ivp twin (LSODA, rtol 1e-12) within 100 rtol of the
+    ranges of x and friction (the bound is loose: the point is that the run is right, not how right)."""
+    from frictionkit.simulation.reference import reference_force_driven
+
+    law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)  # README example
+    model = fk.LuGre(law, sigma0=1e5, sigma1=63.2)
+    u = 2.0 * np.sin(np.pi * np.arange(401) * DT)
+    rtol = 1e-9
+    res = fk.simulate(model, plant=fk.Mass(1.0), force=u, dt=DT, options=fk.SimOptions(rtol=rtol))
+    assert res.status == 0, res.message
+    ref = reference_force_driven(model, 1.0, u, DT, rtol=1e-12, atol=1e-18)
+    ex = np.abs(res.x - ref["x"]).max() / np.ptp(ref["x"])
+    eF = np.abs(res.friction - ref["friction"]).max() / np.ptp(ref["friction"])
+    assert max(ex, eF) <= 100 * rtol, (ex / rtol, eF / rtol, res.substeps)

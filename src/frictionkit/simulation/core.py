@@ -697,10 +697,16 @@ class BatchResult:
 BATCH_CHECK_REL = 0.1
 
 
-def _batch_accuracy_check(K, c, m, dt, y, w, sse, status, options, rerun, kind: str = "lugre") -> dict:
+def _batch_accuracy_check(K, c, m, dt, y, w, sse, status, options, rerun, kind: str = "lugre",
+                          single=None) -> dict:
     """See :data:`BATCH_CHECK_REL`; ``K``, ``c``, ``m``: per set; ``rerun(idx, tight)`` runs the sets
     ``idx`` at the options ``tight`` and returns their (sse, status). Flags sets in ``sse``/``status``
-    in place, returns {set: reason}."""
+    in place, returns {set: reason}.
+
+    ``single(j)``, optional: set ``j`` run alone by :func:`simulate` (traces and its per-sample
+    accuracy check). A fast set the RMS check passes is flagged when that run is flagged
+    (assumption, issue 13: the RMS is one-sided — round 4's GMS on 7e-5 kg, one sample 4.7 % of
+    its friction range off, kept its RMS within 10 %); only fast sets pay for it."""
     fast = np.maximum(np.sqrt(K / m), c / m) * dt
     idx = np.flatnonzero((fast > FAST_LIMIT) & (status == 0))
     if idx.size == 0:
@@ -724,6 +730,18 @@ def _batch_accuracy_check(K, c, m, dt, y, w, sse, status, options, rerun, kind: 
                            f"{oscillator_detail(float(K[j]), float(c[j]), float(m[j]), dt, kind)}; {check}. Tighten "
                            "SimOptions(rtol=...) or check the stiffness, the mass and dt (see simulate(), which also "
                            "says which samples are right)")
+    if single is not None:
+        for j in idx:
+            if status[j] != 0:
+                continue
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                alone = single(int(j))
+            if alone.status != 0:
+                status[j] = 2
+                sse[j] = np.inf
+                out[int(j)] = (f"tolerance not met (accuracy check of the set run alone by simulate(), status "
+                               f"{alone.status} at sample {alone.failed_at}): {alone.message}")
     return out
 
 
@@ -896,6 +914,10 @@ def simulate_batch(
     sse = np.empty(P)
     status = np.empty(P, dtype=np.int64)
     which = _SIGNALS[compare]
+
+    def alone(j: int) -> SimulationResult:
+        return simulate(models[j], plant=Mass(float(m[j])), force=u, dt=dt, options=options)
+
     if kinds == {"lugre"}:
         packs = [pack_lugre(mdl) for mdl in models]
         static = np.stack([p.static for p in packs])
@@ -926,7 +948,7 @@ def simulate_batch(
         )
         checked = _batch_accuracy_check(s0_sets, damp_sets, m, dt, y, w, sse, status, options,
                                         _lugre_batch_rerun(u, dt, m, static, dyn, s0_sets, damp_sets, F_sets, y,
-                                                           which, w))
+                                                           which, w), single=alone)
         failed = np.flatnonzero(np.isin(status, (1, 2, 3)))
         if failed.size:
             j = int(failed[0])
@@ -950,7 +972,7 @@ def simulate_batch(
         )
         checked = _batch_accuracy_check(kk.sum(axis=2).max(axis=1), static[:, :, 4].max(axis=1), m, dt, y, w, sse,
                                         status, options, _gms_batch_rerun(u, dt, m, static, kk, xis, Cs, y, which, w),
-                                        "gms")
+                                        "gms", single=alone)
         if checked:
             j = min(checked)
             return BatchResult(sse, status, int((w[1:] > 0).sum()), f"Set {j}: {checked[j]}")

@@ -110,27 +110,13 @@ def test_draws_cover_the_legal_ranges():
     assert {above for *_, above in sets} == {True, False}
 
 
-@pytest.mark.parametrize("kind", ["lugre", "gms"])
+@pytest.mark.parametrize("kind", ["lugre", "dahl", "gms"])
 def test_single_run_error_within_contract(runs, kind):
+    """Dahl's set 1 (sigma0 9.7e6 N/m, 0.74 kg, 0.6 N: undamped pre-sliding ringing at 7 samples a
+    period, a reversal every few samples) was 10.1x / 6.7x rtol (x / F range) with the ROS2 intervals
+    at the plain tolerance; kernels.lugre.RING_FAST tightens them there (measured 4.4x / 2.9x)."""
     errs = _single_errors(runs[kind]) / RTOL
     print(kind, "max|dx|/range(x)/rtol, max|dF|/range(F)/rtol per set:", np.round(errs, 2).tolist())
-    assert errs.max() <= MULT, errs
-
-
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="Dahl (sigma1 = 0) below breakaway rings almost undamped in pre-sliding and "
-                          "the sub-steps' local errors add up over the ringing: set 1 (sigma0 9.7e6 N/m, "
-                          "0.74 kg, 0.6 N; a period of 7 samples, so nearly every interval holds a "
-                          "reversal and takes ROS2 sub-steps) measured 10.1x rtol of the position range, "
-                          "6.7x of the force range (16.9x, 12.5x before the single samples after a reversal "
-                          "were checked by their own error, kernels.lugre._sharp_sample; ROS2 in every "
-                          "interval: 16.5x, 12.4x). The error was tolerance-proportional (6.8, 16.9, 22.2, "
-                          "19.1x rtol at rtol 1e-4 ... 1e-7, before), only its multiple exceeds the contract's")
-def test_single_run_error_within_contract_dahl(runs):
-    errs = _single_errors(runs["dahl"]) / RTOL
-    print("dahl", np.round(errs, 2).tolist())
-    # measured numbers first (10.1 / 6.7 on set 1, the others <= 0.2; before _sharp_sample 16.9 / 12.5)
-    assert 8.0 <= errs[1].max() <= 12.0 and errs[[0, 2]].max() <= 2.0, errs
     assert errs.max() <= MULT, errs
 
 

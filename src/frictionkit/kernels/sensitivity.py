@@ -71,7 +71,7 @@ import numpy as np
 from .._jit import njit
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, H_MIN, NONFINITE, OK, TOLERANCE
-from .lugre import _atol_run, _flat, _point, _ros2_sub, _span, _z_bounds
+from .lugre import _atol_run, _flat, _point, _ring_tight, _ros2_sub, _span, _z_bounds
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
@@ -207,6 +207,7 @@ def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol
     P = coef.shape[0]
     zd, F, dzv, dzz, dFv, dFz = _point(v, z, p0, p1, d0, d1)
     tol_v = _atol_run(atol_v, v_floor, rtol, vpk)
+    tight = _ring_tight(dFv, dFz, dzv, dzz, im, dt)
     while t < dt:
         h = h_try
         rem = dt - t
@@ -215,6 +216,7 @@ def _ros2_sens(x, v, z, h_try, u0, u1, dt, m, p0, p1, d0, d1, rtol, atol_v, atol
         fin, xn, vn, zn, e, v2, z2, gh, a11, a12, a21, a22, idet = _ros2_sub(
             x, v, z, h, w, du, im, zd, F, dzv, dzz, dFv, dFz, p0, p1, d0, d1, tol_v, rtol, atol_z, zlo, zhi)
         n += 1
+        e *= tight  # as lugre._interval (lugre.RING_FAST)
         if not fin:
             if h > H_MIN * dt:
                 h_try = 0.1 * h

@@ -252,6 +252,12 @@ class StudySpec:
                             f"(2 dt = {2 * ref['dt']:.6g} s)")
         if preset == "ballscrew" and ref["amplitude"] <= 0:  # the cosine reference needs a stroke
             raise DataError(f"{where}: [reference] amplitude = {ref['amplitude']!r}: must be > 0")
+        amp = ref.get("amplitude", 0.0)
+        for k in ("resolution", "noise"):  # round 6: resolution 1e300 ran 'ok' with the scale reading 0 throughout
+            v = self.machine.get(k)
+            if preset in ("custom", "emps") and k in self.machine and amp > 0 and v is not None and v >= amp:
+                raise DataError(f"{where}: [machine] {k} = {v!r} m: not finer than the reference amplitude {amp!r} m; "
+                                "the scale cannot see the motion it is to track")
         if self.reference["duration"] / self.reference["dt"] > 2_000_000:
             raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
         if preset == "ballscrew":

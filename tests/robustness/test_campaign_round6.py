@@ -202,3 +202,14 @@ def test_report_of_a_flagged_run_summary_keeps_its_status(tmp_path):
                                "at t = 1 s")
     (tmp_path / "run.json").write_text(json.dumps(dict(doc, status=0, message="ok")))
     assert not any("Run status" in t for t in _json_file(tmp_path / "run.json", "x")[1][0].text)
+
+
+@pytest.mark.parametrize("machine", ["resolution = 1e300", "noise = 0.01", 'preset = "emps"\nresolution = 1.0'])
+def test_a_study_scale_coarser_than_the_motion_is_refused(tmp_path, machine):
+    """Was: resolution = 1e300 ran with status ok (the scale read 0 throughout, 'max error 3309 µm')."""
+    from frictionkit.study import load_study
+
+    p = tmp_path / "s.toml"
+    p.write_text(f"[machine]\n{machine}\n")
+    with pytest.raises(DataError, match=r"not finer than the reference amplitude .* the scale cannot see the motion"):
+        load_study(p)

@@ -213,3 +213,20 @@ def test_a_study_scale_coarser_than_the_motion_is_refused(tmp_path, machine):
     p.write_text(f"[machine]\n{machine}\n")
     with pytest.raises(DataError, match=r"not finer than the reference amplitude .* the scale cannot see the motion"):
         load_study(p)
+
+
+def test_an_edited_machine_unit_is_refused(tmp_path):
+    """Was: "dofs.inertia": "g" in a machine file's units was ignored (the numbers ran as kg)."""
+    import frictionkit as fk
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+
+    path = fk.save_model(emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=20.0, sigma2=200.0),
+                                      offset=0.0), tmp_path / "emps.json")
+    doc = json.loads(path.read_text())
+    doc["units"]["dofs.inertia"] = "g"
+    (tmp_path / "g.json").write_text(json.dumps(doc))
+    with pytest.raises(DataError, match=r"\"units\"\['dofs.inertia'\] = \"g\": a machine file's units are fixed"):
+        fk.load_model(tmp_path / "g.json")
+    del doc["units"]["dofs.inertia"]  # a dropped entry (or "units") is fine: derived
+    (tmp_path / "ok.json").write_text(json.dumps(doc))
+    assert fk.load_model(tmp_path / "ok.json").input_names() == ["qg"]

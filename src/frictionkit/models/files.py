@@ -349,6 +349,14 @@ class ModelFile:
             raise DataError(f"\"provenance\" is a JSON {type(prov).__name__}, expected an object")
         if not isinstance(doc.get("units", {}), Mapping):
             raise DataError(f"\"units\" is a JSON {type(doc['units']).__name__}, expected an object")
+        for key, label in (doc.get("units") or {}).items():
+            # the units are fixed (SI): an edited label was ignored without a word, so "dofs.inertia": "g"
+            # ran grams as kilograms (issue 13 round 6); a missing entry or block is fine (derived)
+            # (a key this version does not list, e.g. an older file's, is left alone)
+            if key in MACHINE_UNITS and label != MACHINE_UNITS[key]:
+                raise DataError(f"\"units\"[{key!r}] = {json.dumps(label, default=str)[:60]}: a machine file's units "
+                                f"are fixed (SI) and not read — this field is in {MACHINE_UNITS[key]!r}; convert "
+                                "the numbers and restore or drop the entry")
         machine = Machine.from_dict(doc["model"])
         listed = doc.get("inputs", None)
         if listed is not None and not isinstance(listed, list):  # written for the reader; derived from the machine

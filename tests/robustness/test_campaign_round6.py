@@ -230,3 +230,20 @@ def test_an_edited_machine_unit_is_refused(tmp_path):
     del doc["units"]["dofs.inertia"]  # a dropped entry (or "units") is fine: derived
     (tmp_path / "ok.json").write_text(json.dumps(doc))
     assert fk.load_model(tmp_path / "ok.json").input_names() == ["qg"]
+
+
+@pytest.mark.parametrize("edit, match", [
+    ({"max_error": "1"}, r"compensator 'none': max_error = \"1\": expected a finite error >= 0"),
+    ({"rms_error": True}, "rms_error = true"), ({"reversal_error": -1}, "reversal_error = -1"),
+    ({"ok": "x"}, r"ok = \"x\": expected true or false"), ("units", r"\"units\" = \{\"error\": \"x\"\}: expected")])
+def test_report_refuses_a_hand_edited_compensation_row(edit, match):
+    """Was: "max_error": "1" shown as 1e6 µm, true as 1 m, -1 as a negative error; units 'x' labelled metres x."""
+    from frictionkit.report.adapters import compensation_sections
+
+    d = _compensation_doc("emps")
+    if edit == "units":
+        d["units"] = {"error": "x"}
+    else:
+        d["compensators"]["none"].update(edit)
+    with pytest.raises(DataError, match=match):
+        compensation_sections(d)

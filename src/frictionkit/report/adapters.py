@@ -717,8 +717,22 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
         # a hand-edited list read "malformed content (AttributeError ...)", an empty object an empty table
         raise DataError(f"\"compensators\" = {str(comp)[:80]}: expected an object {{name: {{max_error, rms_error, "
                         "...}} with at least one compensator")
-    unit = (d.get("units") or {}).get("error", "m")
-    label, k = _SHOWN.get(unit, (unit, 1.0))
+    units = d.get("units") or {}
+    unit = units.get("error", "m") if isinstance(units, Mapping) else None
+    if unit not in _SHOWN:  # 'x' labelled SI metres as x; a hand edit is named instead (round 6)
+        raise DataError(f"\"units\" = {json.dumps(d.get('units'), default=str)[:80]}: expected {{\"error\": \"m\"}} "
+                        "or {\"error\": \"rad\"}")
+    label, k = _SHOWN[unit]
+    for name, r in comp.items():  # "max_error": "1" was shown as 1e6 µm, true as 1 m, -1 as a negative error
+        for key in ("max_error", "rms_error", "reversal_error"):
+            x = r.get(key)
+            if x is not None and (isinstance(x, bool) or not isinstance(x, (int, float)) or not x >= 0
+                                  or not math.isfinite(x)):
+                raise DataError(f"compensator {name!r}: {key} = {json.dumps(x, default=str)[:40]}: expected a "
+                                "finite error >= 0 [m or rad] or null")
+        if not isinstance(r.get("ok", False), bool):
+            raise DataError(f"compensator {name!r}: ok = {json.dumps(r.get('ok'), default=str)[:40]}: expected "
+                            "true or false")
 
     def shown(x: Any) -> str:
         return "–" if x is None else fmt(k * float(x))

@@ -1,21 +1,30 @@
-"""One-DOF fast path of the machine core: a rigid axis with one flat static friction site.
+"""One-DOF fast path of the machine core: a rigid axis with one static friction site.
 
 The machine (checked by the wrapper ``machines.simulate._axis_plan``): one degree of freedom
 of inertia ``M`` (no springs, no prescribed motions), one friction site on it holding a
-static law with flat levels (``CoulombViscous``, ``Stribeck`` with ``Fs = Fc``,
-``Directional`` of those; each direction its own level and viscous coefficient), actuators
-that follow controller signals (held over the sample) or input arrays (linear over the
-sample, clipped at their limits), any sensors and controller blocks.
+static law with constant positive levels (``CoulombViscous``, ``Stribeck``, ``Directional``
+of those; each direction its own levels and viscous coefficient; no schedule, normal load or
+``eps``), actuators that follow controller signals (held over the sample) or input arrays
+(linear over the sample, clipped at their limits; flat levels only), any sensors and
+controller blocks.
 
-Plant step, exact. Over a sample the actuator force ``U`` is constant, so between velocity
-zero crossings ``M v' = U - L_d - V_d v`` (direction ``d``: level ``L_d`` signed, viscous
-``V_d``) has the closed form ``v = v_inf + (v0 - v_inf) e^(-beta t)``; a stop inside the
-sample is located exactly (``t_s = ln((v0 - v_inf) / -v_inf) / beta``), then the axis sticks
-while ``-L_- <= U <= L_+`` (Karnopp, as the general kernel's static sites) or breaks away in
-the other direction. An input-array actuator makes ``U`` linear in time over the sample (in
-pieces between its limit crossings): the closed form gains a ramp term, a stop is located by
-bisection to round-off and a stuck axis breaks away where ``U`` leaves the band. This is the limit the general kernel converges to as its sub-steps grow;
-its sample-spanning step is the same solution for samples that keep sliding.
+Plant step, flat levels (``Fs = Fc``: Coulomb-viscous), exact. Over a sample the actuator
+force ``U`` is constant, so between velocity zero crossings ``M v' = U - L_d - V_d v``
+(direction ``d``: level ``L_d`` signed, viscous ``V_d``) has the closed form
+``v = v_inf + (v0 - v_inf) e^(-beta t)``; a stop inside the sample is located exactly
+(``t_s = ln((v0 - v_inf) / -v_inf) / beta``), then the axis sticks while ``-L_- <= U <= L_+``
+(Karnopp, as the general kernel's static sites) or breaks away in the other direction. This
+is the limit the general kernel converges to as its sub-steps grow; its sample-spanning step
+is the same solution for samples that keep sliding. An input-array actuator makes ``U``
+linear in time over the sample (in pieces between its limit crossings): the closed form
+gains a ramp term, a stop is located by bisection to round-off and a stuck axis breaks away
+where ``U`` leaves the band.
+
+Plant step, Stribeck levels (``Fs != Fc``): no closed form; a slide takes classical RK4 steps
+(the wrapper picks 20 per shortest time scale, ``M vs / |Fs - Fc|`` or ``M / sigma2``), a stop
+inside a step is located on the step's cubic Hermite interpolant and the axis then sticks
+while ``-Fs- <= U <= Fs+``. Converged, not exact: the tests compare it with the general loop
+at 320/640 sub-steps (and 2560 where the general loop converges slowly).
 
 Controller: the general kernel's controller section (``kernels.machine.run``: inputs, sensors,
 blocks, actuators, PID integrators), statement for statement for one DOF without motions, so

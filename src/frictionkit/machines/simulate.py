@@ -412,10 +412,11 @@ def _axis_plan(machine: Machine, p: dict) -> tuple:
     """``(plan, why_not)``: the one-DOF axis kernel's plant arguments
     (:func:`frictionkit.kernels.machine_axis.run_axis`) when the machine qualifies, else
     ``(None, reason)``. Qualifies: one degree of freedom, no springs or prescribed motions, one
-    friction site on it holding a static law with flat levels (``CoulombViscous``, ``Stribeck``
-    with ``Fs = Fc``, ``Directional`` of those; levels > 0, viscous >= 0, no normal load, no
-    schedule); any actuators (a controller signal held over the sample, or an input array
-    linear over it), sensors and controller blocks. ``p``: the machine's pack (:func:`_packed`)."""
+    friction site on it holding a static law with constant levels (``CoulombViscous``,
+    ``Stribeck``, ``Directional`` of those; levels > 0, viscous >= 0, no normal load, schedule
+    or ``eps``); any actuators (a controller signal held over the sample, or an input array
+    linear over it — flat levels only), sensors and controller blocks. The loop screen is
+    applied by the caller (:func:`_axis_screen`). ``p``: the machine's pack (:func:`_packed`)."""
     from ..models.tdmssc import schedule_rows
 
     if machine.n != 1:
@@ -690,11 +691,12 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
           open-loop force input, with nothing else, runs on the single-axis adaptive kernels
           of :func:`frictionkit.simulate` (error-controlled, breakaways located inside the
           step; ``substeps`` does not apply);
-        * a rigid axis (one DOF, no springs or motions) with one friction site holding a flat
-          static law (``CoulombViscous``, ``Stribeck`` with ``Fs = Fc``, ``Directional`` of
-          those) — the EMPS preset — runs on
-          :mod:`frictionkit.kernels.machine_axis`: the same controller, an exact plant step per
-          sample with stops located inside the sample (the limit of the general loop's
+        * a rigid axis (one DOF, no springs or motions) with one friction site holding a
+          static law with constant levels (``CoulombViscous``, ``Stribeck``, ``Directional``
+          of those) whose closed loop the stability screen passes — the EMPS preset — runs on
+          :mod:`frictionkit.kernels.machine_axis`: the same controller, a plant step per
+          sample with stops located inside the sample (exact for Coulomb-viscous levels,
+          converged Runge-Kutta for Stribeck ones: the limit of the general loop's
           sub-steps; ``substeps``, ``atol`` and the sub-step check do not apply, ``substeps``
           of the result is 0).
 

@@ -425,7 +425,7 @@ def lugre_force_ros2(u, dt, m, static, dyn, x0, v0, z0, rtol, atol_v, atol_z, ma
     return OK, u.size - 1, total
 
 
-@njit(inline="always")  # inlined (as a call it was a second compile: the sensitivity kernel's cold compile 3 s longer)
+@njit(inline="always")  # inlined into lugre_force; the sensitivity kernel calls _span_call
 def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, atol_v, atol_z, v_floor, zlo, zhi,
           x, v, F, z):
     """One spanning exponential step from sample ``k`` (state ``xs, vs_, zs``; module docstring).
@@ -627,6 +627,12 @@ def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, 
             n_try = max(1, min(j - 1, int(j * max(0.2, fac))))
         lin = (sd, E, P1, P2, P3, b21, b22, wv)
     return j, n_try, vpk, tries, pt, lin
+
+
+#: :func:`_span` as a call, for ``sensitivity.lugre_force_sens`` (its steps cost far more than a
+#: call; inlined there too, the kernel's cold compile took ~12 s CPU more than with its old copy).
+#: IEEE division as that kernel (non-finite states are caught by the step logic).
+_span_call = njit(error_model="numpy")(_span.py_func)
 
 
 @njit

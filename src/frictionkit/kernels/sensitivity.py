@@ -71,7 +71,7 @@ import numpy as np
 from .._jit import njit
 from ._stribeck import row as static_row
 from .lugre import BUDGET, E_GROW, H_MIN, NONFINITE, OK, TOLERANCE
-from .lugre import _atol_run, _flat, _point, _ring_tight, _ros2_sub, _span, _z_bounds
+from .lugre import _atol_run, _flat, _point, _ring_tight, _ros2_sub, _span_call, _z_bounds
 
 #: Index of each packed quantity in ``coef[j, row, :]``.
 C_S0, C_S1, C_FC, C_FS, C_VS, C_DELTA, C_S2 = 0, 1, 2, 3, 4, 5, 6
@@ -312,15 +312,17 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
     total = 0
     vpk = 0.0
     zlo, zhi = _z_bounds(p0, p1, d0, d1, 0.0)
-    k = 0
-    n_try = 1
-    have = False
+    # k, n_try, have start as expressions, not literals: numba would type the first call of
+    # _span_call with literal argument types and compile it twice
+    k = N - N
+    n_try = k + 1
+    have = k < 0
     pt = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     F = np.empty(N)  # the friction force of the shared step (the fits take theirs from simulate)
     h_ros = dt
     while k < N - 1:
-        j, n_try, vpk, tries, pt, lin = _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol,
-                                              atol_v, atol_z, v_floor, zlo, zhi, x, v, F, z)
+        j, n_try, vpk, tries, pt, lin = _span_call(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1,
+                                                   rtol, atol_v, atol_z, v_floor, zlo, zhi, x, v, F, z)
         total += tries
         have = j > 0
         if j > 0:

@@ -29,7 +29,12 @@ def test_default_substeps_pass_the_substep_check(monkeypatch):
     assert "position of 'table' moves by 1.59e-09 (1.06 %" in two.message or \
         "position of 'table' moves by 1.59e-09 (1.08 %" in two.message
     a = z.presliding_reciprocation("screw", **PRESLIDE)
-    assert a.status == 0 and a.message == "ok", a.message        # no check needed (coupling < 0.03)
+    # no sub-step coupling check needed (coupling < 0.03); the loop screen's hunting check
+    # (steepest Stribeck slope, issue 13) may add its converged-limit-cycle note
+    assert a.status == 0, a.message
+    assert "couples to its own motion" not in a.message, a.message
+    assert a.message == "ok" or (a.message.startswith("ok; note: the closed loop can hunt")
+                                 and "the run converges" in a.message), a.message
     monkeypatch.setattr(S, "GMS_COUPLING_CHECK", 1e-9)            # force the check at the default
     b = z.presliding_reciprocation("screw", **PRESLIDE)
     assert b.status == 0 and "at 48 sub-steps every trace within its bound" in b.message, b.message

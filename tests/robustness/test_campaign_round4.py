@@ -172,4 +172,11 @@ def test_a_start_sigma0_that_cannot_simulate_is_named():
             res = fit_output_error(rec, "lugre", static=law.static, inertia=1.0,
                                    initial={"sigma0": s0, "sigma1": 63.2})
         assert res.status != 0 and not res.success
-        assert f"the start values do not simulate (sigma0 = {s0:g} N/m on a mass of 1 kg" in res.message, res.message
+        # either the start does not simulate, or (1e16: since this session's tighter-tolerance
+        # start from rest it may) the fit climbs further and fails at the optimum — both must
+        # name the stiff sigma0 on this mass and what to do, never 'unidentifiable'
+        assert (f"the start values do not simulate (sigma0 = {s0:g} N/m on a mass of 1 kg" in res.message
+                or ("the simulation fails at the optimum" in res.message
+                    and "N/m on a mass of 1 kg" in res.message
+                    and "sigma0 is too stiff for this mass and dt" in res.message)), res.message
+        assert "unidentifiable" not in res.message

@@ -469,21 +469,12 @@ def _axis_screen(machine: Machine, dt: float, p: dict) -> tuple:
     that qualifies for the axis kernel, remembered with its pack. An unstable loop goes to the
     general loop, whose sub-step convergence check then decides its status (the fast path would
     only drop that check); ``note`` is the screen's own note when it was skipped."""
-    from .stability import SCREEN_MAX_DIM, has_feedback, loop_stability
+    from .stability import screen
 
     if "loop_stability" not in p:
-        dim = 2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators)
-        if has_feedback(machine) and dim > SCREEN_MAX_DIM:
-            p["loop_stability"] = (False, f"note: the closed-loop stability screen was skipped (its state has {dim} > "
-                                          f"{SCREEN_MAX_DIM} entries, mostly delay-line samples: an eigenvalue problem "
-                                          "of that size costs minutes)")
-        else:
-            try:
-                stab = loop_stability(machine, dt)
-                p["loop_stability"] = (bool(stab.unstable), stab.describe(dt) if stab.unstable else "")
-            except Exception as exc:  # a screen must never break a run
-                p["loop_stability"] = (False, f"note: the closed-loop stability screen was skipped "
-                                              f"({type(exc).__name__}: {exc})")
+        stab, note = screen(machine, dt)
+        p["loop_stability"] = ((False, note) if stab is None
+                               else (bool(stab.unstable), stab.describe(dt) if stab.unstable else ""))
     return p["loop_stability"]
 
 

@@ -482,6 +482,21 @@ def _cached_stability(machine: Machine, dt: float) -> LoopStability:
     return _SCREENS[key]
 
 
+def screen(machine: Machine, dt: float) -> tuple:
+    """``(stability, "")`` — the machine's :class:`LoopStability` at ``dt`` (remembered, see
+    ``SCREEN_CACHE``) — or ``(None, note)`` when the screen is skipped: a state larger than
+    ``SCREEN_MAX_DIM`` or a screen that fails (it must never break a run: a TDMSSC site once did).
+    Used by :func:`loop_check` and by the one-DOF fast path's dispatch."""
+    dim = (2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators))
+    if has_feedback(machine) and dim > SCREEN_MAX_DIM:
+        return None, (f"note: the closed-loop stability screen was skipped (its state has {dim} > {SCREEN_MAX_DIM} "
+                      "entries, mostly delay-line samples: an eigenvalue problem of that size costs minutes)")
+    try:
+        return _cached_stability(machine, dt), ""
+    except Exception as exc:
+        return None, f"note: the closed-loop stability screen was skipped ({type(exc).__name__}: {exc})"
+
+
 def loop_check(machine: Machine, res, dt: float, rerun):
     """Flag ``res`` (status 2) when the loop is linearly unstable, hunting-prone inside its band or
     barely damped (:attr:`LoopStability.suspect`, see the module) and the run does not converge: at ``SUBSTEP_CHECK_FACTOR`` x the sub-steps (``rerun(substeps)``
@@ -493,16 +508,9 @@ def loop_check(machine: Machine, res, dt: float, rerun):
 
     if res.status != 0 or res.substeps < 1:
         return res
-    dim = (2 * machine.n + sum(s.delay for s in machine.sensors) + sum(a.delay for a in machine.actuators))
-    if has_feedback(machine) and dim > SCREEN_MAX_DIM:
-        return dataclasses.replace(res, message=f"{res.message}; note: the closed-loop stability screen was skipped "
-                                                f"(its state has {dim} > {SCREEN_MAX_DIM} entries, mostly delay-line "
-                                                "samples: an eigenvalue problem of that size costs minutes)")
-    try:
-        stab = _cached_stability(machine, dt)
-    except Exception as exc:  # a screen must never break a finished run (a TDMSSC site once did)
-        return dataclasses.replace(res, message=f"{res.message}; note: the closed-loop stability screen was skipped "
-                                                f"({type(exc).__name__}: {exc})")
+    stab, note = screen(machine, dt)
+    if stab is None:
+        return dataclasses.replace(res, message=f"{res.message}; {note}")
     if not stab.suspect:
         return res
     if stab.stribeck_unstable and not stab.borderline:

@@ -221,6 +221,63 @@ def _floats(x: Any) -> np.ndarray:
                     dtype=float).reshape(np.shape(x))
 
 
+def _table_problems(d: Mapping[str, Any], params: Mapping[str, Any], names: tuple[str, ...]) -> list[str]:
+    """Every hand edit of the numeric table that would be read as something else, each naming its field.
+
+    A JSON string (``"1"``) is not a number (numpy would read it as 1.0); ``null`` is a value only
+    where the writer puts one (a non-finite number: standard errors, intervals, correlations, RMS of
+    a failed fit), never for a parameter value of a successful fit; standard errors, RMS and counts
+    are >= 0, a correlation lies in [-1, 1], an interval's low end is not above its high end
+    (issue 13 round 7: ``"1"``, ``null`` and a stderr of -1 were accepted).
+    """
+    bad: list[str] = []
+    success = d.get("success", True) is not False
+
+    def num(x: Any) -> bool:
+        return x is None or (isinstance(x, (int, float)) and not isinstance(x, bool))
+
+    def show(x: Any) -> str:
+        return json.dumps(x)[:60]
+
+    for n in names:
+        p, at = params[n], f"parameters.{n}"
+        for key in ("value", "stderr", "ci95"):
+            if key not in p:
+                bad.append(f"{at}.{key} is missing")
+        v = p.get("value")
+        if "value" in p and (not num(v) or (v is None and success) or (v is not None and not math.isfinite(v))):
+            bad.append(f"{at}.value is {show(v)}, expected a finite number"
+                       + (" (null only in a failed fit's result)" if v is None else ""))
+        se = p.get("stderr")
+        if "stderr" in p and (not num(se) or (se is not None and not se >= 0)):
+            bad.append(f"{at}.stderr is {show(se)}, expected a number >= 0 or null")
+        ci = p.get("ci95")
+        if "ci95" in p:
+            if not (isinstance(ci, list) and len(ci) == 2 and all(num(x) for x in ci)):
+                bad.append(f"{at}.ci95 is {show(ci)}, expected [low, high] (numbers or null)")
+            elif None not in ci and ci[0] > ci[1]:
+                bad.append(f"{at}.ci95 is {show(ci)}: the low end is above the high end")
+    corr = d.get("correlation")
+    rows = corr if isinstance(corr, list) else None
+    if rows is None or len(rows) != len(names) or not all(isinstance(r, list) and len(r) == len(names) for r in rows):
+        bad.append(f"correlation is {show(corr)}, expected a {len(names)} x {len(names)} list of lists")
+    else:
+        for i, r in enumerate(rows):
+            for j, x in enumerate(r):
+                if not num(x) or (x is not None and not abs(x) <= 1.0 + 1e-6):
+                    bad.append(f"correlation[{i}][{j}] is {show(x)}, expected a number in [-1, 1] or null")
+    for key in ("rms", "relative_error_percent"):
+        x = d.get(key)
+        if key in d and (not num(x) or (x is not None and not x >= 0)):
+            bad.append(f"{key} is {show(x)}, expected a number >= 0 or null")
+    n_obs, dof = d.get("n_obs"), d.get("dof")
+    if isinstance(n_obs, int) and not isinstance(n_obs, bool) and n_obs < 0:
+        bad.append(f"n_obs is {n_obs}, expected >= 0")
+    if isinstance(dof, int) and not isinstance(dof, bool) and isinstance(n_obs, int) and not 0 <= dof <= max(n_obs, 0):
+        bad.append(f"dof is {dof}, expected 0 ... n_obs = {n_obs}")
+    return bad
+
+
 # --------------------------------------------------------------------------- result
 @dataclass(frozen=True, kw_only=True, eq=False)
 class IdentificationResult:
@@ -476,6 +533,9 @@ class IdentificationResult:
             raise TypeError("\"warnings\" must be a list of strings")
         if not all(isinstance(params[n].get("unit"), str) for n in names):
             raise TypeError("every parameter's \"unit\" must be a string")
+        bad = _table_problems(d, params, names)
+        if bad:
+            raise DataError("; ".join(bad))
         return cls(
             kind=d["kind"],
             model_name=d["model_name"],
@@ -496,8 +556,15 @@ class IdentificationResult:
             diagnostics=d.get("diagnostics", {}),
             provenance=d.get("provenance", {}),
             data={k: _floats(v) for k, v in (d.get("data") or {}).items()},
-            parts={k: cls.from_dict(v) for k, v in (d.get("parts") or {}).items()},
+            parts={k: cls._part(k, v) for k, v in (d.get("parts") or {}).items()},
         )
+
+    @classmethod
+    def _part(cls, side: str, doc: Mapping[str, Any]) -> IdentificationResult:
+        try:
+            return cls.from_dict(doc)
+        except DataError as exc:
+            raise DataError(f"parts.{side}: {exc}") from None
 
     def save_json(self, path: str | Path, *, include_data: bool = True) -> Path:
         """Write the result as JSON (UTF-8, indented).

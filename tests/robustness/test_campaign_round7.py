@@ -52,3 +52,25 @@ def test_hand_edited_identification_table_names_every_bad_field():
     part = dict(copy.deepcopy(_FIT), parts={"positive": doc})
     with pytest.raises(DataError, match=r'^parts.positive: parameters.Fc.value is "1"'):
         IdentificationResult.from_dict(part)
+
+
+def test_every_input_path_is_checked_before_the_fit(runner, tmp_path, monkeypatch):
+    """Was (round 6): `identify static rec.csv ... --validate 0.5` fitted first, then failed on '0.5'."""
+    import frictionkit.cli.identify  # noqa: F401  (registers the verbs)
+    import frictionkit.identify as fid
+    from _robustness_helpers import STATIC_ARGS, one_error_line
+    from frictionkit.cli import app
+
+    def no_fit(*a, **k):
+        raise AssertionError("the fit ran before the inputs were checked")
+
+    monkeypatch.setattr(fid, "fit_static_map", no_fit)
+    rec = tmp_path / "rec.csv"
+    rec.write_text("t_s,v_ms,F_N\n0,1,1\n")
+    (tmp_path / "folder").mkdir()
+    for bad, why in ((tmp_path / "0.5", "no such file"), (tmp_path / "folder", "is a folder; give a data file")):
+        res = runner.invoke(app, ["identify", "static", str(rec), *STATIC_ARGS, "--validate", str(bad)])
+        assert res.exit_code == 2, res.output
+        assert one_error_line(res) == f"error: --validate '{bad}'" + (": " if why[0] == "n" else " ") + why
+    res = runner.invoke(app, ["identify", "static", str(tmp_path / "none.csv"), *STATIC_ARGS])
+    assert one_error_line(res) == f"error: RECORDING '{tmp_path / 'none.csv'}': no such file"

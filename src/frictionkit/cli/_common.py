@@ -130,9 +130,36 @@ def where_items(items: Iterable[str] | None) -> dict[str, str]:
 
 
 # --------------------------------------------------------------------------- output files
-def outputs(inputs: Iterable[Path | None], *, plots: Mapping[str, Path | None] = {},  # noqa: B006 (read-only)
+def input_files(inputs: Mapping[str, Path | None]) -> None:
+    """Check every input file up front, named by its option: it exists, is a file and can be read.
+
+    Was (issue 13 round 6): ``identify ... --validate 0.5`` fitted first and then failed on the
+    missing validation record.
+    """
+    import os
+
+    for option, path in inputs.items():
+        if path is None:
+            continue
+        p = Path(path)
+        if not p.exists():
+            raise DataError(f"{option} '{p}': no such file")
+        if p.is_dir():
+            raise DataError(f"{option} '{p}' is a folder; give a data file")
+        if not os.access(p, os.R_OK):
+            raise DataError(f"{option} '{p}': the file cannot be read (permission denied)")
+
+
+def outputs(inputs: Iterable[Path | None] | Mapping[str, Path | None], *,
+            plots: Mapping[str, Path | None] = {},  # noqa: B006 (read-only)
             files: Mapping[str, Path | None] = {}, make_parents: bool = False) -> None:  # noqa: B006
-    """Check every output path up front: writable folder, not an input, plots in a known format, all distinct."""
+    """Check every output path up front: writable folder, not an input, plots in a known format, all distinct.
+
+    ``inputs`` given as ``{option: path}`` are also checked as input files (:func:`input_files`).
+    """
+    if isinstance(inputs, Mapping):
+        input_files(inputs)
+        inputs = inputs.values()
     inputs = [p for p in inputs if p is not None]
     seen: dict[str, str] = {}
     for opts, is_plot in ((files, False), (plots, True)):

@@ -128,7 +128,7 @@ def rigid_body(
     skip = chk.integer(skip, "--skip", lo=0)
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
-    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
+    chk.outputs({"RECORDING": recording, "--validate": validate}, files={"--json": json_out}, plots={"--plot": plot})
 
     from ..identify import fit_rigid_body
 
@@ -197,7 +197,7 @@ def static(
     chk.choice(criterion, "--criterion", ("aic", "bic"))
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
-    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
+    chk.outputs({"RECORDING": recording, "--validate": validate}, files={"--json": json_out}, plots={"--plot": plot})
 
     from ..data import steady_state_points
     from ..identify import fit_static_map
@@ -374,7 +374,8 @@ def output_error(
     elif mass is not None or compare is not None:
         raise ParameterError(f"{'--mass' if mass is not None else '--compare'} applies to --drive force only "
                              "(--drive motion compares the force; give the inertia with --inertia)")
-    chk.outputs([recording, static_json, validate], files={"--json": json_out}, plots={"--plot": plot})
+    chk.outputs({"RECORDING": recording, "--static-json": static_json, "--validate": validate},
+                 files={"--json": json_out}, plots={"--plot": plot})
 
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
     if law is None:
@@ -536,7 +537,7 @@ def reversal(
     offset = chk._finite(offset, "--offset")
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
-    chk.outputs([recording, validate], files={"--json": json_out}, plots={"--plot": plot})
+    chk.outputs({"RECORDING": recording, "--validate": validate}, files={"--json": json_out}, plots={"--plot": plot})
 
     from ..identify.reversal import fit_reversal
 
@@ -604,7 +605,8 @@ def presliding(
     min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
-    chk.outputs([recording, static_json, validate], files={"--json": json_out}, plots={"--plot": plot})
+    chk.outputs({"RECORDING": recording, "--static-json": static_json, "--validate": validate},
+                 files={"--json": json_out}, plots={"--plot": plot})
 
     from rich.console import Console
 

@@ -9,6 +9,7 @@ EMPS axis, ...) are functions that build a ``Machine``.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,8 @@ from .elements import BLOCK_TYPES, Coord, CoordSignal, HertzContact, NormalLoad,
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from ..models.base import FrictionLaw
     from typing import Any
 
@@ -482,3 +485,134 @@ class Machine:
         return (f"Machine({self.name!r}: {n(self.n, 'dof')}, {n(len(self.springs), 'spring')}, "
                 f"{n(len(self.sites), 'site')}, {n(len(self.actuators), 'actuator')}, "
                 f"{n(len(self.sensors), 'sensor')}, {n(len(self.blocks), 'block')})")
+
+
+# ---------------------------------------------------------------------- content fingerprint memo
+#: Types whose values cannot change in place (a part holding only these, tuples of them and
+#: frozen dataclasses of them needs no re-check); exact types, a subclass may carry attributes.
+_SCALARS = frozenset((str, int, float, bool, complex, bytes, type(None)))
+#: Deepest nesting the watch follows (deeper: not memoised, the fingerprint is recomputed).
+_WATCH_DEPTH = 40
+
+
+def _snap_seq(obj) -> tuple:  # list, set
+    return tuple(obj)
+
+
+def _snap_dict(obj: dict) -> tuple:
+    return (*obj.keys(), None, *obj.values())
+
+
+def _snap_coord(c: Coord) -> tuple:  # its coefficient dicts folded in (one entry per coordinate)
+    d, m = c.dofs, c.motions
+    return (c._owner, d, m, len(d), *d.keys(), *d.values(), None, *m.keys(), *m.values())
+
+
+def _snap_signal(s: CoordSignal) -> tuple:
+    return (s.at, s.quantity)
+
+
+def _snap_array(a: np.ndarray) -> tuple:  # compared by value
+    return (a.shape, a.dtype.str, a.tobytes())
+
+
+def _snap_vars(obj) -> tuple:  # the Machine itself
+    v = vars(obj)
+    return (*v.keys(), None, *v.values())
+
+
+def _watch(obj, out: list, seen: set, depth: int) -> bool:
+    """Append to ``out`` every mutable object reachable from ``obj`` as ``(object, snapshot
+    function, snapshot)``; False when ``obj`` holds an object whose edits the watch cannot see
+    (a plain class instance, a non-frozen dataclass, an object array): such a machine is not
+    memoised."""
+    if type(obj) in _SCALARS or isinstance(obj, (np.number, np.bool_)):
+        return True
+    if id(obj) in seen:
+        return True
+    if depth > _WATCH_DEPTH:
+        return False
+    seen.add(id(obj))
+    t = type(obj)
+    if t is tuple or t is frozenset:
+        return all(_watch(x, out, seen, depth + 1) for x in obj)
+    if t is list or t is set:
+        out.append((obj, _snap_seq, _snap_seq(obj)))
+        return all(_watch(x, out, seen, depth + 1) for x in obj)
+    if t is dict:
+        out.append((obj, _snap_dict, _snap_dict(obj)))
+        return all(_watch(x, out, seen, depth + 1) for x in (*obj.keys(), *obj.values()))
+    if t is Coord:  # its owner is the machine (watched at the top), not followed
+        out.append((obj, _snap_coord, _snap_coord(obj)))
+        return all(_watch(x, out, seen, depth + 1) for x in (*obj.dofs.values(), *obj.motions.values()))
+    if t is CoordSignal:
+        out.append((obj, _snap_signal, _snap_signal(obj)))
+        return _watch(obj.at, out, seen, depth + 1)
+    if isinstance(obj, np.ndarray):
+        if obj.dtype.hasobject:
+            return False
+        out.append((obj, _snap_array, _snap_array(obj)))
+        return True
+    params = getattr(t, "__dataclass_params__", None)
+    if params is not None and params.frozen:
+        import dataclasses
+
+        if set(getattr(obj, "__dict__", {})) - {f.name for f in dataclasses.fields(obj)}:
+            return False  # attributes beyond the fields (set around the frozen guard)
+        return all(_watch(getattr(obj, f.name), out, seen, depth + 1) for f in dataclasses.fields(obj))
+    return False
+
+
+def _unchanged(watched: list) -> bool:
+    """True when every watched object still holds the very objects (arrays: the bytes) it held."""
+    from operator import is_
+
+    for obj, snap_fn, snap in watched:
+        now = snap_fn(obj)
+        if snap_fn is _snap_array:
+            if now != snap:
+                return False
+        elif len(now) != len(snap) or not all(map(is_, now, snap)):
+            return False
+    return True
+
+
+def memo_fingerprint(machine: Machine, compute: Callable[[Machine], str | None]) -> str | None:
+    """``compute(machine)`` (the machine's content as a key, e.g. its JSON form), remembered
+    on the machine until any part of it changes.
+
+    The memo watches every mutable object the machine's content is made of — the machine's
+    attributes and part lists, each coordinate's coefficient dicts, a ``Sum``'s terms, arrays
+    (by their bytes) — and recomputes when any of them holds another object than when the key
+    was computed: a part added, removed or replaced in its list (``dataclasses.replace``), a
+    coefficient or term edited in place, an array written to. The parts themselves are frozen
+    dataclasses (laws, springs, sensors, blocks), whose values cannot change. A machine holding
+    anything else (a plain object, a non-frozen dataclass, an object array) is not memoised:
+    ``compute`` runs every time. Not seen (named assumption): edits that go around Python's
+    frozen guard (``object.__setattr__`` on a frozen part after it was built).
+
+    Checking the memo costs one identity comparison per watched object (~30 µs for the ball
+    screw stage) instead of the JSON form (~0.4 ms for the EMPS axis, ~0.7 ms for the stage).
+    """
+    memo = _MEMO.get(machine)
+    if memo is not None and _unchanged(memo[0]):
+        return memo[1]
+    watched: list = []
+    ok = _watch_machine(machine, watched)
+    fp = compute(machine)
+    if ok and fp is not None:
+        try:
+            _MEMO[machine] = (watched, fp)
+        except TypeError:  # not weakly referenceable (a subclass with __slots__): no memo
+            pass
+    return fp
+
+
+def _watch_machine(machine: Machine, out: list) -> bool:
+    out.append((machine, _snap_vars, _snap_vars(machine)))
+    seen = {id(machine)}
+    return all(_watch(v, out, seen, 1) for v in vars(machine).values())
+
+
+#: Fingerprints remembered per machine object (:func:`memo_fingerprint`); dropped with the machine.
+_MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

@@ -17,7 +17,7 @@ from ..kernels import machine as _k
 from ..models.static import Directional
 from .elements import (FrictionFeedforward, HertzContact, PID, PiecewiseLinearSpring, Saturation, SineLoad,
                        StateSpace, Sum)
-from .machine import Machine
+from .machine import Machine, memo_fingerprint
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -1063,12 +1063,18 @@ def _fingerprint(machine: Machine):
     is complete: :meth:`Machine.from_dict` rebuilds the machine from it) — or None when it has
     no JSON form (such a machine is packed anew for every run). An edited machine (a part
     added, a law or parameter replaced, even in place in its lists) has another key, so it can
-    never meet a stale pack; two equal machines share one."""
-    import json
-
+    never meet a stale pack; two equal machines share one. Remembered on the machine object
+    until a part of it changes (:func:`~frictionkit.machines.machine.memo_fingerprint`): a
+    study's many runs of one machine pay the JSON form once."""
     fp = _CALL_FP.get(id(machine))
     if fp is not None:
         return fp
+    return memo_fingerprint(machine, _json_form)
+
+
+def _json_form(machine: Machine):
+    import json
+
     try:
         return json.dumps(machine.to_dict(), allow_nan=True)
     except Exception:  # a part without a JSON form: no caching, never a wrong pack

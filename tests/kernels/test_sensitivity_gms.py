@@ -168,3 +168,40 @@ def test_force_drive_gms_fit_with_sensitivities_is_opt_in():
     # is a poorer guide than a difference over them (trf stops on xtol) — why "auto" keeps differences
     assert sens.rms <= 1.1 * fd.rms
     np.testing.assert_allclose([sens["C"], sens["Fc"]], [20.0, 1.0], rtol=0.1)
+
+
+def test_force_drive_sweep_blown_up_at_a_grazing_switch_is_refused():
+    """A point a 6-field fit visited (2026-11-23, sens): an element breaks away just after a reversal
+    under a stiff spring ringing at omega dt 0.85 (sample 3445), a switch crossed almost tangentially;
+    the sweep's sensitivities there jumped to ~4e8 and grew to ~1e141, and trf stopped at once
+    (``xtol``, 6,500x the noise floor). Such a sweep is refused (``GMS_SENS_GROWTH``: the caller
+    differences); healthy sweeps measured below ~40."""
+    from frictionkit.kernels import sensitivity_gms as _kg
+    from frictionkit.simulation.core import SimOptions
+
+    dt = 5e-4
+    t = np.arange(3601) * dt
+    u = 3.0 * np.sin(2 * np.pi * 1.5 * t) + 0.5 * np.sin(2 * np.pi * 7 * t)
+    tmpl = LawTemplate.of(fk.GMS(fk.Stribeck(Fc=2.0, Fs=2.6, vs=2e-3, sigma2=1.0), k=[2e5, 5e4, 1e4],
+                                 xi=[0.2, 0.3, 0.5], C=50.0))
+    names = tmpl.expand(("k", "C", "Fc", "Fs", "vs", "sigma2"))
+    theta = np.array([439271.4704363155, 2511198.183484168, 12624.756543260972, 30.987105022995085,
+                      1.9845969947454802, 1.8191865324461562, 0.0018243602034920302, 0.5791472969134847])
+
+    def build(q):
+        return tmpl.build(names, q), 1.0, 0.0
+
+    opt = SimOptions()
+    # the sweep itself, unguarded: measured first
+    law, m, off, pk, (dk, dxi, dC, dst), dm, doff = _jacobian._gms_coefficients(build, theta, None)
+    res = fk.simulate(law, plant=fk.Mass(m), force=u, dt=dt, options=opt)
+    sx, sv = np.empty((u.size, theta.size)), np.empty((u.size, theta.size))
+    nsub = int(np.ceil(np.sqrt(pk.k.sum(axis=1).max() / m) * dt / _jacobian.GMS_SENS_OMEGA_H))
+    _kg.gms_force_sens(u, dt, m, pk.static, pk.k, pk.xi, pk.C, res.x, res.v,
+                       np.ascontiguousarray(res.states["F_elements"]), np.ascontiguousarray(res.states["stick"]),
+                       dk, dxi, dC, dst, dm, doff, nsub, sx, sv)
+    growth = np.max(np.abs(sv) * theta, axis=1) / np.max(np.abs(res.v))
+    assert growth[:3440].max() < 40.0, growth[:3440].max()  # healthy before the grazing switch
+    assert growth.max() > 1e6 * _jacobian.GMS_SENS_GROWTH, growth.max()  # blown up after it
+    y, S, status = _jacobian.gms_force_driven(build, theta, u, dt, opt, [(0, u.size)], "v")
+    assert status == _jacobian.UNRESOLVED and S is None

@@ -271,6 +271,16 @@ def _gms_coefficients(build: Callable, theta: np.ndarray, cache: dict | None):
 #: affine per sub-step from a cubic Hermite of the trajectory, is then within ~(omega h)^2 / 8).
 GMS_SENS_OMEGA_H = 0.2
 
+#: A sweep whose sensitivities say that a relative parameter change of ``1 / GMS_SENS_GROWTH`` moves
+#: the simulated signal by more than its own largest value (``max |S_ij theta_j| > GMS_SENS_GROWTH
+#: max |y|``, ``theta_j`` taken as 1 where it is 0) is refused (:data:`UNRESOLVED`: the caller
+#: differences). Named assumption, measured: healthy sweeps of the fits in benchmarks/identify.py and
+#: tests/kernels/test_sensitivity_gms.py stay below ~40; a switch crossed almost tangentially (an
+#: element breaking away just after a reversal, under a fast-ringing stiff spring) gave a saltation
+#: whose denominator nearly vanished and sensitivities growing to ~1e141, whose Jacobian stopped the
+#: fit at once (``xtol``) at 6,500x the noise floor.
+GMS_SENS_GROWTH = 1e4
+
 
 def gms_force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, options: SimOptions, segments,
                      compare: str = "v", cache: dict | None = None, spare: int = 0, S_out: np.ndarray | None = None):
@@ -285,7 +295,7 @@ def gms_force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, opti
     differentiated): measured within 1e-4 ... 5e-3 of central differences of simulations at rtol 1e-9
     in stick-slip, the differences themselves scattering by as much for the stiffnesses
     (tests/kernels/test_sensitivity_gms.py). ``spare``/``S_out`` as :func:`force_driven`. ``status``
-    as :func:`force_driven`.
+    as :func:`force_driven`; also :data:`UNRESOLVED` for a sweep beyond :data:`GMS_SENS_GROWTH`.
     """
     from ..kernels import sensitivity_gms as _kg
     from ..plants.mass import Mass
@@ -321,8 +331,13 @@ def gms_force_driven(build: Callable, theta: np.ndarray, u: np.ndarray, dt, opti
         sv = np.empty((b - a, P))
         _kg.gms_force_sens(ue, h, m, pk.static, pk.k, pk.xi, pk.C, np.ascontiguousarray(res.x),
                            np.ascontiguousarray(res.v), Fel, stick, dk, dxi, dC, dst, dm, doff, nsub, sx, sv)
-        Sx[a:b, :P] = sx if compare == "x" else sv
-        y[a:b] = res.x if compare == "x" else res.v
+        ys = res.x if compare == "x" else res.v
+        ss = sx if compare == "x" else sv
+        scale = np.where(np.asarray(theta) != 0.0, np.abs(theta), 1.0)
+        if not np.isfinite(ss).all() or np.max(np.abs(ss) * scale) > GMS_SENS_GROWTH * np.max(np.abs(ys)):
+            return None, None, UNRESOLVED
+        Sx[a:b, :P] = ss
+        y[a:b] = ys
     return y, Sx, 0
 
 

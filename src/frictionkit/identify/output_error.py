@@ -94,6 +94,13 @@ __all__ = ["evaluate_output_error", "fit_output_error", "initial_guess_lugre", "
 #: SimOptions give 4.5e-7) at 5 ms instead of 11.5 ms per simulation.
 OUTPUT_ERROR_OPTIONS = SimOptions(rtol=1e-5, atol_v=1e-7, atol_F=1e-5)
 
+#: Why ``jacobian="auto"`` differences a GMS force-drive fit (measured decision, issue 11; the
+#: numbers: ``benchmarks/identify.py``'s GMS force section, README): the sensitivities along the
+#: simulated trajectory (``jacobian="sensitivity"``) are as accurate, but the fits end no lower on
+#: balance over random starts and each Jacobian costs more CPU than the differences'.
+GMS_FORCE_AUTO = ("auto: differences for the GMS force drive — sensitivities measured no better over random "
+                  "starts and dearer per Jacobian; jacobian='sensitivity' opts in")
+
 
 def _force_segments(owner, data, compare, external_load, weight, rests, min_rest):
     """The records cut into runs between rests, each a dict of arrays the fit simulates from rest."""
@@ -272,7 +279,9 @@ def fit_output_error(
         the parameters are not identifiable on this data (``message`` says which,
         ``diagnostics["status"]`` is the optimiser's status, 0 = evaluation limit);
         ``diagnostics`` holds ``nfev``, ``njev``, ``status``, ``cost_history``,
-        ``start_costs``, ``mass``, ``offset``, ``condition_number``, ``segments`` (per
+        ``start_costs``, ``mass``, ``offset``, ``condition_number``, ``jacobian``
+        (``"sensitivities"`` or ``"differences"``, ``" (auto: GMS force drive)"`` added where
+        ``jacobian="auto"`` chose differences for GMS: :data:`GMS_FORCE_AUTO`), ``segments`` (per
         record: samples, rest samples, runs), ``initial`` (computed start values);
         ``data`` holds ``t``, ``y``, ``y_pred`` (fitted runs, records one after another).
 
@@ -361,6 +370,7 @@ def fit_output_error(
     # forward sensitivities (kernels.sensitivity; GMS: kernels.sensitivity_gms along the simulated trajectory)
     prob.exact = (cfg.jacobian in ("auto", "sensitivity") and tmpl.kind in ("lugre", "dahl")
                   or cfg.jacobian == "sensitivity" and tmpl.kind == "gms")
+    auto_gms = cfg.jacobian == "auto" and tmpl.kind == "gms"  # differences, by the measured decision
     lo, hi = _bounds_tr(names, tmpl, bounds, prob)
     p0 = prob.to_tr(theta0)
     if np.any(p0 < lo) or np.any(p0 > hi):
@@ -389,7 +399,8 @@ def fit_output_error(
                                             + ((", exact Jacobian (forward sensitivities)" if tmpl.kind != "gms" else
                                                 ", Jacobian from forward sensitivities along the simulated "
                                                 "trajectory") if prob.exact else
-                                               ", forward-difference Jacobian (threaded nogil simulations)"),
+                                               ", forward-difference Jacobian (threaded nogil simulations)"
+                                               + (f" ({GMS_FORCE_AUTO})" if auto_gms else "")),
                                "starts": int(cfg.starts), "refine": refine, "seed": int(cfg.seed),
                                "rtol": options.rtol, "atol_v": options.atol_v, "atol_F": options.atol_F}})
     units = tuple(_unit(n, units_map["F"], units_map["x"]) for n in names)
@@ -557,6 +568,8 @@ def fit_output_error(
                                                                    for rr in runs],
                      "mass": float(m_fit), "offset": float(off_fit), "condition_number": cond,
                      "simulations": int(prob.nsim), "sensitivity_runs": int(prob.nsens),
+                     "jacobian": ("sensitivities" if prob.exact else "differences")
+                                 + (" (auto: GMS force drive)" if auto_gms else ""),
                      "segments": seg_summary, "initial": computed},
         provenance=prov,
         data={"t": t, "y": y, "y_pred": y_pred},

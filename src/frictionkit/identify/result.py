@@ -417,6 +417,8 @@ class IdentificationResult:
             ci = f"[{self.ci95[i, 0]:.6g}, {self.ci95[i, 1]:.6g}]"
             lines.append(f"{n:<12}{self.values[i]:>14.6g}{self.stderr[i]:>12.3g}{ci:>30}  {self.units[i]}")
         lines.append(f"RMS residual {self.rms:.6g}, relative error {self.relative_error_percent:.4g} %")
+        if self.diagnostics.get("jacobian"):  # how the fit's Jacobian was formed (output error)
+            lines.append(f"Jacobian: {self.diagnostics['jacobian']}")
         if self.diagnostics.get("data_scale_text"):
             lines.append(f"data scale: {self.diagnostics['data_scale_text']}")
         for k, part in self.parts.items():

@@ -114,3 +114,86 @@ def test_a_machine_holding_an_unwatchable_part_is_fingerprinted_every_call(monke
     sim._fingerprint(m)
     sim._fingerprint(m)
     assert calls == [1, 1]
+
+
+# --------------------------------------------------------------------------- ball-screw stage caches
+def _stage_args():
+    from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
+
+    return paper_plant("sliding"), paper_controller(), paper_sensors()
+
+
+def test_stage_machine_is_remembered_by_content_and_follows_every_edit():
+    from frictionkit.presets import ballscrew as bsp
+
+    plant, ctrl, sens = _stage_args()
+    m1, _ = bsp._stage_machine(plant, ctrl, sens, None, None, None)
+    again, _ = bsp._stage_machine(*_stage_args(), None, None, None)  # equal content, new objects
+    assert again is m1
+    gms = fk.GMS(fk.Stribeck(Fc=1270.0, Fs=1400.0, vs=1e-3), k=[5e7, 2e8], xi=[0.5, 0.5], C=20.0)
+    edits = {
+        "plant": (dataclasses.replace(plant, k_nut=0.9 * plant.k_nut), ctrl, sens, None),
+        "controller": (plant, dataclasses.replace(ctrl, i_max=0.5 * ctrl.i_max), sens, None),
+        "sensors": (plant, ctrl, dataclasses.replace(sens, scale_resolution=2e-7), None),
+        "nut law": (plant, ctrl, sens, gms),
+        "nut law edited": (plant, ctrl, sens, dataclasses.replace(gms, C=30.0)),
+    }
+    seen = {sim._json_form(m1)}
+    for what, (p, c, s, law) in edits.items():
+        m, beta = bsp._stage_machine(p, c, s, law, None, None)
+        fresh = bsp.ballscrew_machine(p, c, s, nut_law=law)
+        assert sim._json_form(m) == sim._json_form(fresh), what  # what a fresh build gives ...
+        assert sim._json_form(m) not in seen, what  # ... and not an earlier entry
+        seen.add(sim._json_form(m))
+        assert beta == bsp.rayleigh_beta(p)
+
+
+def test_feedforward_is_remembered_by_content_and_read_only():
+    from frictionkit.control.trajectories import cosine_reference
+    from frictionkit.presets import ballscrew as bsp
+
+    _, ctrl, _ = _stage_args()
+    ref = cosine_reference(duration=0.05)
+    th, om = ref.x / ctrl.R, ref.v / ctrl.R
+    u, d = bsp._feedforward(ctrl.ptc, th, om)
+    u0, d0 = ctrl.ptc.feedforward(th, om)
+    np.testing.assert_array_equal(u, u0)
+    np.testing.assert_array_equal(d, d0)
+    assert bsp._feedforward(ctrl.ptc, th.copy(), om.copy())[0] is u  # equal content: remembered
+    with pytest.raises(ValueError):
+        u[0] = 1.0  # the remembered arrays cannot be edited by a caller
+    th2 = th.copy()
+    th2[7] += 1e-9  # one sample of the reference edited
+    np.testing.assert_array_equal(bsp._feedforward(ctrl.ptc, th2, om)[0], ctrl.ptc.feedforward(th2, om)[0])
+    ptc2 = dataclasses.replace(ctrl.ptc, J=1.1 * ctrl.ptc.J)
+    np.testing.assert_array_equal(bsp._feedforward(ptc2, th, om)[0], ptc2.feedforward(th, om)[0])
+    assert not np.array_equal(bsp._feedforward(ptc2, th, om)[0], u)
+
+
+def test_a_cached_stage_run_equals_a_run_from_scratch(monkeypatch):
+    from frictionkit.control.trajectories import cosine_reference
+    from frictionkit.presets import ballscrew as bsp
+    from frictionkit.plants.ballscrew import RigidBallScrew
+
+    _, ctrl, sens = _stage_args()
+    ref = cosine_reference(duration=0.1)
+    plant = RigidBallScrew()
+    runs = [bsp.simulate_stage(plant, ctrl, ref, sensors=sens) for _ in range(2)]  # the second one cached
+    monkeypatch.setattr(bsp, "_stage_machine", lambda p, c, s, n, g, f: (bsp.ballscrew_machine(p, c, s), 0.0))
+    monkeypatch.setattr(bsp, "_feedforward", lambda ptc, a, b: ptc.feedforward(a, b))
+    monkeypatch.setattr(sim, "_fingerprint", sim._json_form)
+    sim._PACK_CACHE.clear()
+    scratch = bsp.simulate_stage(plant, ctrl, ref, sensors=sens)
+    for r in runs:
+        for f in ("x_t", "theta_m", "x_t_meas", "theta_m_meas", "i", "friction"):
+            np.testing.assert_array_equal(getattr(r, f), getattr(scratch, f), err_msg=f)
+
+
+def test_result_time_axis_is_the_sample_index_times_dt():
+    m = Machine("t")
+    x = m.dof("x", inertia=1.0)
+    m.friction("c", x, law=fk.CoulombViscous(Fc=1.0))
+    m.actuator("u", x)
+    dt = 0.1 + 1e-3  # not a power of two: every product is rounded
+    r = fk.simulate_machine(m, dt=dt, inputs={"u": np.zeros(50_001)}, fast_path=False, substeps=1)
+    assert np.array_equal(r.t, np.array([k * dt for k in range(50_001)]))

@@ -62,6 +62,9 @@ which differs only if the first encoder sample is not 0 (noise at a stage at res
 
 from __future__ import annotations
 
+import pickle
+from collections import OrderedDict
+
 import numpy as np
 
 from .. import _validate as val
@@ -324,9 +327,9 @@ def simulate_stage(plant: ElasticBallScrew | RigidBallScrew, controller: TwoDofC
     uf = np.zeros(N) if compensation is None else val.signal("compensation", compensation)
     if uf.size != N:
         raise DataError(f"compensation has {uf.size} samples: must match the reference ({N})")
-    m = ballscrew_machine(plant, controller, sensors, nut_law=nut_law, guide_law=guide_law, flank_law=flank_law)
+    m, beta = _stage_machine(plant, controller, sensors, nut_law, guide_law, flank_law)
     R = controller.R
-    u_ff, theta_d = controller.ptc.feedforward(reference.x / R, reference.v / R)
+    u_ff, theta_d = _feedforward(controller.ptc, reference.x / R, reference.v / R)
     inputs = {"theta_d": theta_d, "u_ff": u_ff, "u_f": uf / controller.ptc.K_tau}
     res = simulate_machine(m, dt=T, inputs=inputs, substeps=substeps, seed=seed)
     if not res.success and raise_on_failure:
@@ -338,7 +341,7 @@ def simulate_stage(plant: ElasticBallScrew | RigidBallScrew, controller: TwoDofC
         g = R * m.coord("theta_s") + m.coord("x_m") - m.coord("x_t")
         k = plant.k_nut
         d = res.position(g)
-        fbn = plant.contact_force(d) + rayleigh_beta(plant) * k * res.velocity(g)
+        fbn = plant.contact_force(d) + beta * k * res.velocity(g)
         names = ("guide", "nut") if plant.nut_model == "sliding" else ("guide", "nut", "flank_pos", "flank_neg")
     else:
         theta_m = res.position("theta")
@@ -354,3 +357,73 @@ def simulate_stage(plant: ElasticBallScrew | RigidBallScrew, controller: TwoDofC
                             i=res.u[:, 0].copy(), drive_force=fbn, friction=fric, u_f=uf,
                             status=res.status, message=res.message)
 
+
+
+# ---------------------------------------------------------------------- caches of simulate_stage
+#: Stage machines and feed-forwards of recent :func:`simulate_stage` calls (oldest first), so a
+#: study's, fit's or benchmark's many runs of one stage build its machine (~2.5 ms) and its PTC
+#: feed-forward (~2.3 ms; scipy's matrix exponential inside took up to 24 ms on a loaded 2-core
+#: machine, OpenBLAS threads waiting on each other) once.
+_STAGE_CACHE: "OrderedDict[bytes, tuple]" = OrderedDict()
+_FF_CACHE: "OrderedDict[tuple, tuple]" = OrderedDict()
+STAGE_CACHE_SIZE = 8
+FF_CACHE_SIZE = 4
+#: Longest reference whose feed-forward is remembered (its key holds the reference's bytes:
+#: at most FF_CACHE_SIZE x 4 arrays of this many float64 samples, 12.8 MB).
+FF_CACHE_MAX_SAMPLES = 100_000
+
+
+def _content_key(*objs) -> bytes | None:
+    """The objects' content as bytes — their pickle, which rebuilds equal objects, floats bit
+    for bit — or None when one cannot be pickled (then nothing is cached). An edited plant,
+    controller, sensor set or law is another object with other content, so it can never meet
+    a stale entry. Named assumption: a class is known by its module and name (a class
+    redefined under the same name with the same fields, e.g. in a notebook, is not told apart)."""
+    try:
+        return pickle.dumps(objs, protocol=pickle.HIGHEST_PROTOCOL)
+    except Exception:
+        return None
+
+
+def _remember(cache: OrderedDict, key, make, size: int):
+    if key is None:
+        return make()
+    hit = cache.get(key)
+    if hit is None:
+        hit = cache[key] = make()
+        while len(cache) > size:
+            cache.popitem(last=False)
+    else:
+        cache.move_to_end(key)
+    return hit
+
+
+def _stage_machine(plant, controller, sensors, nut_law, guide_law, flank_law) -> tuple:
+    """``(machine, beta)`` of :func:`simulate_stage`: :func:`ballscrew_machine` and the
+    Rayleigh ``beta`` (0 for the rigid stage), remembered by content. The machine never leaves
+    :func:`simulate_stage` (its result holds arrays only), so no caller can edit a cached one."""
+    def make():
+        m = ballscrew_machine(plant, controller, sensors, nut_law=nut_law, guide_law=guide_law, flank_law=flank_law)
+        return m, (rayleigh_beta(plant) if isinstance(plant, ElasticBallScrew) else 0.0)
+
+    key = _content_key(plant, controller, sensors, nut_law, guide_law, flank_law)
+    return _remember(_STAGE_CACHE, key, make, STAGE_CACHE_SIZE)
+
+
+def _feedforward(ptc, theta_ref: np.ndarray, omega_ref: np.ndarray) -> tuple:
+    """``ptc.feedforward(theta_ref, omega_ref)``, remembered by content (the PTC's and the
+    references' bytes) for references up to :data:`FF_CACHE_MAX_SAMPLES`. The arrays are
+    read-only: they are only ever copied into the machine's inputs."""
+    def make():
+        out = ptc.feedforward(theta_ref, omega_ref)
+        for a in out:
+            a.setflags(write=False)
+        return out
+
+    th = np.ascontiguousarray(theta_ref, dtype=float)
+    om = np.ascontiguousarray(omega_ref, dtype=float)
+    key = None
+    if th.size <= FF_CACHE_MAX_SAMPLES and om.size <= FF_CACHE_MAX_SAMPLES:
+        k = _content_key(ptc)
+        key = None if k is None else (k, th.shape, th.tobytes(), om.shape, om.tobytes())
+    return _remember(_FF_CACHE, key, make, FF_CACHE_SIZE)

@@ -139,6 +139,8 @@ class CompensationResult:
     quick: bool = False
     elapsed: float = 0.0
     unit: str = "m"
+    #: What the numbers do not show (e.g. a reference velocity without a reversal), "" when nothing.
+    note: str = ""
 
     @property
     def shown(self) -> tuple[str, float]:
@@ -153,7 +155,8 @@ class CompensationResult:
     @property
     def message(self) -> str:
         bad = [f"{k}: {r['message']}" for k, r in self.rows.items() if not r["ok"]]
-        return "ok" if not bad else "failed: " + "; ".join(bad)
+        text = "ok" if not bad else "failed: " + "; ".join(bad)
+        return f"{text}; note: {self.note}" if self.note else text
 
     @property
     def success(self) -> bool:
@@ -623,5 +626,13 @@ def compensate(preset: str | Path, compensators: str | Sequence[str] | None = No
         run(tracked(compensators), model, bool(quick), int(seed), each)
     t = store.get("t", np.zeros(0))
     revs = _reversals(t, store["v"]) if "v" in store else []
+    note = ""
+    if machine is not None and "v" in store and not revs:  # was (issue 13 round 6): 'ok' without a word
+        v = np.asarray(store["v"], dtype=float)
+        name = test.velocity
+        note = (f"the reference velocity {name!r} is zero throughout: the compensators never acted (their "
+                "feed-forward reads it), so every row shows the loop alone" if not np.any(v) else
+                f"the reference velocity {name!r} never changes sign: no reversal, so there is no reversal error "
+                "and the compensators were tested away from reversals only")
     return CompensationResult(preset=preset, rows=rows, t=t, errors=errors, reversals=revs, model=model_name,
-                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=unit)
+                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=unit, note=note)

@@ -30,24 +30,36 @@ Peers
   ``dF/dt = sigma0 v (1 - F sgn(v) / Fc)``; 14 states. The PTC feed-forward and the
   compensation are precomputed arrays for both (as for the core).
 * ``ballscrew_gms4``: the same stage with ``machines.gms4`` at the nut and the guide (GMS-4
-  over an exponential Stribeck curve; 20 states), event-stepped like the GMS peer of
-  ``benchmarks/peers.py`` (whose switch tests ``_gms_switch`` / ``_gms_grazing`` it imports):
-  LSODA per sample on the smooth right-hand side of the current stick/slip flags; a breakaway,
-  a reversal of a site with slipping elements, or a reversal of an all-sticking site with an
-  element within reach of its breakaway (grazing) at the sample's end is located by LSODA
-  calls over grids of ``LOC_GRID`` points to ``EVENT_TOL dt``, applied, and the sample
-  finished from there.
+  over an exponential Stribeck curve; 20 states), event-stepped: LSODA per sample on the
+  smooth right-hand side of the current stick/slip flags; a breakaway, a reversal of a site
+  with slipping elements, or a reversal of an all-sticking site with an element within reach
+  of its breakaway (grazing) at the sample's end is located by LSODA calls over grids of
+  ``LOC_GRID`` points to ``EVENT_TOL dt``, applied, and the sample finished from there.
+* ``two_shaft_gms``: ``machines.two_shaft_machine`` (seed 000 shape: screw and nut shafts,
+  rigid 8 kg table on ``R (theta_s + theta_n)``; GMS-3 at the screw shaft, the nut shaft, the
+  ball pair and the guide over Stribeck curves with exponents 1, 3, 1.5 and 2; eq. 15's two
+  PIDs at 250 us, 23-bit encoders, 10 nm scale) on ``machines.two_shaft_reference``, event-
+  stepped as the GMS-4 stage; 2 DOFs + 12 element forces. Its loop screen finds it hunting-
+  prone, so frictionkit's timed run includes the hunting check's rerun at 4x the sub-steps;
+  the row also times frictionkit with that check off (``nocheck_``).
 
-Accuracy: errors are max |dq| of the position (EMPS: the axis; ball screw: the table ``x_t``)
-and the change of the RMS tracking error (``qg - q`` / ``r - x_t``) against a reference: the
+The chain peers share one data layout and one set of helpers (``_helpers``: the linear chain
+``v' = M^-1 (tau - K q - D v - C^T F)`` with ``M^-1`` premultiplied, site velocities and loads
+over the nonzero entries of their rows, the GMS site's rates and its switch tests for any
+Stribeck exponent). The GMS switch tests were those of ``benchmarks/peers.py`` (delta 2 only);
+here ``g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta)`` as in the core's kernels.
+
+Accuracy: errors are max |dq| of the position (EMPS: the axis; ball screw and two-shaft drive:
+the table ``x_t``) and the change of the RMS tracking error (``qg - q`` / ``r - x_t``) against a reference: the
 peer at ``REF_RTOL`` = 1e-11, cross-checked against frictionkit at 640 sub-steps (the brief's
 reference). Decision (measured 2026-11-23): for EMPS the general loop at 640 sub-steps is
 5.8e-10 m from both the one-DOF fast path (the run timed) and the peer at 1e-11, which agree
 to 1.5e-12 m with each other — two independent exact-to-round-off solutions beat a converging
-one; for the ball screw frictionkit at 640 sub-steps and the peer at 1e-11 agree to 7e-13 m.
+one; for the ball screw frictionkit at 640 sub-steps and the peer at 1e-11 agree to 7e-13 m,
+for the two-shaft drive (10 s, ideal sensors) to 1.1e-12 ... 2.3e-12 m.
 The peer runs at the loosest ``rtol`` (``atol = rtol * ATOL_SCALE``) of ``TOLS`` (half decades)
 whose two errors are both at or below ``max(frictionkit's, FLOOR_M)`` ("matching accuracy").
-The ball screw's tolerance is matched with ideal sensors: with the paper's quantised, noisy
+The ball screw's and the two-shaft drive's tolerances are matched with ideal sensors: with the paper's quantised, noisy
 sensors a one-count flip of the 100 nm scale or the encoder moves a run by a few 1e-8 m at any
 tolerance (2 s run: the peer at rtol 1e-3 ... 1e-11 is 3.3e-8 ... 5.2e-8 m from frictionkit at
 640 sub-steps, not falling with the tolerance), so accuracy cannot be compared there; the run
@@ -55,9 +67,6 @@ with the paper sensors (the benchmark's workload) is then timed at that
 tolerance (``ratio``), the ideal-sensor run too (``acc_ratio``). Ratio = peer time /
 frictionkit time, measured interleaved in the same run, min of ``--repeat`` (wall time;
 the calling thread's CPU time ratio beside it is the steadier number on a loaded machine).
-
-Not done: a peer for the two-shaft drive (GMS-3 over Stribeck curves with delta 1.5: the
-switch tests of benchmarks/peers.py assume delta 2).
 """
 
 from __future__ import annotations
@@ -117,8 +126,8 @@ def _rms(x):
 
 # --------------------------------------------------------------------------- compiled pieces
 @functools.lru_cache(maxsize=None)
-def _compiled():
-    """Compile the right-hand sides and the loops once (numbalsoda needed)."""
+def _compiled_emps():
+    """Compile the EMPS right-hand side and loop once (numbalsoda needed)."""
     if MISSING:
         raise ImportError(MISSING)
 
@@ -202,35 +211,299 @@ def _compiled():
                 return False
         return True
 
-    # ---- ball screw: data = [tau_m, Fc_g, s0_g, Fc_n, s0_n, R, 1/m (6), K (36), D (36)]
-    # y = [q (6), v (6), F_guide, F_nut]
-    OM, OK_, OD = 6, 12, 48
+    return emps_loop
+
+
+# ---- chain peers (ball screw Dahl / GMS-4, two-shaft drive GMS-3): one data layout, one set of
+# helpers. A linear chain of n DOFs q with friction sites s_j = C_j q, written with the mass matrix
+# already inverted (as an engineer would precompute it):
+#     q' = v,   v' = a - AK q - AD v - B F,   AK = M^-1 K, AD = M^-1 D, B = M^-1 C^T,
+# a = M^-1 (actuator torques), set by the loop once per sample.
+# data = [a (n), AK (n*n), AD (n*n), B (n*ns, row-major), C (ns*n, row-major), site blocks (ns*NB)]
+# y = [q (n), v (n), site states (Dahl: one F per site; GMS: M element forces per site)]
+# Site blocks: Dahl [Fc, sigma0]; GMS [Fc, Fs, vs, delta, sigma2, C, k (M), xi (M), stick (M)]
+# (stick 1.0 / 0.0), the static curve g(v) = Fc + (Fs - Fc) exp(-|v / vs|^delta) for any delta.
+GMS_M = 4    # the ball screw's GMS (machines.gms4)
+GMS_NP = 6   # GMS block: parameters before k
+
+
+def chain_offsets(n, ns):
+    """``(oAK, oAD, oB, oC, oS)``: offsets of the chain data layout above."""
+    oAK = n
+    oAD = oAK + n * n
+    oB = oAD + n * n
+    oC = oB + n * ns
+    return oAK, oAD, oB, oC, oC + ns * n
+
+
+def chain_data(Minv, K, D, C, blocks):
+    """The chain data array from ``M^-1`` (n, n), ``K``, ``D`` (n, n), site rows ``C`` (ns, n) and
+    the site blocks; ``a`` (the first n entries) starts at zero."""
+    Minv, C = np.asarray(Minv, float), np.atleast_2d(np.asarray(C, float))
+    n = Minv.shape[0]
+    return np.concatenate([np.zeros(n), (Minv @ K).ravel(), (Minv @ D).ravel(), (Minv @ C.T).ravel(), C.ravel(),
+                           *[np.asarray(b, float) for b in blocks]])
+
+
+def gms_block(law):
+    """A GMS site block from a symmetric ``fk.GMS`` over an exponential ``Stribeck`` curve."""
+    st = law.static
+    if getattr(st, "shape", None) != "exponential" or not hasattr(st, "delta"):
+        raise ValueError(f"the GMS chain peer is written for a symmetric GMS over an exponential Stribeck curve, "
+                         f"not {st!r}")
+    M = len(law.k)
+    return np.concatenate([[st.Fc, st.Fs, st.vs, st.delta, st.sigma2, law.C], law.k, law.xi, np.ones(M)])
+
+
+@functools.lru_cache(maxsize=None)
+def _helpers():
+    """The chain helpers shared by the Dahl and GMS right-hand sides, event tests and loops."""
+    if MISSING:
+        raise ImportError(MISSING)
+
+    @nb.njit(inline="always")
+    def chain_linear(p, n, y, dy):
+        """dy[:n] = v; dy[n:] = a - AK q - AD v (the linear chain without its site forces)."""
+        oAK = n
+        oAD = n + n * n
+        for i in range(n):
+            f = p[i]
+            for j in range(n):
+                f -= p[oAK + n * i + j] * y[j] + p[oAD + n * i + j] * y[n + j]
+            dy[i] = y[n + i]
+            dy[n + i] = f
+
+    @nb.njit(inline="always")
+    def site_v(p, oC, n, j, y, rows):
+        """Site j's velocity C_j v over the DOFs ``rows[j]`` where C_j is nonzero (-1 pads)."""
+        v = 0.0
+        for b in rows[j]:
+            if b < 0:
+                break
+            v += p[oC + n * j + b] * y[n + b]
+        return v
+
+    @nb.njit(inline="always")
+    def site_load(p, oB, n, ns, j, F, dy, cols):
+        """Site j's force F on the accelerations: dy[n:] -= B[:, j] F over the DOFs ``cols[j]``
+        where B[:, j] is nonzero (-1 pads)."""
+        for b in cols[j]:
+            if b < 0:
+                break
+            dy[n + b] -= p[oB + ns * b + j] * F
+
+    @nb.njit(inline="always")
+    def gms_g(p, o, v):
+        """The GMS block's static level g(v) (delta 1 and 2 without pow, as the core's kernels)."""
+        r = abs(v) / p[o + 2]
+        d = p[o + 3]
+        e = r * r if d == 2.0 else (r if d == 1.0 else r ** d)
+        return p[o] + (p[o + 1] - p[o]) * math.exp(-e)
+
+    @nb.njit(inline="always")
+    def gms_site(p, o, M, v, y, iy, dy):
+        """A GMS site's force sum F_i + sigma2 v and its element rates: sticking k_i v, slipping
+        C (xi_i sgn(v) - F_i / g(v))."""
+        g = gms_g(p, o, v)
+        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+        F = p[o + 4] * v
+        C = p[o + 5]
+        for i in range(M):
+            Fi = y[iy + i]
+            F += Fi
+            if p[o + GMS_NP + 2 * M + i] != 0.0:
+                dy[iy + i] = p[o + GMS_NP + i] * v
+            else:
+                dy[iy + i] = C * (p[o + GMS_NP + M + i] * sg - Fi / g)
+        return F
+
+    @nb.njit
+    def gms_breakaway(p, o, M, v, y, iy):
+        """Index of the first sticking element at its breakaway (``sgn(v) F_i >= xi_i g(v)``), or -1."""
+        g = gms_g(p, o, v)
+        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+        if sg == 0.0:
+            return -1
+        for i in range(M):
+            if p[o + GMS_NP + 2 * M + i] != 0.0 and sg * y[iy + i] >= p[o + GMS_NP + M + i] * g:
+                return i
+        return -1
+
+    @nb.njit
+    def gms_grazing(p, o, M, y, iy, reach):
+        """Whether a sticking element could break away within a displacement ``reach`` (its force
+        ``|F_i| + k_i reach`` against ``xi_i min(Fc, Fs)``)."""
+        glo = min(p[o], p[o + 1])
+        for i in range(M):
+            if p[o + GMS_NP + 2 * M + i] != 0.0 and abs(y[iy + i]) + p[o + GMS_NP + i] * reach >= p[o + GMS_NP + M + i] * glo:
+                return True
+        return False
+
+    @nb.njit
+    def gms_anyslip(p, o, M):
+        for i in range(M):
+            if p[o + GMS_NP + 2 * M + i] == 0.0:
+                return True
+        return False
+
+    return chain_linear, site_v, site_load, gms_site, gms_breakaway, gms_grazing, gms_anyslip
+
+
+def sparsity(data, n, ns):
+    """``(rows, cols)``: per site the DOFs where its row C_j and its column B[:, j] are nonzero,
+    as tuples padded with -1 — compile-time constants of the chain peers, so that a site on one
+    DOF costs one product (as written by hand), not n."""
+    oAK, oAD, oB, oC, oS = chain_offsets(n, ns)
+    C = data[oC:oS].reshape(ns, n)
+    B = data[oB:oC].reshape(n, ns)
+
+    def pad(ix):
+        w = max(max(len(i) for i in ix), 1)
+        return tuple(tuple(int(b) for b in i) + (-1,) * (w - len(i)) for i in ix)
+    return pad([np.flatnonzero(C[j]) for j in range(ns)]), pad([np.flatnonzero(B[:, j]) for j in range(ns)])
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_dahl(n, ns, rows, cols):
+    """The chain with ``ns`` Dahl sites ``dF/dt = sigma0 v (1 - F sgn(v) / Fc)``: its right-hand
+    side's address (``rows``, ``cols``: :func:`sparsity`)."""
+    chain_linear, site_v, site_load = _helpers()[:3]
+    oAK, oAD, oB, oC, oS = chain_offsets(n, ns)
 
     @nb.cfunc(lsoda_sig)
-    def bs_rhs(t, y, dy, p):
-        R = p[5]
-        vg = y[11]
-        vn = R * y[7]
-        Fg = y[12]
-        Fn = y[13]
-        sg = 1.0 if vg > 0.0 else (-1.0 if vg < 0.0 else 0.0)
-        sn = 1.0 if vn > 0.0 else (-1.0 if vn < 0.0 else 0.0)
-        dy[12] = p[2] * vg * (1.0 - Fg * sg / p[1])
-        dy[13] = p[4] * vn * (1.0 - Fn * sn / p[3])
-        for i in range(6):
-            f = 0.0
-            for j in range(6):
-                f -= p[OK_ + 6 * i + j] * y[j] + p[OD + 6 * i + j] * y[6 + j]
-            if i == 0:
-                f += p[0]
-            elif i == 1:
-                f -= R * Fn
-            elif i == 5:
-                f -= Fg
-            dy[i] = y[6 + i]
-            dy[6 + i] = f * p[OM + i]
+    def rhs(t, y, dy, p):
+        chain_linear(p, n, y, dy)
+        for j in range(ns):
+            v = site_v(p, oC, n, j, y, rows)
+            o = oS + 2 * j
+            F = y[2 * n + j]
+            sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+            dy[2 * n + j] = p[o + 1] * v * (1.0 - F * sg / p[o])
+            site_load(p, oB, n, ns, j, F, dy, cols)
 
-    bs_ptr = bs_rhs.address
+    return rhs.address
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_gms(n, ns, M, rows, cols):
+    """The chain with ``ns`` GMS-``M`` sites, event-stepped: ``advance(y, data, T, rtol, atol,
+    counts)`` runs one sample of length T (the accelerations ``a`` already in data); LSODA on the
+    smooth right-hand side of the current stick/slip flags; a breakaway, a reversal of a site with
+    slipping elements, or a reversal of an all-sticking site with an element within reach of its
+    breakaway (grazing) at the end of a call is located by LSODA calls over grids of ``LOC_GRID``
+    points to ``EVENT_TOL T``, applied, and the sample finished from there (``rows``, ``cols``:
+    :func:`sparsity`)."""
+    chain_linear, site_v, site_load, gms_site, gms_breakaway, gms_grazing, gms_anyslip = _helpers()
+    oAK, oAD, oB, oC, oS = chain_offsets(n, ns)
+    NB_ = GMS_NP + 3 * M
+    NY = 2 * n + ns * M
+
+    @nb.cfunc(lsoda_sig)
+    def rhs(t, y, dy, p):
+        chain_linear(p, n, y, dy)
+        for j in range(ns):
+            v = site_v(p, oC, n, j, y, rows)
+            F = gms_site(p, oS + j * NB_, M, v, y, 2 * n + j * M, dy)
+            site_load(p, oB, n, ns, j, F, dy, cols)
+
+    ptr = rhs.address
+
+    @nb.njit
+    def event(ya, yb, data, h, grazing_ok):
+        """Whether a switch happened between states ya and yb (h apart): a breakaway at yb, a
+        reversal of a site with slipping elements, or (grazing_ok) a reversal of an all-sticking
+        site with an element within reach of its breakaway. Returns 0 none, 1 switch, 2 grazing."""
+        out = 0
+        for j in range(ns):
+            o = oS + j * NB_
+            vb = site_v(data, oC, n, j, yb, rows)
+            if gms_breakaway(data, o, M, vb, yb, 2 * n + j * M) >= 0:
+                return 1
+            va = site_v(data, oC, n, j, ya, rows)
+            if va * vb < 0.0:
+                if gms_anyslip(data, o, M):
+                    return 1
+                if grazing_ok and gms_grazing(data, o, M, ya, 2 * n + j * M, 2.0 * abs(va) * h):
+                    out = 2
+        return out
+
+    @nb.njit
+    def apply_switches(y, va_sites, data):
+        """At a located switch: a site whose velocity reversed with slipping elements sticks
+        all its elements, then every element at its breakaway slips."""
+        for j in range(ns):
+            o = oS + j * NB_
+            v = site_v(data, oC, n, j, y, rows)
+            if gms_anyslip(data, o, M) and v * va_sites[j] < 0.0:
+                for i in range(M):
+                    data[o + GMS_NP + 2 * M + i] = 1.0
+            while True:
+                i = gms_breakaway(data, o, M, v, y, 2 * n + j * M)
+                if i < 0:
+                    break
+                data[o + GMS_NP + 2 * M + i] = 0.0
+
+    @nb.njit
+    def stick_all(data):
+        """Every element sticks (at rest)."""
+        for j in range(ns):
+            for i in range(M):
+                data[oS + j * NB_ + GMS_NP + 2 * M + i] = 1.0
+
+    @nb.njit
+    def advance(y, data, T, rtol, atol, counts):
+        """One sample of length T; switches located to EVENT_TOL T. False: LSODA failed."""
+        t = 0.0
+        te = np.empty(2)
+        tg = np.empty(LOC_GRID + 1)
+        va_s = np.empty(ns)
+        while t < T:
+            te[0] = t
+            te[1] = T
+            us, ok = lsoda(ptr, y, te, data=data, rtol=rtol, atol=atol, mxstep=100000)
+            if not ok:
+                return False
+            ev = event(y, us[1], data, T - t, True)
+            if ev == 0:
+                for r in range(NY):
+                    y[r] = us[1, r]
+                return True
+            counts[0] += 1
+            ya = y.copy()
+            yb = us[1].copy()
+            ta, tb = t, T
+            while tb - ta > EVENT_TOL * T:
+                for i in range(LOC_GRID + 1):
+                    tg[i] = ta + (tb - ta) * i / LOC_GRID
+                us, ok = lsoda(ptr, ya, tg, data=data, rtol=rtol, atol=atol, mxstep=100000)
+                if not ok:
+                    return False
+                jj = LOC_GRID  # the end state, from a path of its own, may disagree by round-off
+                for i in range(1, LOC_GRID + 1):
+                    if event(us[i - 1], us[i], data, tg[i] - tg[i - 1], ev == 2) != 0:
+                        jj = i
+                        break
+                ta, tb = tg[jj - 1], tg[jj]
+                ya = us[jj - 1].copy()
+                yb = us[jj].copy()
+            for j in range(ns):
+                va_s[j] = site_v(data, oC, n, j, ya, rows)
+            apply_switches(yb, va_s, data)
+            for r in range(NY):
+                y[r] = yb[r]
+            t = tb
+        return True
+
+    return advance, stick_all, NY
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_ballscrew(gms, rows, cols):
+    """The ball-screw stage's loop: Dahl sites (``gms=False``: one LSODA call per sample) or
+    GMS-``GMS_M`` sites (event-stepped). Sites: 0 the guide (``x_t``), 1 the nut (``R theta_s``)."""
+    if MISSING:
+        raise ImportError(MISSING)
+    n, ns = 6, 2
 
     @nb.njit
     def bs_control(k, th_m, x_t, ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale):
@@ -272,201 +545,42 @@ def _compiled():
             cs[0] += Ki * T * e
         return i
 
-    @nb.njit
-    def bs_loop(data, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
-        """The Dahl stage, one LSODA call per sample. Returns True on success."""
-        T, Ktau = ctl[0], ctl[13]
-        y = np.zeros(14)
-        te = np.array([0.0, T])
-        cs = np.zeros(8)
-        N = theta_d.size
-        for k in range(N):
-            xt_out[k] = y[5]
-            i = bs_control(k, y[0], y[5], ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale)
-            i_out[k] = i
-            if k == N - 1:
-                break
-            data[0] = Ktau * i
-            us, ok = lsoda(bs_ptr, y, te, data=data, rtol=rtol, atol=atol, mxstep=100000)
-            if not ok:
-                return False
-            for r in range(14):
-                y[r] = us[1, r]
-        return True
+    if not gms:
+        ptr = _compiled_dahl(n, ns, rows, cols)
+        NY = 2 * n + ns
 
-    return emps_loop, bs_loop, bs_control
-
-
-# ---- ball screw with a GMS at the nut and at the guide, event-stepped (issue 8 brief, item 3)
-# data = [tau_m, R, 1/m (6), K (36), D (36), guide block, nut block]; each block in the layout of
-# benchmarks/peers.py's GMS peer ([Fc, Fs, vs, sigma2, C, m, dt, N, M, k.., xi.., stick..]; m, dt,
-# N unused) so that its switch tests (_gms_switch, _gms_grazing) are reused by import.
-# y = [q (6), v (6), guide element forces (M), nut element forces (M)]
-GMS_M = 4
-
-
-@functools.lru_cache(maxsize=None)
-def _compiled_gms():
-    if MISSING:
-        raise ImportError(MISSING)
-    from peers import GMS_NP, _gms_grazing, _gms_switch
-
-    M = GMS_M
-    OM, OK_, OD = 2, 8, 44
-    OB = 80                       # the guide block; the nut block follows
-    NB_ = GMS_NP + 3 * M          # block length
-    NY = 12 + 2 * M
-
-    @nb.cfunc(lsoda_sig)
-    def rhs(t, y, dy, p):
-        R = p[1]
-        Fg = 0.0
-        Fn = 0.0
-        for j in range(2):
-            o = OB + j * NB_
-            v = y[11] if j == 0 else R * y[7]
-            r = v / p[o + 2]
-            g = p[o] + (p[o + 1] - p[o]) * math.exp(-r * r)
-            sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-            F = p[o + 3] * v
-            for i in range(M):
-                Fi = y[12 + j * M + i]
-                F += Fi
-                if p[o + GMS_NP + 2 * M + i] != 0.0:
-                    dy[12 + j * M + i] = p[o + GMS_NP + i] * v
-                else:
-                    dy[12 + j * M + i] = p[o + 4] * (p[o + GMS_NP + M + i] * sg - Fi / g)
-            if j == 0:
-                Fg = F
-            else:
-                Fn = F
-        for i in range(6):
-            f = 0.0
-            for j in range(6):
-                f -= p[OK_ + 6 * i + j] * y[j] + p[OD + 6 * i + j] * y[6 + j]
-            if i == 0:
-                f += p[0]
-            elif i == 1:
-                f -= R * Fn
-            elif i == 5:
-                f -= Fg
-            dy[i] = y[6 + i]
-            dy[6 + i] = f * p[OM + i]
-
-    ptr = rhs.address
-
-    @nb.njit
-    def site_y(y, j, R, ys):
-        """Site j's state in the peers' single-mass layout [x, v, F_0..F_{M-1}] (x unused)."""
-        ys[0] = 0.0
-        ys[1] = y[11] if j == 0 else R * y[7]
-        for i in range(M):
-            ys[2 + i] = y[12 + j * M + i]
-
-    @nb.njit
-    def event(ya, yb, data, h, grazing_ok, ys):
-        """Whether a switch happened between states ya and yb (h apart): a breakaway at yb, a
-        reversal of a site with slipping elements, or (grazing_ok) a reversal of an all-sticking
-        site with an element within reach of its breakaway. Returns 0 none, 1 switch, 2 grazing."""
-        R = data[1]
-        out = 0
-        for j in range(2):
-            blk = data[OB + j * NB_:OB + (j + 1) * NB_]
-            site_y(yb, j, R, ys)
-            if _gms_switch(ys, blk, M) >= 0:
-                return 1
-            vb = ys[1]
-            site_y(ya, j, R, ys)
-            va = ys[1]
-            if va * vb < 0.0:
-                anyslip = False
-                for i in range(M):
-                    if blk[GMS_NP + 2 * M + i] == 0.0:
-                        anyslip = True
-                if anyslip:
-                    return 1
-                if grazing_ok and _gms_grazing(ys, blk, M, 2.0 * abs(va) * h):
-                    out = 2
-        return out
-
-    @nb.njit
-    def apply_switches(y, va_sites, data, ys):
-        """At a located switch: a site whose velocity reversed with slipping elements sticks
-        all its elements, then every element at its breakaway slips."""
-        R = data[1]
-        for j in range(2):
-            blk = data[OB + j * NB_:OB + (j + 1) * NB_]
-            site_y(y, j, R, ys)
-            anyslip = False
-            for i in range(M):
-                if blk[GMS_NP + 2 * M + i] == 0.0:
-                    anyslip = True
-            if anyslip and ys[1] * va_sites[j] < 0.0:
-                for i in range(M):
-                    blk[GMS_NP + 2 * M + i] = 1.0
-            while True:
-                i = _gms_switch(ys, blk, M)
-                if i < 0:
+        @nb.njit
+        def loop(data, ga, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
+            """One LSODA call per sample; ``ga`` = M^-1 e_motor. Returns 0 (-1: LSODA failed)."""
+            T, Ktau = ctl[0], ctl[13]
+            y = np.zeros(NY)
+            te = np.array([0.0, T])
+            cs = np.zeros(8)
+            N = theta_d.size
+            for k in range(N):
+                xt_out[k] = y[5]
+                i = bs_control(k, y[0], y[5], ctl, cs, theta_d, u_ff, u_f, n_enc, n_scale)
+                i_out[k] = i
+                if k == N - 1:
                     break
-                blk[GMS_NP + 2 * M + i] = 0.0
-
-    @nb.njit
-    def advance(y, data, T, rtol, atol, ys, counts):
-        """One sample of length T with the motor torque data[0]; switches located to EVENT_TOL T."""
-        t = 0.0
-        te = np.empty(2)
-        tg = np.empty(LOC_GRID + 1)
-        va_s = np.empty(2)
-        R = data[1]
-        while t < T:
-            te[0] = t
-            te[1] = T
-            us, ok = lsoda(ptr, y, te, data=data, rtol=rtol, atol=atol, mxstep=100000)
-            if not ok:
-                return False
-            ev = event(y, us[1], data, T - t, True, ys)
-            if ev == 0:
+                for b in range(n):
+                    data[b] = ga[b] * Ktau * i
+                us, ok = lsoda(ptr, y, te, data=data, rtol=rtol, atol=atol, mxstep=100000)
+                if not ok:
+                    return -1
                 for r in range(NY):
                     y[r] = us[1, r]
-                return True
-            counts[0] += 1
-            ya = y.copy()
-            yb = us[1].copy()
-            ta, tb = t, T
-            while tb - ta > EVENT_TOL * T:
-                for i in range(LOC_GRID + 1):
-                    tg[i] = ta + (tb - ta) * i / LOC_GRID
-                us, ok = lsoda(ptr, ya, tg, data=data, rtol=rtol, atol=atol, mxstep=100000)
-                if not ok:
-                    return False
-                jj = LOC_GRID  # the end state, from a path of its own, may disagree by round-off
-                for i in range(1, LOC_GRID + 1):
-                    if event(us[i - 1], us[i], data, tg[i] - tg[i - 1], ev == 2, ys) != 0:
-                        jj = i
-                        break
-                ta, tb = tg[jj - 1], tg[jj]
-                ya = us[jj - 1].copy()
-                yb = us[jj].copy()
-            for j in range(2):
-                site_y(ya, j, R, ys)
-                va_s[j] = ys[1]
-            apply_switches(yb, va_s, data, ys)
-            for r in range(NY):
-                y[r] = yb[r]
-            t = tb
-        return True
+            return 0
+        return loop
 
-    bs_control = _compiled()[2]
+    advance, stick_all, NY = _compiled_gms(n, ns, GMS_M, rows, cols)
 
     @nb.njit
-    def loop(data, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
+    def loop(data, ga, ctl, theta_d, u_ff, u_f, n_enc, n_scale, rtol, atol, xt_out, i_out):
         """As the Dahl loop, event-stepped; returns the number of located switches (-1: LSODA failed)."""
         T, Ktau = ctl[0], ctl[13]
-        for j in range(2):  # every element sticks at rest
-            for i in range(M):
-                data[OB + j * NB_ + GMS_NP + 2 * M + i] = 1.0
+        stick_all(data)
         y = np.zeros(NY)
-        ys = np.zeros(2 + M)
         counts = np.zeros(1, dtype=np.int64)
         cs = np.zeros(8)
         N = theta_d.size
@@ -476,13 +590,81 @@ def _compiled_gms():
             i_out[k] = i
             if k == N - 1:
                 break
-            data[0] = Ktau * i
-            if not advance(y, data, T, rtol, atol, ys, counts):
+            for b in range(n):
+                data[b] = ga[b] * Ktau * i
+            if not advance(y, data, T, rtol, atol, counts):
+                return -1
+        return counts[0]
+    return loop
+
+
+TS_M = 3  # the two-shaft drive's GMS-3
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled_two_shaft(rows, cols):
+    """The two-shaft drive's loop: two rigid shafts (n = 2), four GMS-3 sites, event-stepped."""
+    if MISSING:
+        raise ImportError(MISSING)
+    n, ns = 2, 4
+    advance, stick_all, NY = _compiled_gms(n, ns, TS_M, rows, cols)
+
+    @nb.njit
+    def pid(e, ed, st, Kp, Ki, Kd, taud, T, k):
+        """The core's PID: filtered derivative on ``ed``; st = [I, D, ed_{k-1}]; returns the
+        output (the integrator is advanced by the caller when the actuator is not saturated)."""
+        if k == 0:
+            st[2] = ed
+        st[1] = (taud * st[1] + Kd * (ed - st[2])) / (taud + T)
+        st[2] = ed
+        return Kp * e + st[0] + st[1]
+
+    @nb.njit
+    def loop(data, Ginv, ctl, th1_ref, th2_ref, rtol, atol, xt_out, u_out):
+        """ctl = [T, R, q_enc, q_scale, Kt, i_max, Kp1, Ki1, Kd1, taud1, Kp2, Ki2, Kd2, taud2];
+        ``Ginv`` = M^-1. Sensors (encoders on both shafts, the scale on the table ``R (th_s + th_n)``,
+        floor-quantised), eq. 15's errors (table error on the screw: ``e1 = th1* + enc2 - scale / R``,
+        derivative on ``th1* - enc1``; ``e2 = th2* - enc2``), two PIDs with conditional integration,
+        current limit. Returns the number of located switches (-1: LSODA failed)."""
+        T, R, qe, qs, Kt, imax = ctl[0], ctl[1], ctl[2], ctl[3], ctl[4], ctl[5]
+        stick_all(data)
+        y = np.zeros(NY)
+        counts = np.zeros(1, dtype=np.int64)
+        s1 = np.zeros(3)
+        s2 = np.zeros(3)
+        N = th1_ref.size
+        for k in range(N):
+            xs = R * (y[0] + y[1])
+            xt_out[k] = xs
+            enc1, enc2 = y[0], y[1]
+            if qe > 0.0:
+                enc1 = math.floor(enc1 / qe) * qe
+                enc2 = math.floor(enc2 / qe) * qe
+            if qs > 0.0:
+                xs = math.floor(xs / qs) * qs
+            e1 = th1_ref[k] + enc2 - xs / R
+            e2 = th2_ref[k] - enc2
+            u1 = pid(e1, th1_ref[k] - enc1, s1, ctl[6], ctl[7], ctl[8], ctl[9], T, k)
+            u2 = pid(e2, e2, s2, ctl[10], ctl[11], ctl[12], ctl[13], T, k)
+            sat1 = abs(u1) > imax
+            sat2 = abs(u2) > imax
+            u1 = min(max(u1, -imax), imax)
+            u2 = min(max(u2, -imax), imax)
+            if not sat1:
+                s1[0] += ctl[7] * T * e1
+            if not sat2:
+                s2[0] += ctl[11] * T * e2
+            u_out[k, 0] = u1
+            u_out[k, 1] = u2
+            if k == N - 1:
+                break
+            for b in range(n):
+                data[b] = Ginv[b, 0] * Kt * u1 + Ginv[b, 1] * Kt * u2
+            if not advance(y, data, T, rtol, atol, counts):
                 return -1
         return counts[0]
 
-    return loop, GMS_NP
-
+    return loop
 
 # --------------------------------------------------------------------------- EMPS
 def emps_setup(qg):
@@ -492,7 +674,7 @@ def emps_setup(qg):
 
     m = emps_machine(M=P["M"], friction=fk.CoulombViscous(Fc=P["Fc"], sigma2=P["Fv"]), offset=P["offset"])
     par = np.array([P["M"], P["Fv"], P["Fc"], P["offset"], C["gtau"], C["kp"], C["kv"], C["vmax"], C["dt"]])
-    emps_loop = _compiled()[0]
+    emps_loop = _compiled_emps()
 
     def core(substeps):
         # as a user runs the preset (the one-DOF fast path; benchmarks/machines.py's emps_realtime);
@@ -555,10 +737,26 @@ def ballscrew_setup(duration, seed=0, sensors=True, gms=None):
     lc = plant.linear_chain()  # the check only: the peer's matrices are the plant's
     assert np.allclose(K, lc.K, rtol=1e-12, atol=0) and np.allclose(D, lc.D, rtol=1e-9, atol=0)
     assert np.allclose(1.0 / minv, np.diag(lc.M), rtol=1e-12)
+    # sites: 0 the guide on x_t, 1 the nut on R theta_s (its force R F_n on the screw)
+    C = np.zeros((2, 6))
+    C[0, 5] = 1.0
+    C[1, 1] = plant.R
     L = plant.presliding_length
-    data = np.concatenate([[0.0, plant.guide_friction, DAHL_SPAN * plant.guide_friction / L,
-                            plant.nut_friction, DAHL_SPAN * plant.nut_friction / L, plant.R], minv,
-                           K.ravel(), D.ravel()])
+    laws = {}
+    if gms is None:
+        blocks = [[Fc, DAHL_SPAN * Fc / L] for Fc in (plant.guide_friction, plant.nut_friction)]
+    else:
+        blocks = []
+        for level in (plant.guide_friction, plant.nut_friction):
+            law = gms(level)
+            if len(law.k) != GMS_M:
+                raise ValueError(f"the ball-screw GMS peer is compiled for GMS-{GMS_M}, not GMS-{len(law.k)}")
+            blocks.append(gms_block(law))
+            laws["guide_law" if not laws else "nut_law"] = law
+    data = chain_data(np.diag(minv), K, D, C, blocks)
+    loop = _compiled_ballscrew(gms is not None, *sparsity(data, 6, 2))
+    ga = np.zeros(6)
+    ga[0] = minv[0]  # M^-1 e_motor
     R, p, d = ctrl.R, ctrl.pid, ctrl.dob
     q_enc = sens.encoder_step
     ctl = np.array([ctrl.T, R, q_enc, sens.scale_resolution, p.Kp, p.Ki, p.Kd, p.tau_d, d.K_tau, d.J, d.B, d.a,
@@ -571,21 +769,6 @@ def ballscrew_setup(duration, seed=0, sensors=True, gms=None):
     rng = np.random.default_rng(seed)
     n_enc = rng.standard_normal(N) * sens.encoder_noise_counts * q_enc if sens.encoder_noise_counts > 0 else np.zeros(N)
     n_sc = rng.standard_normal(N) * sens.scale_noise if sens.scale_noise > 0 else np.zeros(N)
-    laws = {}
-    if gms is None:
-        loop = _compiled()[1]
-    else:
-        loop, gms_np = _compiled_gms()
-        blocks = []
-        for level in (plant.guide_friction, plant.nut_friction):
-            law = gms(level)
-            st = law.static
-            if len(law.k) != GMS_M or getattr(st, "delta", 2.0) != 2.0 or st.shape != "exponential":
-                raise ValueError("the GMS peer is written for GMS-4 over an exponential Stribeck curve, delta 2")
-            blocks.append(np.concatenate([[st.Fc, st.Fs, st.vs, st.sigma2, law.C, 0.0, 0.0, 0.0, GMS_M],
-                                          np.zeros(gms_np - 9), law.k, law.xi, np.ones(GMS_M)]))
-            laws["guide_law" if not laws else "nut_law"] = law
-        data = np.concatenate([[0.0, plant.R], minv, K.ravel(), D.ravel(), *blocks])
     switches = []
 
     def core(substeps):
@@ -597,8 +780,8 @@ def ballscrew_setup(duration, seed=0, sensors=True, gms=None):
         i = np.empty(N)
 
         def run():
-            n = loop(data.copy(), ctl, theta_d, u_ff, uf_a, n_enc, n_sc, rtol, rtol * ATOL_SCALE, xt, i)
-            if n is False or n < 0:
+            n = loop(data.copy(), ga, ctl, theta_d, u_ff, uf_a, n_enc, n_sc, rtol, rtol * ATOL_SCALE, xt, i)
+            if n < 0:
                 raise RuntimeError(f"ball-screw peer: LSODA failed at rtol {rtol:g}")
             switches.append(int(n))
             return xt
@@ -607,6 +790,92 @@ def ballscrew_setup(duration, seed=0, sensors=True, gms=None):
     peer.switches = switches  # GMS: located switches per run
     return core, peer, ref.x
 
+
+# --------------------------------------------------------------------------- two-shaft drive
+TS_DT = 250e-6  # benchmarks/machines.py's two-shaft sample time
+
+
+def two_shaft_setup(duration, sensors=True):
+    """frictionkit's run of ``machines.two_shaft_machine`` on ``machines.two_shaft_reference``
+    (``sensors=False``: the same machine with resolution-0 sensors) and the peer's runner.
+
+    The peer's plant is written from Table 2 and the preset's table mass (``M = diag(J_s, J_n) +
+    M_t R^2 [1 1; 1 1]``, sites on ``R theta_s``, ``R theta_n`` and the table ``R (theta_s +
+    theta_n)`` twice: ball pair and guide), checked against the machine; the laws and PID gains are
+    the machine's numbers."""
+    from frictionkit.machines import Machine, simulate_machine, stability
+    from frictionkit.presets.zhang2023.paper import PAPER_TABLES
+    from frictionkit.presets.zhang2023.truth import Assumptions
+    from machines import R0, two_shaft_machine, two_shaft_reference
+
+    m = two_shaft_machine(TS_DT)
+    if not sensors:
+        d = m.to_dict()
+        for s in d["sensors"]:
+            s["resolution"] = 0.0
+        m = Machine.from_dict(d)
+    inp = two_shaft_reference(duration, TS_DT)
+    T2 = PAPER_TABLES["table2"]
+    Mm = np.diag([T2["J_s"], T2["J_n"]]) + Assumptions().table_mass * R0**2 * np.ones((2, 2))
+    assert np.allclose(Mm, m.mass_matrix(), rtol=1e-14, atol=0)
+    C = R0 * np.array([[1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 1.0]])  # screw, nut, ball pair, guide
+    assert [s.name for s in m.sites] == ["screw_shaft", "nut_shaft", "ball_pair", "guide"]
+    assert all(np.allclose(m.row(s.at)[0], C[j], rtol=1e-14, atol=0) for j, s in enumerate(m.sites))
+    if any(len(s.law.k) != TS_M for s in m.sites):
+        raise ValueError(f"the two-shaft peer is compiled for GMS-{TS_M} sites")
+    Minv = np.linalg.inv(Mm)
+    data = chain_data(Minv, np.zeros((2, 2)), np.zeros((2, 2)), C, [gms_block(s.law) for s in m.sites])
+    # the controller written out (eq. 15) from the machine's numbers; its blocks checked to be that
+    d = m.to_dict()
+    blk = {b["out"]: b for b in d["blocks"]}
+    assert blk["e1"]["terms"] == {"th1_ref": 1.0, "enc2": 1.0, "scale": -1.0 / R0} and blk["e1d"]["terms"] == {
+        "th1_ref": 1.0, "enc1": -1.0} and blk["e2"]["terms"] == {"th2_ref": 1.0, "enc2": -1.0}
+    assert blk["u1"]["error"] == "e1" and blk["u1"]["derivative_error"] == "e1d" and blk["u2"]["derivative_error"] is None
+    sen = {s["name"]: s for s in d["sensors"]}
+    act = {a["name"]: a for a in d["actuators"]}
+    assert sen["enc1"]["resolution"] == sen["enc2"]["resolution"] and act["i1"]["gain"] == act["i2"]["gain"] == \
+        T2["K_t"] and act["i1"]["limit"] == act["i2"]["limit"]
+    assert all(s["noise"] == 0.0 and s["delay"] == 0 for s in d["sensors"]) and all(
+        a["delay"] == 0 for a in d["actuators"])
+    u1, u2 = blk["u1"], blk["u2"]
+    ctl = np.array([TS_DT, R0, sen["enc1"]["resolution"], sen["scale"]["resolution"], T2["K_t"], act["i1"]["limit"],
+                    u1["Kp"], u1["Ki"], u1["Kd"], u1["tau_d"], u2["Kp"], u2["Ki"], u2["Kd"], u2["tau_d"]])
+    th1, th2 = (np.ascontiguousarray(inp[k], dtype=float) for k in ("th1_ref", "th2_ref"))
+    N = th1.size
+    loop = _compiled_two_shaft(*sparsity(data, 2, 4))
+    switches = []
+
+    def core(substeps, hunt_check=True):
+        """``hunt_check=False``: the loop screen's hunting check (a rerun at ``HUNT_CHECK_FACTOR`` x
+        the sub-steps when the table sites spend long enough in their hunting band) switched off by
+        setting ``stability.HUNT_GROWTH`` to inf for the call — the compiled loop's own cost."""
+        if hunt_check:
+            return lambda: simulate_machine(m, dt=TS_DT, inputs=inp, substeps=substeps)
+
+        def run():
+            g = stability.HUNT_GROWTH
+            stability.HUNT_GROWTH = math.inf
+            try:
+                return simulate_machine(m, dt=TS_DT, inputs=inp, substeps=substeps)
+            finally:
+                stability.HUNT_GROWTH = g
+        return run
+
+    def peer(rtol):
+        xt = np.empty(N)
+        u = np.empty((N, 2))
+
+        def run():
+            n = loop(data.copy(), Minv, ctl, th1, th2, rtol, rtol * ATOL_SCALE, xt, u)
+            if n < 0:
+                raise RuntimeError(f"two-shaft peer: LSODA failed at rtol {rtol:g}")
+            switches.append(int(n))
+            return xt
+        return run
+
+    peer.switches = switches
+    table = R0 * (m.coord("screw") + m.coord("nut"))
+    return core, peer, R0 * (th1 + th2), (lambda r: r.position(table))
 
 # --------------------------------------------------------------------------- matching and timing
 def compare(name, acc, timed, target, core_pos, substeps, repeat, duration, fk_label=None):
@@ -674,15 +943,38 @@ def bench_ballscrew(duration, repeat, substeps=10, gms=None):
     return out
 
 
-def run_all(duration, repeat, emps_csv, gms=None):
+def bench_two_shaft(duration, repeat, substeps=10):
+    """The two-shaft drive: ``compare`` (accuracy with ideal sensors, timed with the 23-bit encoders
+    and the 10 nm scale), then the timed run once more against frictionkit without its hunting
+    check (``nocheck_`` keys; see ``two_shaft_setup``)."""
+    ideal = two_shaft_setup(duration, sensors=False)
+    paper = two_shaft_setup(duration, sensors=True)
+    out = compare("two-shaft drive, GMS-3 x4, 2 PID, 250 us", ideal[:2], paper[:2], ideal[2], ideal[3], substeps,
+                  repeat, duration)
+    out["switches"] = {"ideal_sensors": ideal[1].switches[-1], "paper_sensors": paper[1].switches[-1]}
+    core, peer = paper[:2]
+    out["fk_message"] = core(substeps)().message
+    if out["peer_rtol"] is not None:
+        fk_run, peer_run = core(substeps, hunt_check=False), peer(out["peer_rtol"])
+        t_fk, t_peer, c_fk, c_peer = interleaved(fk_run, peer_run, repeat)
+        out.update(nocheck_fk_s=t_fk, nocheck_peer_s=t_peer, nocheck_ratio=t_peer / t_fk,
+                   nocheck_ratio_cpu=c_peer / c_fk, nocheck_fk_rt=duration / t_fk, nocheck_peer_rt=duration / t_peer,
+                   nocheck_peer_vs_fk_max_dq=float(np.abs(peer_run() - paper[3](fk_run())).max()))
+    return out
+
+
+def run_all(duration, repeat, emps_csv, gms=None, two_shaft=True):
     """The peers' rows for ``benchmarks/machines.py``: ``{key: row}`` or ``{"skipped": why}``.
-    ``gms(level)``: the GMS-4 of the ball-screw GMS workload (``machines.gms4``); None: not run."""
+    ``gms(level)``: the GMS-4 of the ball-screw GMS workload (``machines.gms4``); None: not run.
+    The two-shaft drive runs ``duration / 2`` as in ``machines.py``'s ``two_shaft_gms`` row."""
     if not available():
         return {"skipped": MISSING}
     out = {"emps_numbalsoda": bench_emps(repeat, emps_csv),
            "ballscrew_dahl_numbalsoda": bench_ballscrew(duration, repeat)}
     if gms is not None:
         out["ballscrew_gms4_numbalsoda"] = bench_ballscrew(duration, repeat, gms=gms)
+    if two_shaft:
+        out["two_shaft_gms_numbalsoda"] = bench_two_shaft(duration / 2, repeat)
     return out
 
 
@@ -695,7 +987,8 @@ def format_row(r) -> str:
     s += (f"\n    peer numbalsoda LSODA rtol {r['peer_rtol']:.0e} atol {r['peer_rtol'] * ATOL_SCALE:.0e}: max|dq| "
           f"{r['peer_max_dq']:.2e} m, |dRMS e| {r['peer_d_rms']:.2e} m (target <= max(frictionkit's, {FLOOR_M:.0e} m))")
     for pre, what in (("", "timed run" if "acc_ratio" not in r else "timed run (paper sensors)"),
-                      ("acc_", "accuracy run (ideal sensors)")):
+                      ("acc_", "accuracy run (ideal sensors)"),
+                      ("nocheck_", "timed run, frictionkit without its hunting check")):
         if pre + "ratio" in r:
             s += (f"\n    {what}: peer {r[pre + 'peer_s']:.3f} s ({r[pre + 'peer_rt']:,.0f}x rt), frictionkit "
                   f"{r[pre + 'fk_s']:.3f} s ({r[pre + 'fk_rt']:,.0f}x rt) -> ratio {r[pre + 'ratio']:.2f} "
@@ -711,7 +1004,7 @@ def main() -> None:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--emps-csv", default=EMPS_CSV)
-    ap.add_argument("--only", choices=("emps", "dahl", "gms4"), help="one peer only")
+    ap.add_argument("--only", choices=("emps", "dahl", "gms4", "two_shaft"), help="one peer only")
     args = ap.parse_args()
     if not available():
         print(f"machine peers: skipped ({MISSING})")
@@ -720,7 +1013,8 @@ def main() -> None:
     if args.only:
         out = {"emps": lambda: {"emps": bench_emps(args.repeat, args.emps_csv)},
                "dahl": lambda: {"dahl": bench_ballscrew(dur, args.repeat)},
-               "gms4": lambda: {"gms4": bench_ballscrew(dur, args.repeat, gms=gms4)}}[args.only]()
+               "gms4": lambda: {"gms4": bench_ballscrew(dur, args.repeat, gms=gms4)},
+               "two_shaft": lambda: {"two_shaft": bench_two_shaft(dur / 2, args.repeat)}}[args.only]()
     else:
         out = run_all(dur, args.repeat, args.emps_csv, gms=gms4)
     if "skipped" in out:
@@ -731,6 +1025,8 @@ def main() -> None:
         print(format_row(r))
         if "switches" in r:
             print(f"    peer's located switches: {r['switches']}")
+        if "fk_message" in r:
+            print(f"    frictionkit's message (timed run): {r['fk_message']}")
         for k, v in r["scan"].items():
             print(f"      rtol {k}: {v}")
 

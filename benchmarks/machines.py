@@ -37,10 +37,11 @@ Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is fas
   pulled at 0.1 m/s, the paper's LuGre parameters, 20 s, 1 ms samples) written as a compiled
   ``numba.cfunc`` right-hand side under ``numbalsoda`` LSODA, at the loosest tolerance whose
   max |dx| against a tight reference is <= the core's. Skipped if numbalsoda is missing.
-* ``emps_numbalsoda``, ``ballscrew_dahl_numbalsoda``, ``ballscrew_gms4_numbalsoda``: the EMPS
-  loop and the ball-screw stage (Dahl; GMS-4 event-stepped) written without frictionkit
-  (controller in numba, plant per sample under numbalsoda LSODA, one ``@njit`` loop) at
-  matching accuracy: ``benchmarks/machine_peers.py``.
+* ``emps_numbalsoda``, ``ballscrew_dahl_numbalsoda``, ``ballscrew_gms4_numbalsoda``,
+  ``two_shaft_gms_numbalsoda``: the EMPS loop, the ball-screw stage (Dahl; GMS-4 event-stepped)
+  and the two-shaft drive (GMS-3 x4, event-stepped) written without frictionkit (controller in
+  numba, plant per sample under numbalsoda LSODA, one ``@njit`` loop) at matching accuracy:
+  ``benchmarks/machine_peers.py``.
 
 Compile time: a fresh process with an empty ``NUMBA_CACHE_DIR`` runs the ball-screw stage
 twice (first call minus second = compile), then again with the filled cache; the cold run also

@@ -27,8 +27,13 @@ both, and the older forms too:
 A file of a newer format version (``frictionkit.model/2``), of another kind, or with a
 broken model raises one :class:`~frictionkit.DataError` line naming the file and why.
 
-Units: the numbers are SI (m, s, N; rad and N·m for a rotary axis) — the ``units``
-entry labels them, it does not convert them.
+Units: the ``units`` entry labels the numbers, it never converts them. :func:`save_model`
+writes SI labels (:data:`LINEAR_UNITS`; ``{"F": "N·m", "v": "rad/s"}`` for a rotary axis),
+and the simulators read every number as SI. A law identified from data labelled otherwise
+(``identify ... --force-unit V`` without a ``--force-scale`` to N) keeps that free-text label:
+its numbers are in that unit, not SI. Decision (issue 13 round 7): the labels stay free text
+(an identification may be in volts or counts by design), and :meth:`ModelFile.summary` says
+when they are not the SI set (:data:`SI_LABELS`), so such a file is not taken for SI unseen.
 
 Machine files
 -------------
@@ -80,6 +85,9 @@ _VERSIONED = re.compile(r"^(?P<kind>frictionkit\.[a-z_]+)/(?P<version>\d+)$")
 
 #: Unit labels of a linear axis; a rotary axis passes ``{"F": "N·m", "v": "rad/s"}``.
 LINEAR_UNITS = {"F": "N", "x": "m", "v": "m/s"}
+
+#: The SI labels per axis quantity (linear, rotary; with the ASCII spellings of N·m).
+SI_LABELS = {"F": ("N", "N·m", "N*m", "Nm", "N m"), "x": ("m", "rad"), "v": ("m/s", "rad/s")}
 
 #: What a file may hold (``"kind"``); a file without the key holds a law.
 KINDS = ("law", "machine")
@@ -420,6 +428,10 @@ class ModelFile:
         for key in ("method", "created", "frictionkit_version", "data_file", "file", "data_sha256"):
             if key in self.provenance:
                 lines.append(f"  {key}: {self.provenance[key]}")
+        odd = {k: v for k, v in self.units.items() if k in SI_LABELS and v not in SI_LABELS[k]}
+        if odd:
+            lines.append("  note: unit labels " + ", ".join(f"{k} = {v!r}" for k, v in odd.items()) + " are not SI; "
+                         "the numbers are in those units, while simulate and compensate read them as SI")
         return "\n".join(lines)
 
     def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:

@@ -364,9 +364,13 @@ def run_demo(out: Path, *, shared: Path | None = None, progress: Callable[[str],
 
     from .._io import atomic_write_bytes, atomic_write_text
 
+    from .._io import check_output_file
+
     matplotlib.use("Agg")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    for name in ("report.html", "summary.txt"):  # before the minute of work, not after it (issue 13 round 6)
+        check_output_file(out / name, option="demo output")
     if shared is None:
         shared = Path(__file__).resolve().parents[3].parent / "shared" / "data"
     t0 = time.perf_counter()

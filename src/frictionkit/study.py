@@ -262,6 +262,25 @@ class StudySpec:
             raise DataError(f"{where}: [reference] duration / dt above 2,000,000 samples per run")
         if preset == "ballscrew":
             self._check_ballscrew_plants(where)
+        else:
+            self._check_loop(where)
+
+    def _check_loop(self, where: str) -> None:
+        """The nominal axis's closed loop linearised at dt (:func:`frictionkit.machines.stability.screen`):
+        an unstable loop is refused before any run. Was (issue 13 round 6): Kp = 1e300 ran 'ok' with a
+        4.2 mm error on a 1 mm reference: the actuator sat at its limit in a limit cycle and the study
+        reported that as the tracking error of the axis."""
+        from .machines.stability import screen
+
+        m = self.machine
+        run = {k: m[k] for k in _SPREADABLE}
+        run["compensator"] = "none"
+        stab, _ = screen(_machine(self, run), float(self.reference["dt"]))
+        if stab is not None and stab.unstable:
+            keys = ("mass",) if m.get("preset") == "emps" else ("Kp", "Ki", "Kd", "tau_d", "mass")  # EMPS: its own PID
+            raise DataError(f"{where}: [machine] " + ", ".join(f"{k} = {m[k]!r}" for k in keys if k in m)
+                            + f": {stab.describe(float(self.reference['dt']))}; the runs would measure a limit "
+                            "cycle, not the axis tracking its reference")
 
     def _check_ballscrew_plants(self, where: str) -> None:
         """Build the stage at both ends of every drawn range up front: an implausible plant
@@ -423,6 +442,8 @@ def _axis_run(spec: StudySpec, run: dict) -> dict[str, float]:
     res = fk.simulate_machine(_machine(spec, run), dt=dt, inputs=inputs, seed=int(run["noise_seed"]))
     if res.status != 0:
         raise fk.SimulationError(res.message)
+    if "the closed loop is unstable" in res.message:  # a drawn plant (mass) can turn the loop unstable: flagged
+        raise fk.SimulationError(res.message.split("note: ", 1)[-1])
     skip = int(0.1 * t.size)  # the first 10 %: the loop settles from rest
     e_true = r - res.q[:, 0]
     if emps:  # measured error on the encoder; force = gtau · nu applied (+ feed-forward)

@@ -68,9 +68,139 @@ def test_every_input_path_is_checked_before_the_fit(runner, tmp_path, monkeypatc
     rec = tmp_path / "rec.csv"
     rec.write_text("t_s,v_ms,F_N\n0,1,1\n")
     (tmp_path / "folder").mkdir()
-    for bad, why in ((tmp_path / "0.5", "no such file"), (tmp_path / "folder", "is a folder; give a data file")):
+    for bad, why in ((tmp_path / "0.5", "not found"), (tmp_path / "folder", "is a folder; give a data file")):
         res = runner.invoke(app, ["identify", "static", str(rec), *STATIC_ARGS, "--validate", str(bad)])
         assert res.exit_code == 2, res.output
         assert one_error_line(res) == f"error: --validate '{bad}'" + (": " if why[0] == "n" else " ") + why
     res = runner.invoke(app, ["identify", "static", str(tmp_path / "none.csv"), *STATIC_ARGS])
-    assert one_error_line(res) == f"error: RECORDING '{tmp_path / 'none.csv'}': no such file"
+    assert one_error_line(res) == f"error: RECORDING '{tmp_path / 'none.csv'}': not found"
+
+
+def test_a_study_whose_loop_is_unstable_is_refused(tmp_path):
+    """Was (round 6): Kp = 1e300 ran 'ok' with a 4.2 mm max error on a 1 mm reference (simulate's note
+    'the closed loop is unstable ... actuator at its limit in 99.9 % of the samples' was dropped)."""
+    from frictionkit.study import load_study
+
+    p = tmp_path / "s.toml"
+    p.write_text("[machine]\nKp = 1e300\n")
+    with pytest.raises(DataError, match=r"\[machine\] Kp = 1e\+300, .*the closed loop is unstable: .*a 1000 Hz mode "
+                                        r"grows .*; the runs would measure a limit cycle"):
+        load_study(p)
+    p.write_text("[machine]\nKp = 2e5\n")  # the documented default loop
+    assert load_study(p).machine["Kp"] == 2e5
+
+
+def test_batch_message_names_the_accuracy_check_apart_from_the_budget():
+    """Was (round 6): a set flagged by simulate_batch's accuracy check (status 2) was reported as
+    'status 2 (sub-step budget exhausted inside one sample interval)'."""
+    import numpy as np
+
+    from frictionkit.simulation.core import BatchResult
+
+    res = BatchResult(np.array([1.0, np.inf, np.inf]), np.array([0, 2, 2]), 10, "Set 1: tolerance not met", (1,))
+    msg = res.message
+    assert msg.startswith("2 of 3 parameter sets failed (sse = inf): 1 with status 2 (sub-step budget exhausted "
+                          "inside one sample interval); 1 with status 2 (the accuracy check failed: run alone by "
+                          "simulate(), the set does not meet the tolerance)"), msg
+    only = BatchResult(np.array([np.inf]), np.array([2]), 10, "Set 0: x", (0,)).message
+    assert "sub-step budget" not in only and "1 with status 2 (the accuracy check failed" in only
+
+
+def test_an_unreadable_folder_under_a_fleet_glob_is_named(tmp_path, monkeypatch):
+    """Was (round 6): `fleet 'fleet/axis-*/*.csv'` left an unreadable axis folder out without a word
+    (glob skips what it cannot list); a folder dataset already named it. The unreadable folder is
+    simulated in-process (os.scandir refuses it, as the kernel does for a 0000 folder; round 6's
+    setpriv subprocess checked the real permission for folder datasets)."""
+    import os
+
+    from frictionkit.fleet.dataset import _candidates
+
+    for axis in ("axis-0001", "axis-0002"):
+        (tmp_path / "fleet" / axis).mkdir(parents=True)
+        (tmp_path / "fleet" / axis / "2026-01-05.csv").write_text("t,x\n0,0\n")
+    real = os.scandir
+
+    def scandir(path="."):
+        if os.fspath(path).rstrip("/").endswith("axis-0002"):
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return real(path)
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(os, "scandir", scandir)
+    for pat in ("fleet/axis-*/*.csv", "fleet/**/*.csv", "fleet"):
+        with pytest.raises(DataError) as exc:
+            _candidates(pat)
+        assert str(exc.value) == (f"fleet dataset '{pat}': 1 folder(s) cannot be read: 'fleet/axis-0002' (Permission "
+                                  "denied); their logs would be left out — make them readable, or give the other "
+                                  "folders or a glob")
+    assert len(_candidates("fleet/axis-0001/*.csv")[1]) == 1  # a pattern that does not reach the folder is fine
+
+
+@pytest.mark.parametrize("vref, note", [
+    (1e-3, "note: the reference velocity 'vref' never changes sign: no reversal, so there is no reversal error"),
+    (0.0, "note: the reference velocity 'vref' is zero throughout: the compensators never acted")])
+def test_compensate_without_a_reversal_says_so(tmp_path, monkeypatch, vref, note):
+    """Was (round 6): a machine file's test whose reference velocity never reverses reported 'ok' with
+    '-' at reversals and no word; with vref = 0 the feed-forward never acted. The machine run is
+    replaced by a stand-in (the note depends on the inputs only)."""
+    import types
+
+    import numpy as np
+
+    import frictionkit as fk
+    import frictionkit.machines as fm
+    from frictionkit.compensate import compensate
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+
+    fk.save_model(emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=20.0, sigma2=200.0), offset=0.0),
+                  tmp_path / "emps.json")
+    t = np.arange(201) * 1e-3
+    (tmp_path / "ref.csv").write_text("t,qg,vref\n" + "".join(f"{a},{vref * a},{vref}\n" for a in t))
+    (tmp_path / "test.toml").write_text('[inputs]\nqg = "ref.csv:qg"\nvref = "ref.csv:vref"\n[score]\nposition = "q"\n'
+                                        'reference = "qg"\n[compensation]\nvelocity = "vref"\nsite = "friction"\n')
+
+    def run(machine, *, dt, inputs, seed=0):
+        n = len(inputs["qg"])
+        return types.SimpleNamespace(status=0, message="ok", position=lambda _name: np.full(n, 1e-6))
+
+    monkeypatch.setattr(fm, "simulate_machine", run)
+    res = compensate(tmp_path / "emps.json", ["none", "model"], model=fk.CoulombViscous(Fc=20.0, sigma2=200.0),
+                     test=tmp_path / "test.toml")
+    assert res.status == 0 and res.reversals == []
+    assert res.message.startswith("ok; " + note), res.message
+    assert note in res.summary() and res.to_dict()["message"] == res.message
+
+
+def test_a_law_file_with_non_si_labels_says_so(tmp_path):
+    """Decision (round 6 leftover): law-file unit labels stay free text (identify --force-unit V is a
+    legitimate label), the docstring no longer promises SI numbers for every file, and the summary
+    names labels that are not SI (a hand-edited "F": "kN" read as N without a word before)."""
+    import frictionkit as fk
+    from frictionkit.models.files import ModelFile
+
+    path = fk.save_model(fk.CoulombViscous(Fc=1.0, sigma2=0.4), tmp_path / "law.json")
+    assert "note:" not in ModelFile.load(path).summary()
+    doc = json.loads(path.read_text())
+    doc["units"]["F"] = "kN"
+    (tmp_path / "kn.json").write_text(json.dumps(doc))
+    text = ModelFile.load(tmp_path / "kn.json").summary()
+    assert "note: unit labels F = 'kN' are not SI; the numbers are in those units, while simulate and compensate " \
+           "read them as SI" in text, text
+
+
+def test_demo_checks_its_result_files_before_the_work(tmp_path, monkeypatch):
+    """Was (round 6): a read-only out/report.html (or a folder of that name) failed the demo after
+    its minute of work."""
+    import frictionkit.report.demo as demo
+
+    def no_work(*a, **k):
+        raise AssertionError("the demo worked before checking its result files")
+
+    monkeypatch.setattr(demo, "section_laws", no_work)
+    (tmp_path / "a" / "report.html").mkdir(parents=True)
+    with pytest.raises(DataError, match=r"demo output '.*report.html' is a folder; give a file name"):
+        demo.run_demo(tmp_path / "a", shared=tmp_path)
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "summary.txt").symlink_to("/dev/null")
+    with pytest.raises(DataError, match=r"summary.txt' is not a regular file"):
+        demo.run_demo(tmp_path / "b", shared=tmp_path)

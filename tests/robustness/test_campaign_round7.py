@@ -204,3 +204,18 @@ def test_demo_checks_its_result_files_before_the_work(tmp_path, monkeypatch):
     (tmp_path / "b" / "summary.txt").symlink_to("/dev/null")
     with pytest.raises(DataError, match=r"summary.txt' is not a regular file"):
         demo.run_demo(tmp_path / "b", shared=tmp_path)
+
+
+def test_a_header_name_with_spaces_is_pointed_out(tmp_path):
+    """Round 7: a header ' t_s , v_ms ' gave "column 't_s' not found; available columns: t_s , v_ms" —
+    the name it asked for seemed to be there."""
+    from frictionkit.data import load_recording
+
+    p = tmp_path / "r.csv"
+    p.write_text(" t_s , v_ms , F_N \n0,1,1\n0.001,1,1\n0.002,1,1\n")
+    with pytest.raises(DataError, match=r"available columns: ' t_s ', ' v_ms ', ' F_N ' \(the header has 't_s' "
+                                        r"with surrounding spaces: remove them from the file's header\)"):
+        load_recording(p, time="t_s", velocity="v_ms", force="F_N")
+    with pytest.raises(DataError, match=r"column 'zz' \(given for time\) not found; available columns: ' t_s ', "
+                                        r"' v_ms ', ' F_N '$"):
+        load_recording(p, time="zz", velocity="v_ms", force="F_N")

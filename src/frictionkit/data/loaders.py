@@ -412,10 +412,22 @@ def _si_header(p: Path, col: str, want: str | None, role: str) -> None:
                         f"units{f' ({want})' if want else ''}: convert the column (its values are not rescaled)")
 
 
+def _available(table: Mapping[str, np.ndarray], col: str) -> str:
+    """The header names for a 'not found' message; names with surrounding spaces quoted and pointed
+    out (round 7: ' t_s , v_ms ' listed as "t_s , v_ms" read as if 't_s' were there)."""
+    names = [str(n) for n in table]
+    spaced = any(n != n.strip() for n in names)
+    shown = [repr(n) if spaced else n for n in names[:20]]
+    avail = ", ".join(shown) + (" ..." if len(names) > 20 else "")
+    if spaced and any(n.strip() == col.strip() for n in names):
+        avail += f" (the header has {col.strip()!r} with surrounding spaces: remove them from the file's header)"
+    return avail
+
+
 def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
     if col not in table:
-        avail = ", ".join(list(table)[:20]) + (" ..." if len(table) > 20 else "")
-        raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: {avail}")
+        raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: "
+                        f"{_available(table, col)}")
     _unique(table, p, role, col)
     arr = np.asarray(table[col])
     if arr.dtype.kind == "b" or (arr.dtype.kind == "O" and any(isinstance(x, (bool, np.bool_)) for x in arr.ravel()[:1000])):
@@ -447,7 +459,8 @@ def _select_rows(
     mask = None
     for col, want in where.items():
         if col not in table:
-            raise DataError(f"file '{p}': column '{col}' (given in where) not found; available columns: {', '.join(table)}")
+            raise DataError(f"file '{p}': column '{col}' (given in where) not found; available columns: "
+                            f"{_available(table, col)}")
         _unique(table, p, "where", col)
         vals = np.asarray(table[col])
         if mask is not None and vals.shape != mask.shape:

@@ -392,9 +392,15 @@ def _remember(cache: OrderedDict, key, make, size: int):
     if hit is None:
         hit = cache[key] = make()
         while len(cache) > size:
-            cache.popitem(last=False)
+            try:
+                cache.popitem(last=False)
+            except KeyError:  # emptied by another thread meanwhile
+                break
     else:
-        cache.move_to_end(key)
+        try:
+            cache.move_to_end(key)
+        except KeyError:  # evicted by another thread meanwhile: hit is still valid
+            pass
     return hit
 
 

@@ -34,8 +34,9 @@ def test_two_shaft_peer_is_the_machine(monkeypatch):
     1, 3, 1.5 and 2, two PIDs at 250 us), 0.25 s from rest with ideal sensors (both shafts break
     away and the nut ramps up): the peer at rtol 1e-10 agrees with frictionkit at 10 sub-steps to
     within frictionkit's own error there (7.8e-11 m against the peer at rtol 1e-11 over 10 s,
-    benchmark), far below the 10 nm scale count; a loose peer (rtol 1e-3, measured 1.0e-9 m) and
-    the peer with every exponent read as 2 (the switch tests this peer replaced) do not."""
+    benchmark), far below the 10 nm scale count (measured 7.6e-11 m); a loose peer (rtol 1e-3,
+    measured 1.0e-9 m) and the peer with every exponent read as 2 (the switch tests this peer
+    replaced; measured 1.6e-8 m) do not."""
     core, peer, _, pos = machine_peers.two_shaft_setup(0.25, sensors=False)
     x_fk = pos(core(10)())
     d_tight = np.abs(peer(1e-10)() - x_fk).max()

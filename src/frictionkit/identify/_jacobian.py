@@ -13,7 +13,7 @@ differences, final cost 25.7951 vs 25.8010). GMS in the force drive keeps the fi
 by default; ``jacobian="sensitivity"`` takes :func:`gms_force_driven` (sensitivities along the
 simulated trajectory, not of the kernel's discrete map: measured within 1e-4 ... 5e-3 of central
 differences; over 48 paired fits from random starts they ended lower in 14, differences in 13,
-equal in 21, at 1.6-2.9x the CPU: a sweep costs ~25 plain runs — README, ``benchmarks/identify.py``).
+equal in 21, the fits mostly dearer in CPU: a sweep costs ~25 plain runs — README, ``benchmarks/identify.py``).
 
 How a fitted parameter reaches the kernel: the kernels read packed rows
 (``frictionkit.models.pack``). The derivative of those rows with respect to each parameter is

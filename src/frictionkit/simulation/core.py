@@ -254,7 +254,8 @@ def _gms_buffers(pk, state0, N: int):
     """Initial GMS element forces and stick flags, and the (N, M) output arrays."""
     F0, stick0 = _initial_states("gms", pk, state0)
     M = F0.size
-    return F0, stick0, np.empty((N, M)), np.empty((N, M), dtype=np.bool_)
+    # stick flags zeroed: gms_force writes them only where an element sticks
+    return F0, stick0, np.empty((N, M)), np.zeros((N, M), dtype=np.bool_)
 
 
 def _times(N: int, dt: float) -> np.ndarray:

@@ -219,3 +219,20 @@ def test_a_header_name_with_spaces_is_pointed_out(tmp_path):
     with pytest.raises(DataError, match=r"column 'zz' \(given for time\) not found; available columns: ' t_s ', "
                                         r"' v_ms ', ' F_N '$"):
         load_recording(p, time="zz", velocity="v_ms", force="F_N")
+
+
+def test_a_result_edited_in_one_place_only_is_refused():
+    """Round 7: `report` of a result whose model was edited (positive.Fc 1 -> 5) and table not showed
+    the table's 1 beside curves of the model's 5 (only `--static-json` checked the agreement)."""
+    from frictionkit.identify.result import IdentificationResult
+
+    doc = copy.deepcopy(_FIT)
+    doc["model"]["Fc"] = 2.0
+    with pytest.raises(DataError, match=r"^parameters.Fc.value = 1 disagrees with model.Fc = 2; the file was edited "
+                                        r"in one place only — make them agree$"):
+        IdentificationResult.from_dict(doc)
+    lugre = dict(copy.deepcopy(_FIT), model={"type": "LuGre", "static": _FIT["model"], "sigma0": 1e5, "sigma1": 300.0})
+    assert IdentificationResult.from_dict(lugre).params["Fc"] == 1.0  # a dynamic law's Fc is its static.Fc
+    lugre["model"]["static"]["sigma2"] = 0.5
+    with pytest.raises(DataError, match=r"parameters.sigma2.value = 0.4 disagrees with model.static.sigma2 = 0.5"):
+        IdentificationResult.from_dict(lugre)

@@ -178,11 +178,11 @@ LOAD_CASES = [
     (["success"], "false", "\"success\" is \"false\", expected true or false"),
     (["warnings"], "none", "\"warnings\" is \"none\", expected a list of strings"),
     (["rms"], True, "\"rms\" is true, expected a number"),
-    (["parameters", "Fc_pos", "value"], True, "true/false where a number belongs"),
+    (["parameters", "Fc_pos", "value"], True, "parameters.Fc_pos.value is true, expected a finite number"),
     (["parts", "positive"], "x", "parts.positive is a JSON str, expected an object"),
     (["parts", "positive", "model", "Fc"], "1.0", "parts.positive.model.Fc is \"1.0\", expected a number"),
     (["parts", "positive", "model", "Fc"], -1.0, "CoulombViscous.Fc = -1.0: must be > 0"),
-    (["correlation"], [[1.0]], "malformed content (ValueError: cannot reshape"),
+    (["correlation"], [[1.0]], "correlation is [[1.0]], expected a 4 x 4 list of lists"),
 ]
 
 

@@ -84,12 +84,12 @@ EDITS = [
      "parts.positive.model.Fc is \"1.0\", expected a number"),
     ("model field true", ["model", "negative", "sigma2"], True, "model.negative.sigma2 is true, expected a number"),
     ("part parameters edited", ["parts", "negative", "parameters", "Fc", "value"], 0.5,
-     "\"parts.negative.parameters\".Fc = 0.5 disagrees with parts.negative.model (Fc = 1)"),
+     "parts.negative: parameters.Fc.value = 0.5 disagrees with model.Fc = 1; the file was edited in one place only"),
     ("correlation wrong shape", ["correlation"], [[1.0]], "correlation is [[1.0]], expected a"),
     ("top model edited", ["model", "positive", "Fc"], 2.0,
-     "the top-level \"model\" (positive.Fc = 2) disagrees with parts.positive.model (Fc = 1)"),
+     "parameters.Fc_pos.value = 1 disagrees with model.positive.Fc = 2; the file was edited in one place only"),
     ("parameters edited", ["parameters", "Fs_neg", "value"], 3.0,
-     "\"parameters\".Fs_neg = 3 disagrees with parts.negative.model (Fs = 1.5)"),
+     "parameters.Fs_neg.value = 3 disagrees with model.negative.Fs = 1.5; the file was edited in one place only"),
     ("model nested deeply", ["model", "positive", "Fc"], None, "JSON nested too deeply"),
     ("top model one-sided", ["model"], {"type": "CoulombViscous", "Fc": 1.0, "sigma2": 0.4},
      "the top-level \"model\" (CoulombViscous) has no positive direction"),
@@ -115,10 +115,10 @@ def test_edited_files(runner, gms_csv, static_json, tmp_path, label, path, value
 def test_missing_file_and_folder(runner, gms_csv, tmp_path):
     res = _run(runner, gms_csv, tmp_path / "none.json")
     assert res.exit_code == 2
-    assert one_error_line(res) == f"error: '{tmp_path / 'none.json'}': No such file or directory"
+    assert one_error_line(res) == f"error: --static-json '{tmp_path / 'none.json'}': not found"  # checked up front
     res = _run(runner, gms_csv, tmp_path)
     assert res.exit_code == 2
-    assert one_error_line(res) == f"error: '{tmp_path}': Is a directory"
+    assert one_error_line(res) == f"error: --static-json '{tmp_path}' is a folder; give a data file"
 
 
 def test_valid_file_still_works_and_output_error_uses_the_same_loader(runner, gms_csv, static_json, tmp_path):

@@ -278,6 +278,39 @@ def _table_problems(d: Mapping[str, Any], params: Mapping[str, Any], names: tupl
     return bad
 
 
+def _table_model_disagreement(model: Any, params: Mapping[str, Any], names: tuple[str, ...]) -> list[str]:
+    """A parameter whose value the ``model`` also holds must agree with it (to 1e-12 relative):
+    ``Fc_pos`` is ``model.positive.Fc``, ``sigma0`` is ``model.sigma0``, ``Fc`` of a dynamic law is
+    ``model.static.Fc``. Was (issue 13 round 7): ``report`` of a result whose top-level model was
+    edited in one place only (positive.Fc 1 -> 5) showed the table's 1 beside the model's 5."""
+    flat: dict[str, float] = {}
+
+    def walk(node: Any, at: str) -> None:
+        if isinstance(node, Mapping):
+            for k, v in node.items():
+                if k not in ("type", "law", "shape"):
+                    walk(v, f"{at}.{k}" if at else str(k))
+        elif isinstance(node, (int, float)) and not isinstance(node, bool):
+            flat[at] = float(node)
+
+    walk(model, "")
+    bad = []
+    for n in names:
+        v = params[n].get("value")
+        if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v):
+            continue
+        base, side = (n[:-4], "positive.") if n.endswith("_pos") else (n[:-4], "negative.") if n.endswith("_neg") \
+            else (n, "")
+        for path in (f"{side}{base}", f"{side}static.{base}"):
+            if path in flat:
+                w = flat[path]
+                if not (w == v or (math.isfinite(w) and abs(w - v) <= 1e-12 * max(abs(w), abs(v)))):
+                    bad.append(f"parameters.{n}.value = {v:g} disagrees with model.{path} = {w:g}; the file was "
+                               "edited in one place only — make them agree")
+                break
+    return bad
+
+
 # --------------------------------------------------------------------------- result
 @dataclass(frozen=True, kw_only=True, eq=False)
 class IdentificationResult:
@@ -538,10 +571,14 @@ class IdentificationResult:
         bad = _table_problems(d, params, names)
         if bad:
             raise DataError("; ".join(bad))
+        model = model_from_dict(d.get("model"))  # its own rules first (vs = -1: 'must be > 0')
+        bad = _table_model_disagreement(d.get("model"), params, names)
+        if bad:
+            raise DataError("; ".join(bad))
         return cls(
             kind=d["kind"],
             model_name=d["model_name"],
-            model=model_from_dict(d.get("model")),
+            model=model,
             names=names,
             values=_floats([params[n]["value"] for n in names]),
             stderr=_floats([params[n]["stderr"] for n in names]),

@@ -74,6 +74,10 @@ def test_every_input_path_is_checked_before_the_fit(runner, tmp_path, monkeypatc
         assert one_error_line(res) == f"error: --validate '{bad}'" + (": " if why[0] == "n" else " ") + why
     res = runner.invoke(app, ["identify", "static", str(tmp_path / "none.csv"), *STATIC_ARGS])
     assert one_error_line(res) == f"error: RECORDING '{tmp_path / 'none.csv'}': not found"
+    other = tmp_path / "other.csv"  # the validation record's columns are checked before the fit too
+    other.write_text("t,x\n0,0\n0.001,0\n")
+    res = runner.invoke(app, ["identify", "static", str(rec), *STATIC_ARGS, "--validate", str(other)])
+    assert one_error_line(res).startswith(f"error: file '{other}': column 't_s' (given for time) not found")
 
 
 def test_a_study_whose_loop_is_unstable_is_refused(tmp_path):

@@ -61,6 +61,13 @@ def _load(path: Path, *, group: Optional[list[str]], where: Optional[list[str]],
     return load_recording(path, where=w, **kw)
 
 
+def _early(loader, path: Optional[Path]) -> None:
+    """Load the ``--validate`` record before the fit (its columns, rows, --where): a wrong one
+    fails in a second, not after the fit (issue 13 round 7). It is read again after the fit."""
+    if path is not None:
+        loader(path)
+
+
 def _validation(res, path: Optional[Path], label: str, loader, how=None) -> object:
     """``res`` with the error on the validation record in its diagnostics; prints the comparison."""
     if path is None:
@@ -136,6 +143,7 @@ def rigid_body(
         return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
                      units=units)
 
+    _early(loader, validate)
     res = fit_rigid_body(loader(recording), law=law_name, asymmetric=asymmetric, delta=delta, cutoff=cutoff,
                          q=decimation, skip=skip, profile=not no_profile)
     typer.echo(res.summary())
@@ -206,6 +214,7 @@ def static(
         return _load(path, group=group, where=where, time=time, velocity=velocity, position=position, force=force,
                      scales=scales, units=units)
 
+    _early(loader, validate)
     pts = steady_state_points(loader(recording), trim=trim, **({} if min_speed is None else {"min_speed": min_speed}))
     res = fit_static_map(pts, model=model, direction=direction, delta=delta, loss=loss, criterion=criterion)
     typer.echo(f"{len(pts)} steady-state point(s)")
@@ -389,6 +398,7 @@ def output_error(
     def mask_loader(path):
         return _load(path, group=group, where=where, time=time, force=mask)
 
+    _early(loader, validate)
     if drive == "motion":
         res = _output_error_motion(loader(recording), law, model=model, names=names, position=position,
                                    rests=rests, mask=mask, min_rest=min_rest, integration=velocity_integration,
@@ -545,6 +555,7 @@ def reversal(
         return _load(path, group=group, where=where, time=time, position=position, force=force, scales=scales,
                      units=units)
 
+    _early(loader, validate)
     res = fit_reversal(loader(recording), window=window, min_travel=min_travel, inertia=inertia, offset=offset)
     typer.echo(res.summary())
     d = res.diagnostics
@@ -619,6 +630,7 @@ def presliding(
     def mask_loader(path):
         return _load(path, group=group, where=where, time=time, force=mask)
 
+    _early(loader, validate)
     law = _static_law(static_json, Fc, Fs, vs, delta, sigma2)
     data = loader(recording)
     with Console(stderr=True).status(f"pre-sliding fit: {elements} element(s)"

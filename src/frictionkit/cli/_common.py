@@ -143,7 +143,7 @@ def input_files(inputs: Mapping[str, Path | None]) -> None:
             continue
         p = Path(path)
         if not p.exists():
-            raise DataError(f"{option} '{p}': no such file")
+            raise DataError(f"{option} '{p}': not found")
         if p.is_dir():
             raise DataError(f"{option} '{p}' is a folder; give a data file")
         if not os.access(p, os.R_OK):

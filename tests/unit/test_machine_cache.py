@@ -16,7 +16,6 @@ import pytest
 
 import frictionkit as fk
 from frictionkit.machines import PID, FrictionFeedforward, Machine, Saturation, StateSpace, Sum
-from frictionkit.machines import machine as mach
 from frictionkit.machines import simulate as sim
 
 

@@ -517,8 +517,11 @@ def _drive(
         n = 0
         while t < dt:
             h = h_try
+            h_prop = h_try
             rem = dt - t
+            clipped = False
             if h >= rem or rem - h < 1e-9 * dt:
+                clipped = h > rem
                 h = rem
             w = u0 + du * t
             row, p, Cr = _side(v, p0, p1, C0, C1)
@@ -727,6 +730,12 @@ def _drive(
                             st_[i] = False
             fac = 0.9 / math.sqrt(e) if e > 0.0 else 5.0
             h_try = h * min(5.0, max(0.2, fac))
+            if clipped and theta > 1.0 and h_try < h_prop:
+                # the step was cut to the interval's end, not by its error: the next interval starts
+                # from the step proposed (before, a short last piece shrank the next interval's
+                # first steps and every new h recomputed the oscillator coefficients: GMS-4
+                # stick-slip 1941 -> 1843 steps, 0.299 -> 0.216 um off the twin)
+                h_try = h_prop
         # ------------------------------------------------ end of the interval
         total += n
         pr = p0 if v >= 0.0 else p1

@@ -290,7 +290,7 @@ def lugre_force_sens(u, dt, m, static, dyn, coef, dm, doff, rtol, atol_v, atol_z
     dt2 = dt * dt
     N = u.size
     P = coef.shape[0]
-    want_delta = False
+    want_delta = P < 0  # False as an expression: a literal False types the callees twice (Literal[bool], bool)
     for j in range(P):
         if coef[j, 0, C_DELTA] != 0.0 or coef[j, 1, C_DELTA] != 0.0:
             want_delta = True

@@ -794,6 +794,81 @@ def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_
     return True
 
 
+@njit(error_model="numpy")
+def _ramp_maps(Phi, Gf, Cq, n_sub):
+    """``(GrT, Rss)``: the sample's response to a zero-mean force ramp ``dF (t / dt - 1/2)`` per
+    site (a coarse step's linear force profile, see ``run``), as ``n_sub`` sub-steps hold it (at
+    each sub-step's mid value ``(i + 1/2) / n_sub - 1/2``), transposed, and its site compliance
+    ``Rss = -Cq GrT_q^T``. Zeros for ``n_sub = 0`` (no coarse steps)."""
+    n2 = Phi.shape[0]
+    n = n2 // 2
+    ns = Cq.shape[0]
+    GrT = np.zeros((ns, n2))
+    Rss = np.zeros((ns, ns))
+    Yr = np.zeros((n2, ns))
+    Yn = np.zeros((n2, ns))
+    for i in range(n_sub):
+        ci = (i + 0.5) / n_sub - 0.5
+        for r in range(n2):
+            for c in range(ns):
+                y = Gf[r, c] * ci
+                for q in range(n2):
+                    y += Phi[r, q] * Yr[q, c]
+                Yn[r, c] = y
+        for r in range(n2):
+            for c in range(ns):
+                Yr[r, c] = Yn[r, c]
+    for j in range(ns):
+        for r in range(n2):
+            GrT[j, r] = Yr[r, j]
+    for j in range(ns):
+        for i in range(ns):
+            for b in range(n):
+                Rss[j, i] -= Cq[j, b] * Yr[b, i]
+    return GrT, Rss
+
+
+@njit(error_model="numpy")
+def _predict_profile(Xf, GfT, Fbar, Gss, mvals, Fk, site_kind, site_po, site_so, par, st, Cq, Cm, s_off,
+                     ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam, has_load, Xp, lamx, stx, dFp, dlam):
+    """A coarse step's linear force profile (see ``run``): its end predicted at the sample's end
+    state ``Xp`` = the free end ``Xf`` plus the last held forces ``Fbar`` (this sample's actuator
+    commands included; motions at ``mvals``): a smooth compliance's force there (``dFp = f - F_k``),
+    a loaded LuGre/Dahl site's load there (``dlam``; ``dFp = F_k dlam / lam``), on scratch copies
+    (``lamx``, ``stx``: :func:`_loads` rescales states). ``Fk``: the forces recorded at ``t_k``."""
+    n2 = Xf.size
+    n = n2 // 2
+    ns = Fbar.size
+    for r in range(n2):
+        Xp[r] = Xf[r]
+    for j in range(ns):
+        fj = Fbar[j]
+        for r in range(n2):
+            Xp[r] += GfT[j, r] * fj
+    if has_load:
+        for j in range(ns):
+            lamx[j] = lam[j]
+        for r in range(st.size):
+            stx[r] = st[r]
+        _loads(Xp, mvals, site_kind, site_po, site_so, par, stx, Cq, Cm, s_off,
+               ld_mode, ld_row, ld_mrow, ld_site, ld_par, lamx)
+    for j in range(ns):
+        dFp[j] = 0.0
+        if Gss[j, j] <= 0.0:
+            continue
+        if SMOOTH[site_kind[j]]:
+            se = s_off[j]
+            for b in range(n):
+                se += Cq[j, b] * Xp[b]
+            for m in range(mvals.size):
+                se += Cm[j, m] * mvals[m]
+            dFp[j] = _elastic(site_kind[j], par, site_po[j], se) - Fk[j]
+        elif ld_mode[j] != 0 and site_kind[j] == S_LUGRE:
+            dlam[j] = lamx[j] - lam[j]
+            if lam[j] > 0.0:  # the load's part of the force's change
+                dFp[j] = Fk[j] * dlam[j] / lam[j]
+
+
 @njit(inline="always", error_model="numpy")
 def _quantise(x, q):
     if q > 0.0:
@@ -913,29 +988,7 @@ def run(
     # the sample's response to a zero-mean force ramp ``dF (t / dt - 1/2)`` per site (coarse
     # steps' linear force profile), as the sub-step scheme applies it: held at each sub-step's
     # mid value ``(i + 1/2) / n_sub - 1/2``; ``GrTC`` transposed, ``RssC`` its site compliance
-    GrTC = np.zeros((ns, n2))
-    RssC = np.zeros((ns, ns))
-    if n_c:
-        Yr = np.zeros((n2, ns))
-        Yn = np.zeros((n2, ns))
-        for i in range(n_sub):
-            ci = (i + 0.5) / n_sub - 0.5
-            for r in range(n2):
-                for c in range(ns):
-                    y = Gf[r, c] * ci
-                    for q in range(n2):
-                        y += Phi[r, q] * Yr[q, c]
-                    Yn[r, c] = y
-            for r in range(n2):
-                for c in range(ns):
-                    Yr[r, c] = Yn[r, c]
-        for j in range(ns):
-            for r in range(n2):
-                GrTC[j, r] = Yr[r, j]
-        for j in range(ns):
-            for i in range(ns):
-                for b in range(n):
-                    RssC[j, i] -= Cq[j, b] * Yr[b, i]
+    GrTC, RssC = _ramp_maps(Phi, Gf, Cq, n_sub if n_c else 0)
     dFp = np.zeros(ns)  # a coarse step's predicted force change over the sample, per site
     dlam = np.zeros(ns)  # ... and its predicted load change (LuGre/Dahl sites; 0 in sub-steps)
     lpred = np.zeros(ns)  # the predicted load at a coarse step's end
@@ -1252,38 +1305,9 @@ def run(
                     for r in range(n2):
                         Xf[r] += G0Ta[c, r] * wc + G1Ta[c, r] * dc
                 if coarse_now and n_prof:
-                    # the linear force profile's end, predicted at the sample's end state with
-                    # the last held forces (this sample's actuator commands included): a smooth
-                    # compliance's force there, a loaded LuGre/Dahl site's load there (on
-                    # scratch copies: _loads rescales states)
-                    for r in range(n2):
-                        Xp[r] = Xf[r]
-                    for j in range(ns):
-                        fj = Fbar[j]
-                        for r in range(n2):
-                            Xp[r] += GfTa[j, r] * fj
-                    if has_load:
-                        for j in range(ns):
-                            lamx[j] = lam[j]
-                        for r in range(st.size):
-                            stx[r] = st[r]
-                        _loads(Xp, mot[kn], site_kind, site_po, site_so, par, stx, Cq, Cm, s_off,
-                               ld_mode, ld_row, ld_mrow, ld_site, ld_par, lamx)
-                    for j in range(ns):
-                        dFp[j] = 0.0
-                        if Gss[j, j] <= 0.0:
-                            continue
-                        if SMOOTH[site_kind[j]]:
-                            se = s_off[j]
-                            for b in range(n):
-                                se += Cq[j, b] * Xp[b]
-                            for m in range(nmot):
-                                se += Cm[j, m] * mot[kn, m]
-                            dFp[j] = _elastic(site_kind[j], par, site_po[j], se) - F_out[k, j]
-                        elif ld_mode[j] != 0 and site_kind[j] == S_LUGRE:
-                            dlam[j] = lamx[j] - lam[j]
-                            if lam[j] > 0.0:  # the load's part of the force's change
-                                dFp[j] = F_out[k, j] * dlam[j] / lam[j]
+                    _predict_profile(Xf, GfTa, Fbar, Gss, mot[kn], F_out[k], site_kind, site_po, site_so, par, st,
+                                     Cq, Cm, s_off, ld_mode, ld_row, ld_mrow, ld_site, ld_par, lam, has_load,
+                                     Xp, lamx, stx, dFp, dlam)
                 if has_sched:
                     for j in range(ns):
                         if sch_mode[j] != 0:

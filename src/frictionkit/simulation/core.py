@@ -336,6 +336,7 @@ def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, w
             options.rtol, _atol_v(options, F_scale, float(pk.k.sum(axis=1).max()), m, float(pk.static[:, 4].max())),
             options.atol_F * F_scale,
             int(options.max_substeps), x, v, F, Fel, stick, _v_floor(options),
+            True,  # span passed, not omitted: one numba signature with callers that pass it (tests/kernels/test_gms_span.py)
         )
         states = {"F_elements": Fel, "stick": stick}
     return _finish(t, x, v, F, states, st, at, nsub, model, warn=warn, stacklevel=4)

@@ -23,6 +23,10 @@ from frictionkit.kernels._phi2 import phis_array
 from frictionkit.models.pack import pack_lugre
 from frictionkit.simulation.inputs import example_lugre, stick_slip_force
 
+# one worker: these tests call kernels.lugre.lugre_force_ros2 directly (no package caller, so not in the
+# warm-up); spread over both xdist workers it compiled on each (8.3 + 8.4 s CPU in a clean clone)
+pytestmark = pytest.mark.xdist_group("lugre_expo")
+
 DT = 2.5e-4
 
 

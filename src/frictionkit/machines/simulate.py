@@ -12,6 +12,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from .. import _validate as val
+from .._lru import remember
 from ..errors import DataError, ParameterError, SimulationError, warn_renamed
 from ..kernels import machine as _k
 from ..models.static import Directional
@@ -295,16 +296,7 @@ def _expm_cached(Z: np.ndarray) -> np.ndarray:
     measured at up to 13 ms (OpenBLAS threads waiting on each other), more than the whole
     compiled run of the EMPS axis. The result is the same array values either way.
     """
-    key = Z.tobytes() + repr(Z.shape).encode()
-    E = _EXPM_CACHE.get(key)
-    if E is None:
-        E = expm(Z)
-        _EXPM_CACHE[key] = E
-        if len(_EXPM_CACHE) > _EXPM_CACHE_SIZE:
-            _EXPM_CACHE.popitem(last=False)
-    else:
-        _EXPM_CACHE.move_to_end(key)
-    return E
+    return remember(_EXPM_CACHE, Z.tobytes() + repr(Z.shape).encode(), lambda: expm(Z), _EXPM_CACHE_SIZE)
 
 
 def discretise(machine: Machine, h: float, *, site_damping: ArrayLike | None=None) -> tuple:
@@ -1093,24 +1085,8 @@ def _packed(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
     about 1 ms of Python per run, a tenth of a whole EMPS run. The pack's in-place arrays are
     copied for every run by the caller."""
     fp = _fingerprint(machine)
-    if fp is None:
-        return _pack(machine, dt, in_keys, substeps)
-    key = (fp, float(dt), tuple(in_keys), int(substeps))
-    p = _PACK_CACHE.get(key)
-    if p is None:
-        p = _pack(machine, dt, in_keys, substeps)
-        _PACK_CACHE[key] = p
-        if len(_PACK_CACHE) > _PACK_CACHE_SIZE:
-            try:
-                _PACK_CACHE.popitem(last=False)
-            except KeyError:  # emptied by another thread meanwhile
-                pass
-    else:
-        try:
-            _PACK_CACHE.move_to_end(key)
-        except KeyError:  # evicted by another thread meanwhile: p is still a valid pack
-            pass
-    return p
+    key = None if fp is None else (fp, float(dt), tuple(in_keys), int(substeps))
+    return remember(_PACK_CACHE, key, lambda: _pack(machine, dt, in_keys, substeps), _PACK_CACHE_SIZE)
 
 
 def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis: bool = False) -> MachineResult:

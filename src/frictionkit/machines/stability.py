@@ -44,10 +44,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._lru import remember
 from .elements import PID, FrictionFeedforward, Saturation, StateSpace, Sum
 from .machine import Machine
 
@@ -472,7 +474,7 @@ def _disagreement(res, fine) -> tuple[float, str]:
 SCREEN_MAX_DIM = 2000
 
 
-_SCREENS: dict = {}
+_SCREENS: OrderedDict = OrderedDict()
 #: screens remembered (by the machine's JSON form and dt): a hunting-prone loop's bands cost ~30
 #: eigenvalue problems, paid once for the many runs of one machine (the SDSS speed sweeps)
 SCREEN_CACHE = 16
@@ -482,14 +484,7 @@ def _cached_stability(machine: Machine, dt: float) -> LoopStability:
     from .simulate import _fingerprint
 
     fp = _fingerprint(machine)
-    if fp is None:
-        return loop_stability(machine, dt)
-    key = (fp, float(dt))
-    if key not in _SCREENS:
-        if len(_SCREENS) >= SCREEN_CACHE:
-            _SCREENS.pop(next(iter(_SCREENS)))
-        _SCREENS[key] = loop_stability(machine, dt)
-    return _SCREENS[key]
+    return remember(_SCREENS, None if fp is None else (fp, float(dt)), lambda: loop_stability(machine, dt), SCREEN_CACHE)
 
 
 def screen(machine: Machine, dt: float) -> tuple:

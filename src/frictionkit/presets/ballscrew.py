@@ -68,6 +68,7 @@ from collections import OrderedDict
 import numpy as np
 
 from .. import _validate as val
+from .._lru import remember
 from ..control.loop import ClosedLoopResult, Sensors, TwoDofController
 from ..control.trajectories import Reference
 from ..errors import DataError, ParameterError, SimulationError
@@ -385,25 +386,6 @@ def _content_key(*objs) -> bytes | None:
         return None
 
 
-def _remember(cache: OrderedDict, key, make, size: int):
-    if key is None:
-        return make()
-    hit = cache.get(key)
-    if hit is None:
-        hit = cache[key] = make()
-        while len(cache) > size:
-            try:
-                cache.popitem(last=False)
-            except KeyError:  # emptied by another thread meanwhile
-                break
-    else:
-        try:
-            cache.move_to_end(key)
-        except KeyError:  # evicted by another thread meanwhile: hit is still valid
-            pass
-    return hit
-
-
 def _stage_machine(plant, controller, sensors, nut_law, guide_law, flank_law) -> tuple:
     """``(machine, beta)`` of :func:`simulate_stage`: :func:`ballscrew_machine` and the
     Rayleigh ``beta`` (0 for the rigid stage), remembered by content. The machine never leaves
@@ -413,7 +395,7 @@ def _stage_machine(plant, controller, sensors, nut_law, guide_law, flank_law) ->
         return m, (rayleigh_beta(plant) if isinstance(plant, ElasticBallScrew) else 0.0)
 
     key = _content_key(plant, controller, sensors, nut_law, guide_law, flank_law)
-    return _remember(_STAGE_CACHE, key, make, STAGE_CACHE_SIZE)
+    return remember(_STAGE_CACHE, key, make, STAGE_CACHE_SIZE)
 
 
 def _feedforward(ptc, theta_ref: np.ndarray, omega_ref: np.ndarray) -> tuple:
@@ -432,4 +414,4 @@ def _feedforward(ptc, theta_ref: np.ndarray, omega_ref: np.ndarray) -> tuple:
     if th.size <= FF_CACHE_MAX_SAMPLES and om.size <= FF_CACHE_MAX_SAMPLES:
         k = _content_key(ptc)
         key = None if k is None else (k, th.shape, th.tobytes(), om.shape, om.tobytes())
-    return _remember(_FF_CACHE, key, make, FF_CACHE_SIZE)
+    return remember(_FF_CACHE, key, make, FF_CACHE_SIZE)

@@ -209,3 +209,23 @@ def test_bad_inputs_raise(run, lugre, gms):
             fk.SimOptions(batch_substeps=bad)
     with pytest.raises(ParameterError, match="masses"):
         fk.simulate_batch([lugre], masses=0.0, force=u, dt=DT, target=y, method="fixed")
+
+
+def test_batch_of_stiff_bristles_keeps_each_set_as_simulate_runs_it():
+    """One set with sigma0 = 1e300 made every set of the batch fail (tolerances shared over the
+    sets); now each set runs with its own tolerances: the 1e5 set's SSE is simulate()'s, the
+    stiff sets are flagged and the message names sigma0. (Moved from test_lugre_expo.py: its
+    method="fixed" run compiles this module's parallel kernel, 54 s CPU, which the other xdist
+    worker compiled a second time.)"""
+    dt = 1e-3
+    u = 2.0 * np.sin(np.pi * np.arange(600) * dt)  # 0.6 s: breakaway at 0.27 s, peak speed at 0.5 s
+    law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
+    models = [fk.LuGre(law, sigma0=s, sigma1=63.2) for s in (1e5, 1e30, 1e300)]
+    target = np.zeros(u.size)
+    res = fk.simulate_batch(models, masses=1.0, force=u, dt=dt, target=target, compare="x")
+    alone = fk.simulate(models[0], plant=fk.Mass(1.0), force=u, dt=dt)
+    assert res.status[0] == 0 and res.sse[0] == pytest.approx(float((alone.x[1:] ** 2).sum()), rel=1e-12)
+    assert (res.status[1:] != 0).all() and np.isinf(res.sse[1:]).all()
+    assert "sigma0 = 1e+30 N/m" in res.message
+    fixed = fk.simulate_batch(models, masses=1.0, force=u, dt=dt, target=target, method="fixed")
+    assert (fixed.status[1:] != 0).all()  # no error control there: flagged as too coarse (status 4)

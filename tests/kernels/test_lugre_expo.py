@@ -199,21 +199,6 @@ def test_stiff_bristles_are_simulated_right_or_flagged(stiff_limit, kind):
     assert dict(verdicts)[1e8] == "right" and dict(verdicts)[1e12] == "right"
 
 
-def test_batch_of_stiff_bristles_keeps_each_set_as_simulate_runs_it():
-    """One set with sigma0 = 1e300 made every set of the batch fail (tolerances shared over the
-    sets); now each set runs with its own tolerances: the 1e5 set's SSE is simulate()'s, the
-    stiff sets are flagged and the message names sigma0."""
-    models = [_stiff("lugre", s) for s in (1e5, 1e30, 1e300)]
-    target = np.zeros(STIFF_U.size)
-    res = fk.simulate_batch(models, masses=1.0, force=STIFF_U, dt=STIFF_DT, target=target, compare="x")
-    alone = fk.simulate(models[0], plant=fk.Mass(1.0), force=STIFF_U, dt=STIFF_DT)
-    assert res.status[0] == 0 and res.sse[0] == pytest.approx(float((alone.x[1:] ** 2).sum()), rel=1e-12)
-    assert (res.status[1:] != 0).all() and np.isinf(res.sse[1:]).all()
-    assert "sigma0 = 1e+30 N/m" in res.message
-    fixed = fk.simulate_batch(models, masses=1.0, force=STIFF_U, dt=STIFF_DT, target=target, method="fixed")
-    assert (fixed.status[1:] != 0).all()  # no error control there: flagged as too coarse (status 4)
-
-
 def test_the_issue_13_case_slides_or_is_flagged():
     """The reported call verbatim (1.5 s): it returned status 0 with max|v| 3e-8 m/s."""
     u = 2 * np.sin(np.pi * np.arange(1500) * 1e-3)

@@ -96,5 +96,8 @@ def test_a_run_in_the_band_is_checked_a_fast_one_is_not():
     slow = simulate_machine(mach, dt=1e-3, inputs={"r": VS / math.sqrt(2.0) * t}, fast_path=False)
     assert np.ptp(slow.v[-1000:]) > VS  # it does hunt (stick-slip), premise of the check
     assert slow.status == 0 and "can hunt at low speed" in slow.message and "converges" in slow.message
+    # a loop checked only because it can hunt is rerun at 4x its sub-steps (HUNT_CHECK_FACTOR), not the
+    # 16x of an unstable or barely damped loop: the rerun is the check's whole cost (issue 13)
+    assert f"at {4 * slow.substeps} sub-steps every trace" in slow.message, slow.message
     fast = simulate_machine(mach, dt=1e-3, inputs={"r": 30.0 * VS * t}, fast_path=False)
     assert fast.status == 0 and "hunt" not in fast.message

@@ -16,12 +16,11 @@ from frictionkit.presets.ballscrew import simulate_stage
 from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant
 
 
-@pytest.fixture(scope="module")
-def runs():
-    """Ball-screw stage (Dahl sliding nut), ideal sensors (a quantised sensor turns a 1e-12 m
-    difference into a count and the closed loop then diverges at the count's level), a 0.6 s
-    cosine reference with its reversal at 0.3 s."""
-    plant, ctrl = paper_plant("sliding"), paper_controller()
+def _stage_runs(nut: str) -> dict:
+    """The ``nut`` stage at 640 sub-steps without coarse steps ("fine") and at 10 without/with
+    them ("off"/"on"), ideal sensors, a 0.6 s cosine reference; "one_step" holds the kernel's
+    (one-step samples, samples) per run."""
+    plant, ctrl = paper_plant(nut), paper_controller()
     sens = Sensors(encoder_counts=0, scale_resolution=0.0)
     ref = cosine_reference(duration=0.6)
     inner = km.run
@@ -41,6 +40,14 @@ def runs():
             km.run = inner
 
     return {"fine": run(640, False), "off": run(10, False), "on": run(10, True), "one_step": one_step}
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """Ball-screw stage (Dahl sliding nut), ideal sensors (a quantised sensor turns a 1e-12 m
+    difference into a count and the closed loop then diverges at the count's level), a 0.6 s
+    cosine reference with its reversal at 0.3 s."""
+    return _stage_runs("sliding")
 
 
 def test_coarse_steps_are_taken(runs):
@@ -71,26 +78,7 @@ def flank_runs():
     """The flank-nut stage (Dahl flank sites whose normal load follows the drive force: before
     the coarse step's linear force profile and load ramp, 1 % of its samples kept a coarse
     step), same reference and sensors as :func:`runs`."""
-    plant, ctrl = paper_plant("flank"), paper_controller()
-    sens = Sensors(encoder_counts=0, scale_resolution=0.0)
-    ref = cosine_reference(duration=0.6)
-    inner = km.run
-    one_step = {}
-
-    def run(n, coarse):
-        def call(*args, **kwargs):
-            kwargs["coarse"] = coarse
-            out = inner(*args, **kwargs)
-            one_step[(n, coarse)] = (out[3], args[-5].shape[0])
-            return out
-
-        km.run = call
-        try:
-            return simulate_stage(plant, ctrl, ref, sensors=sens, substeps=n).x_t
-        finally:
-            km.run = inner
-
-    return {"fine": run(640, False), "off": run(10, False), "on": run(10, True), "one_step": one_step}
+    return _stage_runs("flank")
 
 
 def test_loaded_sites_take_coarse_steps_without_losing_accuracy(flank_runs):

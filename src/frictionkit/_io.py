@@ -194,6 +194,18 @@ def plot_formats() -> dict[str, str]:
     return dict(FigureCanvasBase.get_supported_filetypes())
 
 
+#: Why creating a file in an existing folder failed, in words (the system's own text for ENOENT,
+#: "No such file or directory", read as if the folder were missing: /proc, issue 13).
+_PROBE_REASONS = {
+    errno.ENOENT: "it does not accept new files: a virtual file system such as /proc or /sys",
+    errno.EROFS: "read-only file system",
+    errno.EACCES: "permission denied",
+    errno.EPERM: "operation not permitted (an immutable folder?)",
+    errno.ENOSPC: "the disk is full",
+    errno.EDQUOT: "disk quota exceeded",
+}
+
+
 def _probe_folder(folder: Path) -> str | None:
     """Create and remove a temporary file in ``folder`` (the way :func:`atomic_open` will write
     there); ``None`` when that works, else the reason.
@@ -205,7 +217,7 @@ def _probe_folder(folder: Path) -> str | None:
     try:
         fd, name = tempfile.mkstemp(prefix=".fk-probe-", dir=folder)
     except OSError as exc:
-        return exc.strerror or type(exc).__name__
+        return _PROBE_REASONS.get(exc.errno, exc.strerror or type(exc).__name__)
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(name)

@@ -182,6 +182,22 @@ def _sha256(path: Path) -> str:
             h.update(chunk)
     return h.hexdigest()
 
+def _optional(doc: Mapping[str, Any], key: str, kind: type, what: str, default: Any) -> Any:
+    """An optional key of a model file: absent -> ``default``; present -> it must be ``what``.
+
+    One rule for every model file (law, machine, identification result: ``IdentificationResult.from_dict``
+    reads its optional keys the same way): an empty or null value of the wrong JSON type
+    (``"provenance": []``, ``"units": null``) is refused like any other wrong type — it was read as
+    "none" without a word (issue 13). An empty value of the right type (``{}``, ``[]``) is accepted.
+    """
+    if key not in doc:
+        return default
+    x = doc[key]
+    if not isinstance(x, kind):
+        raise DataError(f"\"{key}\" is a JSON {'null' if x is None else type(x).__name__} ({json.dumps(x, default=str)[:60]}), expected {what}; "
+                        "drop the key if there is none")
+    return x
+
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class ModelFile:
@@ -336,12 +352,8 @@ class ModelFile:
             return cls._machine_from_dict(doc, fmt)
         if not is_law_dict(doc["model"]):
             raise DataError("\"model\" is not a friction law in JSON form ({\"law\": ..., ...})")
-        units = doc.get("units") or {}
-        if not isinstance(units, Mapping):
-            raise DataError(f"\"units\" is a JSON {type(units).__name__}, expected an object")
-        prov = doc.get("provenance") or {}
-        if not isinstance(prov, Mapping):
-            raise DataError(f"\"provenance\" is a JSON {type(prov).__name__}, expected an object")
+        units = _optional(doc, "units", Mapping, "an object", {})
+        prov = _optional(doc, "provenance", Mapping, "an object", {})
         return cls(model=law_from_dict(doc["model"]), units={k: v for k, v in units.items() if k != "parameters"},
                    provenance=prov, format=fmt)
 
@@ -352,12 +364,8 @@ class ModelFile:
         unknown = sorted(set(doc) - {"format", "kind", "model", "inputs", "units", "provenance"})
         if unknown:
             raise DataError(f"machine file: unknown key(s) {unknown}")
-        prov = doc.get("provenance") or {}
-        if not isinstance(prov, Mapping):
-            raise DataError(f"\"provenance\" is a JSON {type(prov).__name__}, expected an object")
-        if not isinstance(doc.get("units", {}), Mapping):
-            raise DataError(f"\"units\" is a JSON {type(doc['units']).__name__}, expected an object")
-        for key, label in (doc.get("units") or {}).items():
+        prov = _optional(doc, "provenance", Mapping, "an object", {})
+        for key, label in _optional(doc, "units", Mapping, "an object", {}).items():
             # the units are fixed (SI): an edited label was ignored without a word, so "dofs.inertia": "g"
             # ran grams as kilograms (issue 13 round 6); a missing entry or block is fine (derived)
             # (a key this version does not list, e.g. an older file's, is left alone)
@@ -366,9 +374,7 @@ class ModelFile:
                                 f"are fixed (SI) and not read — this field is in {MACHINE_UNITS[key]!r}; convert "
                                 "the numbers and restore or drop the entry")
         machine = Machine.from_dict(doc["model"])
-        listed = doc.get("inputs", None)
-        if listed is not None and not isinstance(listed, list):  # written for the reader; derived from the machine
-            raise DataError(f"\"inputs\" is a JSON {type(doc['inputs']).__name__}, expected a list of names")
+        listed = _optional(doc, "inputs", list, "a list of names", None)  # written for the reader; derived
         if listed is not None and sorted(map(str, listed)) != sorted(machine.input_names()):
             # an edited list would otherwise be ignored without a word (campaign round 5)
             raise DataError(f"\"inputs\" lists {listed} but the machine reads {machine.input_names()}: the list is "

@@ -67,3 +67,33 @@ def test_a_machine_file_takes_the_same_rule_for_its_optional_keys():
                              ("inputs", None, "a list of names"), ("inputs", {}, "a list of names")):
         with pytest.raises(DataError, match=rf'^"{key}" is a JSON \w+ .*expected {what}'):
             ModelFile.from_dict(dict(_MACHINE_FILE, **{key: value}))
+
+
+def test_a_two_direction_result_states_each_number_once_in_effect(static_json):
+    """Was (round 7 leftover): the top-level model vs parts.<side>.model agreement was load_static_law's own
+    check only, so `report`/`load_model` of a result edited in the top-level model AND its table (both 1 -> 5)
+    showed 5 while its parts said 1. Now IdentificationResult.from_dict checks it for every reader, and
+    load_static_law uses that one check (same message)."""
+    import json
+
+    from frictionkit.identify.result import IdentificationResult
+    from frictionkit.identify.start_values import load_static_law
+
+    doc = json.loads(static_json.read_text(encoding="utf-8"))
+    fc = doc["parts"]["positive"]["model"]["Fc"]
+    doc["model"]["positive"]["Fc"] = 5.0 * fc
+    doc["parameters"]["Fc_pos"]["value"] = 5.0 * fc
+    want = (rf'the top-level "model" \(positive.Fc = {5 * fc:g}\) disagrees with parts.positive.model '
+            rf"\(Fc = {fc:g}\); the file was edited in one place only")
+    with pytest.raises(DataError, match=want):
+        IdentificationResult.from_dict(doc)
+    p = static_json.parent / "r8_edited.json"
+    p.write_text(json.dumps(doc), encoding="utf-8")
+    with pytest.raises(DataError, match=want):
+        load_static_law(p)
+    del doc["model"]  # without a top-level model the table is held against the parts
+    with pytest.raises(DataError, match=rf"parameters.Fc_pos.value = {5 * fc:g} disagrees with parts.positive.model "):
+        IdentificationResult.from_dict(doc)
+    for key in ("parts", "data"):  # optional keys: the same rule as model files
+        with pytest.raises(DataError, match=rf'"{key}" is \[\], expected an object'):
+            IdentificationResult.from_dict(dict(json.loads(static_json.read_text(encoding="utf-8")), **{key: []}))

@@ -278,36 +278,62 @@ def _table_problems(d: Mapping[str, Any], params: Mapping[str, Any], names: tupl
     return bad
 
 
-def _table_model_disagreement(model: Any, params: Mapping[str, Any], names: tuple[str, ...]) -> list[str]:
-    """A parameter whose value the ``model`` also holds must agree with it (to 1e-12 relative):
-    ``Fc_pos`` is ``model.positive.Fc``, ``sigma0`` is ``model.sigma0``, ``Fc`` of a dynamic law is
-    ``model.static.Fc``. Was (issue 13 round 7): ``report`` of a result whose top-level model was
-    edited in one place only (positive.Fc 1 -> 5) showed the table's 1 beside the model's 5."""
+def _flat_numbers(node: Any, at: str = "") -> dict[str, float]:
+    """Every number in a law's JSON form by its dotted path (``positive.Fc``, ``static.sigma2``)."""
     flat: dict[str, float] = {}
+    if isinstance(node, Mapping):
+        for k, v in node.items():
+            if k not in ("type", "law", "shape"):
+                flat.update(_flat_numbers(v, f"{at}.{k}" if at else str(k)))
+    elif isinstance(node, (int, float)) and not isinstance(node, bool):
+        flat[at] = float(node)
+    return flat
 
-    def walk(node: Any, at: str) -> None:
-        if isinstance(node, Mapping):
-            for k, v in node.items():
-                if k not in ("type", "law", "shape"):
-                    walk(v, f"{at}.{k}" if at else str(k))
-        elif isinstance(node, (int, float)) and not isinstance(node, bool):
-            flat[at] = float(node)
 
-    walk(model, "")
+def _agree(a: float, b: float) -> bool:
+    return a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= 1e-12 * max(abs(a), abs(b)))
+
+
+def _table_model_disagreement(model: Any, params: Mapping[str, Any], names: tuple[str, ...],
+                              parts: Any = None) -> list[str]:
+    """A number the document states twice must agree (to 1e-12 relative): a parameter whose value the
+    ``model`` also holds (``Fc_pos`` is ``model.positive.Fc``, ``sigma0`` is ``model.sigma0``, ``Fc`` of a
+    dynamic law is ``model.static.Fc``), and a field of the top-level model's direction with the same field
+    of ``parts.<side>.model`` (or, without a top-level model, ``Fc_pos`` with ``parts.positive.model.Fc``).
+    Was (issue 13 round 7): ``report`` of a result whose top-level model was edited in one place only
+    (positive.Fc 1 -> 5) showed the table's 1 beside the model's 5. The one check of every reader
+    (``load_static_law`` had its own copy of the parts half)."""
+    flat = _flat_numbers(model)
+    sides = {side: _flat_numbers(part.get("model")) for side, part in (parts or {}).items()
+             if side in ("positive", "negative") and isinstance(part, Mapping)}
     bad = []
     for n in names:
         v = params[n].get("value")
         if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v):
             continue
-        base, side = (n[:-4], "positive.") if n.endswith("_pos") else (n[:-4], "negative.") if n.endswith("_neg") \
+        base, side = (n[:-4], "positive") if n.endswith("_pos") else (n[:-4], "negative") if n.endswith("_neg") \
             else (n, "")
-        for path in (f"{side}{base}", f"{side}static.{base}"):
+        pre = f"{side}." if side else ""
+        for path in (f"{pre}{base}", f"{pre}static.{base}"):
             if path in flat:
-                w = flat[path]
-                if not (w == v or (math.isfinite(w) and abs(w - v) <= 1e-12 * max(abs(w), abs(v)))):
-                    bad.append(f"parameters.{n}.value = {v:g} disagrees with model.{path} = {w:g}; the file was "
-                               "edited in one place only — make them agree")
+                if not _agree(flat[path], v):
+                    bad.append(f"parameters.{n}.value = {v:g} disagrees with model.{path} = {flat[path]:g}; the "
+                               "file was edited in one place only — make them agree")
                 break
+        else:
+            part = sides.get(side, {})
+            for path in (base, f"static.{base}"):
+                if path in part:
+                    if not _agree(part[path], v):
+                        bad.append(f"parameters.{n}.value = {v:g} disagrees with parts.{side}.model ({path} = "
+                                   f"{part[path]:g}); the file was edited in one place only — make them agree")
+                    break
+    for side, part in sides.items():
+        for path, w in part.items():
+            top = flat.get(f"{side}.{path}")
+            if top is not None and not _agree(top, w):
+                bad.append(f"the top-level \"model\" ({side}.{path} = {top:g}) disagrees with parts.{side}.model "
+                           f"({path} = {w:g}); the file was edited in one place only — make them agree")
     return bad
 
 
@@ -561,6 +587,8 @@ class IdentificationResult:
         typed("warnings", (list, tuple), "a list of strings", ())
         typed("diagnostics", Mapping, "an object", {})
         typed("provenance", Mapping, "an object", {})
+        typed("parts", Mapping, "an object", {})
+        typed("data", Mapping, "an object", {})
         for key in ("rms", "relative_error_percent"):
             if isinstance(d[key], bool):
                 raise TypeError(f"\"{key}\" is {json.dumps(d[key])}, expected a number")
@@ -572,7 +600,8 @@ class IdentificationResult:
         if bad:
             raise DataError("; ".join(bad))
         model = model_from_dict(d.get("model"))  # its own rules first (vs = -1: 'must be > 0')
-        bad = _table_model_disagreement(d.get("model"), params, names)
+        parts = {k: cls._part(k, v) for k, v in (d.get("parts") or {}).items()}  # each by its own rules first
+        bad = _table_model_disagreement(d.get("model"), params, names, d.get("parts"))
         if bad:
             raise DataError("; ".join(bad))
         return cls(
@@ -595,7 +624,7 @@ class IdentificationResult:
             diagnostics=d.get("diagnostics", {}),
             provenance=d.get("provenance", {}),
             data={k: _floats(v) for k, v in (d.get("data") or {}).items()},
-            parts={k: cls._part(k, v) for k, v in (d.get("parts") or {}).items()},
+            parts=parts,
         )
 
     @classmethod

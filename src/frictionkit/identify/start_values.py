@@ -49,14 +49,6 @@ _GIVEN = {"lugre": ("sigma0", "sigma1"), "gms": ("k", "xi", "C"), "dahl": ("sigm
 
 
 # --------------------------------------------------------------------------- static map
-def _same(a: float, b: float) -> bool:
-    return a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= 1e-12 * max(abs(a), abs(b)))
-
-
-def _fields(law: Any) -> dict[str, float]:
-    return {k: float(getattr(law, k)) for k in ("Fc", "Fs", "vs", "delta", "sigma2")}
-
-
 def load_static_law(path: str | Path, *, where: str | None = None):
     """The static map (``Directional`` of two ``Stribeck``) in a JSON written by ``identify static --json``.
 
@@ -92,31 +84,11 @@ def load_static_law(path: str | Path, *, where: str | None = None):
         raise DataError(f"{where}: JSON nested too deeply") from None
     except (TypeError, ValueError, AttributeError, IndexError, OverflowError) as exc:
         raise DataError(f"{where}: malformed content ({type(exc).__name__}: {' '.join(str(exc).split())})") from None
-    sides = {"positive": ("pos", law.positive), "negative": ("neg", law.negative)}
+    # the numbers stated twice (top-level model, parameter tables, parts) agree: IdentificationResult.from_dict
     if top is not None:
-        for side, (_, part) in sides.items():
-            sub = getattr(top, side, None)
-            if sub is None:
+        for side in ("positive", "negative"):
+            if getattr(top, side, None) is None:
                 raise DataError(f"{where}: the top-level \"model\" ({type(top).__name__}) has no {side} direction")
-            for name, val in _fields(part).items():
-                other = getattr(sub, name, None)  # a CoulombViscous has no Fs, vs, delta
-                if other is None:
-                    continue
-                if not _same(float(other), val):
-                    raise DataError(f"{where}: the top-level \"model\" ({side}.{name} = {float(other):g}) disagrees "
-                                    f"with parts.{side}.model ({name} = {val:g}); the file was edited in one "
-                                    "place only — make them agree")
-    # the parameter tables: "Fc_pos" at the top level, "Fc" in each direction's part
-    rows = [("parameters", name, value, side, name[:-4]) for name, value in zip(res.names, res.values)
-            for side, (short, _) in sides.items() if name.endswith(f"_{short}")]
-    rows += [(f"parts.{side}.parameters", name, value, side, name) for side in sides
-             for name, value in zip(res.parts[side].names, res.parts[side].values)]
-    for table, name, value, side, field in rows:
-        want = _fields(sides[side][1]).get(field)
-        if want is not None and not _same(float(value), want):
-            raise DataError(f"{where}: \"{table}\".{name} = {float(value):g} disagrees with "
-                            f"parts.{side}.model ({field} = {want:g}); the file was edited in one place only "
-                            "— make them agree")
     return law
 
 

@@ -114,7 +114,9 @@ def _all_flat(machine: Machine) -> bool:
 
 def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.ndarray, has_loads: bool,
                 Phi, G0, G1, Gf, Cq, Cm, n_sub: int):
-    """Maps for a sample-spanning step, or ``None`` when the machine does not qualify.
+    """The arguments of :func:`frictionkit.kernels.machine.merge_maps` that make the maps for a
+    sample-spanning step (made lazily, by :func:`_general_kargs`), or ``None`` when the machine
+    does not qualify.
 
     Qualifies: every site a static friction law with flat, non-negative levels (``Fc = Fs``,
     no ``eps``, no schedule: ``CoulombViscous``) whose viscous term is folded into the chain,
@@ -141,7 +143,7 @@ def _merge_maps(machine: Machine, par: list, po: list, kinds: list, fold: np.nda
             return None
     nact = len(machine.actuators)
     nm = len(machine._motion_names)
-    return _k.merge_maps(Phi, G0, G1, Gf, np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), n_sub, nact + nm)
+    return (Phi, G0, G1, Gf, np.ascontiguousarray(Cq), np.ascontiguousarray(Cm), n_sub, nact + nm)
 
 
 def _pack_law(law) -> tuple[int, list[float], list[float]]:
@@ -1004,16 +1006,18 @@ def _pack(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
 
     X = np.array([d.x0 for d in machine.dofs] + [d.v0 for d in machine.dofs], dtype=float)
     I64 = np.int64
-    mg = _merge_maps(machine, par, po, kinds, fold, bool(np.any(ld_mode)), Phi, G0, G1, Gf, Cq, Cm,
-                     int(substeps))
-    mg_R, mg_M = mg if mg is not None else (np.zeros((0, 0, 0)), np.zeros((0, 0)))
+    # the sample-spanning step's maps are made on the general loop's first run of this pack
+    # (:func:`_general_kargs`): the one-DOF axis kernel never uses them, and making them compiles
+    # kernels.machine.merge_maps (~1.1 s CPU on a cold numba cache)
+    mg_args = _merge_maps(machine, par, po, kinds, fold, bool(np.any(ld_mode)), Phi, G0, G1, Gf, Cq, Cm,
+                          int(substeps))
     # the kernel's arguments by name (kernels.machine.run), except what a run supplies (the
     # motions, inputs, noise and outputs); the arrays the kernel updates in place are copied for
     # every run (_KARGS_MUTABLE: a kernel that writes to another argument must add it there)
     kargs = dict(
         n_sub=int(substeps), dt=dt, Phi=Phi, G0=G0, G1=G1, Gf=Gf, Gss=np.ascontiguousarray(Gss, dtype=float),
         Hss=np.ascontiguousarray(Hss, dtype=float), Cq=np.ascontiguousarray(Cq), Cm=np.ascontiguousarray(Cm),
-        s_off=np.zeros(ns), s_visc=fold, mg_on=mg is not None, mg_R=mg_R, mg_M=mg_M,
+        s_off=np.zeros(ns), s_visc=fold,
         site_kind=np.array(kinds, dtype=I64), site_po=np.array(po, dtype=I64), site_so=np.array(so, dtype=I64),
         par=np.array(par, dtype=float), st=np.array(st, dtype=float), xtol=np.array(xtol, dtype=float),
         ld_mode=ld_mode, ld_row=ld_row, ld_mrow=ld_mrow, ld_site=ld_site, ld_par=ld_par,
@@ -1024,7 +1028,7 @@ def _pack(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
         blk_code=np.array(code, dtype=I64), blk_iptr=np.array(iptr, dtype=I64), blk_idx=np.array(idx, dtype=I64),
         blk_fptr=np.array(fptr, dtype=I64), blk_par=np.array(bpar, dtype=float), blk_sptr=np.array(sptr, dtype=I64),
         blk_st=np.array(bst, dtype=float), sig=np.zeros(len(sig_names)))
-    return {"kargs": kargs, "mnames": list(mnames), "in_names": in_names, "sen_noise": sen_noise,
+    return {"kargs": kargs, "mg_args": mg_args, "mnames": list(mnames), "in_names": in_names, "sen_noise": sen_noise,
             "sig_names": tuple(sig_names), "act_names": tuple(act_names), "n": n, "ns": ns, "nact": nact}
 
 
@@ -1089,6 +1093,18 @@ def _packed(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
     return remember(_PACK_CACHE, key, lambda: _pack(machine, dt, in_keys, substeps), _PACK_CACHE_SIZE)
 
 
+def _general_kargs(p: dict) -> dict:
+    """The pack's kernel arguments with the sample-spanning step's maps (``mg_on``, ``mg_R``,
+    ``mg_M``; :func:`_merge_maps`), made on the first general-loop run of the pack and kept in it
+    (a pack's arrays are never written: the kernel's in-place arguments are copied per run)."""
+    ka = p["kargs"]
+    if "mg_on" not in ka:
+        mg = p["mg_args"]
+        mg_R, mg_M = _k.merge_maps(*mg) if mg is not None else (np.zeros((0, 0, 0)), np.zeros((0, 0)))
+        ka.update(mg_on=mg is not None, mg_R=mg_R, mg_M=mg_M)
+    return ka
+
+
 def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis: bool = False) -> MachineResult:
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
         raise ParameterError(f"simulate_machine seed = {seed!r}: must be a non-negative integer or None")
@@ -1114,7 +1130,7 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
     F_out = np.empty((N, ns))
     sig_out = np.empty((N, len(sig_names)))
     u_out = np.empty((N, nact))
-    kw = dict(p["kargs"], mot=mot, inputs=in_arr, noise=noise, q_out=q_out, v_out=v_out, F_out=F_out,
+    kw = dict(p["kargs"] if axis else _general_kargs(p), mot=mot, inputs=in_arr, noise=noise, q_out=q_out, v_out=v_out, F_out=F_out,
               sig_out=sig_out, u_out=u_out)
     for name in _KARGS_MUTABLE:
         kw[name] = kw[name].copy()

@@ -371,7 +371,7 @@ def _drive(
     Xlo = 0.0
     Xhi = 0.0
     free = False
-    slipping = False
+    slipping = np.bool_(False)
     xa = x0
     sva = 0.0
     X = 0.0
@@ -379,7 +379,7 @@ def _drive(
     est = 0.0
     r_prev = 0.0
     sacc = 0.0
-    jsp = 0
+    jsp = np.int64(0)
     if record and N > 0:
         pr = p0 if v >= 0.0 else p1
         tot = 0.0
@@ -390,7 +390,10 @@ def _drive(
         x_out[0] = x
         v_out[0] = v
         F_out[0] = tot + pr[R_S2] * v
-    kk = 1
+    # kk, jsp, slipping start as np scalars, not literals: a literal start types the call of
+    # _span_run first with Literal[int](1) / Literal[bool](False) arguments, then again once
+    # the loop unifies them (two compiles of _span_run, ~3.5 s CPU each)
+    kk = np.int64(1)
     while kk < N:
         # ------------------------------------------------ spans from sample kk - 1, then one
         # interval of sub-steps where a span cannot go
@@ -419,7 +422,7 @@ def _drive(
                 Xcross = math.inf
                 Xlo = -math.inf
                 Xhi = math.inf
-                slipping = False
+                slipping = np.bool_(False)
                 for i in range(M):
                     if st_[i]:
                         kr = k[srow, i]
@@ -481,7 +484,7 @@ def _drive(
                 est = 0.0
                 r_prev = 0.0
                 sacc = (u[kk - 1] - L0 - D0 - sc * v) * im
-                jsp = 0
+                jsp = np.int64(0)
                 total += 1
                 span_on = True
             kk, X, v, Dfac, est, r_prev, sacc, jsp, why, vpk, tol_v, acc = _span_run(

@@ -364,3 +364,82 @@ def test_linear_chain_is_exact_for_a_dragged_spring():
     xe, ve = _msd(k * b, c * b, mass, c, k, t)
     assert np.abs(res.q[:, 0] - xe).max() <= 1e-9 * np.abs(xe).max()
     assert np.abs(res.v[:, 0] - ve).max() <= 1e-9 * np.abs(ve).max()
+
+
+# --------------------------------------------------------------------------- one kernel signature for every layout
+def _recorded_kernel_types(monkeypatch, module: str, name: str, runs) -> list:
+    """numba's argument types of every call of ``kernels.<module>.<name>`` made by ``runs()``, with
+    the kernel replaced by a stub that records them, zeroes the outputs and returns "ok" (nothing
+    is compiled or run)."""
+    import importlib
+
+    import numba
+
+    km = importlib.import_module(f"frictionkit.kernels.{module}")
+    calls = []
+
+    def stub(*args, **kw):
+        calls.append(tuple(numba.typeof(a) for a in args) + tuple((k, numba.typeof(kw[k])) for k in sorted(kw)))
+        outs = args[-5:]  # q_out, v_out, F_out, sig_out, u_out: the last positional arguments of both kernels
+        for o in outs:
+            o[...] = 0.0
+        n = outs[0].shape[0]
+        return (0, n, 0, 0) if name == "run" else (0, n, 0)
+
+    monkeypatch.setattr(km, name, stub)
+    runs()
+    return calls
+
+
+def test_every_machine_layout_calls_the_one_compiled_kernel(monkeypatch):
+    """A machine layout the numba cache never saw must not compile the kernel again (issue 8:
+    ~30 s CPU for ``kernels.machine.run`` on a cold cache; loading it from the cache ~0.3 s): the
+    wrapper packs every layout — sites of every kind, motions, loads, schedules, sensors with
+    delay and noise, every block kind, actuators held or linear — into arguments of one numba type
+    each (C-contiguous, writeable, fixed dtypes and ranks). Each layout below is only packed; the
+    kernel is a stub."""
+    from frictionkit.presets.ballscrew import simulate_stage
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+    from frictionkit.control.trajectories import cosine_reference
+    from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant, paper_sensors
+
+    def runs():
+        for f in CASES.values():
+            m, dt, inputs = f()
+            n = 41
+            simulate_machine(m, dt=dt, inputs={k: v[:n] for k, v in inputs.items()}, fast_path=False)
+        # closed loop: PID, DOB (state-space block), feed-forward inputs, quantised noisy sensors
+        simulate_stage(paper_plant(), paper_controller(), cosine_reference(duration=0.01), sensors=paper_sensors())
+        m = emps_machine(M=PUBLISHED["M"], friction=fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]))
+        simulate_machine(m, dt=1e-3, inputs={"qg": np.full(40, 1e-3)}, fast_path=False)
+
+    calls = _recorded_kernel_types(monkeypatch, "machine", "run", runs)
+    assert len(calls) >= len(CASES) + 2
+    assert len(set(calls)) == 1, [i for i, c in enumerate(calls) if c != calls[0]]
+    for t in calls[0]:
+        t = t[1] if isinstance(t, tuple) else t
+        if hasattr(t, "layout"):
+            assert t.layout == "C" and t.mutable, t
+
+
+def test_every_axis_layout_calls_the_one_compiled_axis_kernel(monkeypatch):
+    """The same for the one-DOF fast path (``kernels.machine_axis.run_axis``): flat and Stribeck
+    levels, input-array and controller actuators, with and without sensors and blocks."""
+    from frictionkit.presets.emps import PUBLISHED, emps_machine
+
+    def runs():
+        for law in (fk.CoulombViscous(Fc=PUBLISHED["Fc"], sigma2=PUBLISHED["Fv"]),
+                    fk.Stribeck(Fc=20.0, Fs=30.0, vs=0.01, sigma2=PUBLISHED["Fv"])):
+            m = emps_machine(M=PUBLISHED["M"], friction=law)
+            r = simulate_machine(m, dt=1e-3, inputs={"qg": np.full(40, 1e-3)})
+            assert r.path.startswith("axis"), r.path
+        m = Machine("open-loop axis")
+        x = m.dof("x", inertia=2.0)
+        m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0, sigma2=0.5))
+        m.actuator("u", x)
+        r = simulate_machine(m, dt=1e-3, inputs={"u": np.linspace(0.0, 3.0, 40)})
+        assert r.path.startswith("axis"), r.path
+
+    calls = _recorded_kernel_types(monkeypatch, "machine_axis", "run_axis", runs)
+    assert len(calls) == 3
+    assert len(set(calls)) == 1, [i for i, c in enumerate(calls) if c != calls[0]]

@@ -9,6 +9,8 @@ import tempfile
 
 import pytest
 
+from _robustness_helpers import one_error_line
+
 from frictionkit.errors import DataError
 
 _LAW_FILE = {"format": "frictionkit.model/1", "model": {"law": "Dahl", "Fc": 1.0, "sigma0": 1e5}}
@@ -97,3 +99,39 @@ def test_a_two_direction_result_states_each_number_once_in_effect(static_json):
     for key in ("parts", "data"):  # optional keys: the same rule as model files
         with pytest.raises(DataError, match=rf'"{key}" is \[\], expected an object'):
             IdentificationResult.from_dict(dict(json.loads(static_json.read_text(encoding="utf-8")), **{key: []}))
+
+
+def test_a_non_numeric_cell_is_named_with_its_row(tmp_path):
+    """Was (round 8): a units row under the header ("s,m/s,N"), a NUL-byte line or a comment line above the
+    header said only "column 't_s' is not numeric" / "the header names 1 column(s)"."""
+    from frictionkit.data import load_recording
+
+    body = "\n".join(f"{0.001 * k},{0.1},{1.0}" for k in range(20))
+    cases = {"units": ("t_s,v_ms,F_N\ns,m/s,N\n" + body, r"is not numeric: row 0 holds 's' \(a units row"),
+             "nul": ("t_s,v_ms,F_N\n" + body + "\n\x00\x00\n" + body, r"is not numeric: row 20 holds '\\x00\\x00'"),
+             "comment": ("# bench 3\nt_s,v_ms,F_N\n" + body,
+                         r"header names 1 column\(s\) \('# bench 3'\) .*a comment line above the header")}
+    for name, (text, want) in cases.items():
+        p = tmp_path / f"{name}.csv"
+        p.write_text(text)
+        with pytest.raises(DataError, match=want):
+            load_recording(p, time="t_s", velocity="v_ms", force="F_N")
+
+
+def test_a_static_map_given_twice_is_refused(runner, tmp_path, static_json):
+    """Was (round 8): `identify output-error ... --static-json S.json --Fc 0.5` fitted with the file's map and
+    ignored --Fc without a word (likewise --vs/--delta/--sigma2, whose defaults hid that they were given)."""
+    import numpy as np
+
+    from frictionkit.cli import app
+
+    t = np.arange(200) * 1e-3
+    rec = tmp_path / "u.csv"
+    rec.write_text("t,u\n" + "\n".join(f"{a},{b}" for a, b in zip(t, np.sin(20 * t))))
+    base = ["identify", "output-error", str(rec), "--time", "t", "--force", "u", "--position", "u", "--mass", "1",
+            "--static-json", str(static_json)]
+    for extra, named in ((["--Fc", "0.5"], "--Fc"), (["--vs", "0.01", "--sigma2", "0"], "--vs, --sigma2")):
+        res = runner.invoke(app, base + extra)
+        assert res.exit_code == 2
+        assert one_error_line(res) == (f"error: {named} and --static-json both give the static map; give one "
+                                       "(--static-json STATIC.json, or --Fc with --Fs, --vs, --delta, --sigma2)")

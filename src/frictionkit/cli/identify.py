@@ -234,16 +234,25 @@ def _floats_list(text: Optional[str], what: str) -> Optional[list[float]]:
         raise ParameterError(f"{what} = {text!r}: expected comma-separated numbers") from None
 
 
-def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[float], vs: float,
-                delta: float, sigma2: float):
-    """Static map from a ``identify static`` JSON result or from --Fc/--Fs/--vs/--delta/--sigma2."""
+def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[float], vs: Optional[float],
+                delta: Optional[float], sigma2: Optional[float]):
+    """Static map from a ``identify static`` JSON result or from --Fc/--Fs/--vs/--delta/--sigma2
+    (defaults vs 1e-3 m/s, delta 2, sigma2 0); not both."""
+    from ..errors import ParameterError
     from ..models import Stribeck
 
     if static_json is not None:
+        # the map comes from the file: --Fc ... given beside it were ignored without a word (campaign round 8)
+        given = [f"--{n}" for n, x in (("Fc", Fc), ("Fs", Fs), ("vs", vs), ("delta", delta), ("sigma2", sigma2))
+                 if x is not None]
+        if given:
+            raise ParameterError(f"{', '.join(given)} and --static-json both give the static map; give one "
+                                 "(--static-json STATIC.json, or --Fc with --Fs, --vs, --delta, --sigma2)")
         return chk.load_static_json(static_json)
     if Fc is None:
         return None
-    return Stribeck(Fc=Fc, Fs=Fs if Fs is not None else Fc, vs=vs, delta=delta, sigma2=sigma2)
+    return Stribeck(Fc=Fc, Fs=Fs if Fs is not None else Fc, vs=1e-3 if vs is None else vs,
+                    delta=2.0 if delta is None else delta, sigma2=0.0 if sigma2 is None else sigma2)
 
 
 @identify_app.command("output-error")
@@ -280,9 +289,9 @@ def output_error(
     static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
     Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
     Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
-    vs: float = typer.Option(1e-3, "--vs", help="Stribeck velocity [m/s]."),
-    delta: float = typer.Option(2.0, "--delta", help="Stribeck exponent."),
-    sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
+    vs: Optional[float] = typer.Option(None, "--vs", help="Stribeck velocity [m/s] (default 0.001)."),
+    delta: Optional[float] = typer.Option(None, "--delta", help="Stribeck exponent (default 2)."),
+    sigma2: Optional[float] = typer.Option(None, "--sigma2", help="Viscous coefficient [N·s/m] (default 0)."),
     mass: Optional[float] = typer.Option(None, "--mass", help="Force drive: moving mass [kg] (start value with "
                                          "--free m)."),
     inertia: Optional[float] = typer.Option(None, "--inertia", help="Motion drive: inertia J of the J·a term "
@@ -581,9 +590,9 @@ def presliding(
     static_json: Optional[Path] = typer.Option(None, "--static-json", help="Static map: JSON of 'identify static'."),
     Fc: Optional[float] = typer.Option(None, "--Fc", help="Static map without --static-json: Coulomb level [N]."),
     Fs: Optional[float] = typer.Option(None, "--Fs", help="Breakaway level [N] (default Fc)."),
-    vs: float = typer.Option(1e-3, "--vs", help="Stribeck velocity [m/s]."),
-    delta: float = typer.Option(2.0, "--delta", help="Stribeck exponent."),
-    sigma2: float = typer.Option(0.0, "--sigma2", help="Viscous coefficient [N·s/m]."),
+    vs: Optional[float] = typer.Option(None, "--vs", help="Stribeck velocity [m/s] (default 0.001)."),
+    delta: Optional[float] = typer.Option(None, "--delta", help="Stribeck exponent (default 2)."),
+    sigma2: Optional[float] = typer.Option(None, "--sigma2", help="Viscous coefficient [N·s/m] (default 0)."),
     branch: str = typer.Option("auto", "--branch", help="auto, virgin or reversal."),
     C: Optional[float] = typer.Option(None, "--C", help="Fix the attraction constant [N/s]."),
     no_polish: bool = typer.Option(False, "--no-polish", "--no-refine", help="Skip the simulation-error polish "

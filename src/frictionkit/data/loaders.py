@@ -164,8 +164,11 @@ def _csv_unshifted(p: Path, delimiter: str):
     names = pd.read_csv(p, sep=delimiter, nrows=0).columns
     extra = raw.iloc[:, len(names):]
     if extra.shape[1] == 0 or (extra != "").to_numpy().any():
-        raise DataError(f"file '{p}': the header names {len(names)} column(s) but the data rows have "
-                        f"{raw.shape[1]} fields; every column needs a name")
+        head = ", ".join(map(str, names[:8]))
+        note = (" (a comment line above the header? remove it: the first line is the header)"
+                if str(names[0]).lstrip().startswith(("#", "%", "//")) else "")
+        raise DataError(f"file '{p}': the header names {len(names)} column(s) ({head[:80]!r}) but the data rows have "
+                        f"{raw.shape[1]} fields; every column needs a name{note}")
     return pd.read_csv(p, sep=delimiter, index_col=False)
 
 
@@ -424,6 +427,20 @@ def _available(table: Mapping[str, np.ndarray], col: str) -> str:
     return avail
 
 
+def _first_text(arr: np.ndarray) -> str:
+    """``": row K holds 'TEXT'"`` for the first value that is not a number (rows counted from 0 after the
+    header, as in the other row messages), or ``""``. Was (campaign round 8): a unit row under the header
+    ("s,m/s,N") or a NUL byte said only "is not numeric"."""
+    for k, x in enumerate(arr.ravel()):
+        try:
+            float(x)
+        except (TypeError, ValueError):
+            text = x.decode("utf-8", "replace") if isinstance(x, bytes) else str(x)
+            hint = " (a units row under the header? remove it)" if k == 0 and not any(c.isdigit() for c in text) else ""
+            return f": row {k} holds {text[:40]!r}{hint}"
+    return ""
+
+
 def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np.ndarray:
     if col not in table:
         raise DataError(f"file '{p}': column '{col}' (given for {role}) not found; available columns: "
@@ -442,7 +459,7 @@ def _column(table: Mapping[str, np.ndarray], p: Path, role: str, col: str) -> np
         try:
             arr = arr.astype(np.float64)
         except (TypeError, ValueError):
-            raise DataError(f"file '{p}': column '{col}' (given for {role}) is not numeric") from None
+            raise DataError(f"file '{p}': column '{col}' (given for {role}) is not numeric{_first_text(arr)}") from None
     arr = arr.astype(np.float64)
     if arr.ndim > 1:
         arr = arr.squeeze()

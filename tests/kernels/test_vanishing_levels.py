@@ -131,6 +131,7 @@ def test_zero_breakaway_level_runs_at_rest():
         assert res.status == 0 and np.all(res.friction == 0.0)
 
 
+@pytest.mark.xdist_group("batch_kernel")  # method='fixed' compiles kernels.batch's parallel kernel: once, with test_batch.py
 def test_batch_runs_fading_laws():
     u = _u(2001)
     for model in (_lugre(), _gms()):

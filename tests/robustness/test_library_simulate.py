@@ -145,6 +145,7 @@ def test_reference_failure_before_first_output_is_a_simulation_error(monkeypatch
         ref.reference_force_driven(LUGRE, 1.0, U, DT)
 
 
+@pytest.mark.xdist_group("batch_kernel")  # method='fixed' compiles kernels.batch's parallel kernel: once, with test_batch.py
 def test_fixed_batch_method_flags_steps_too_coarse_for_the_mass():
     """method='fixed' has no error control: on the README LuGre at 4 kHz with 2 sub-steps the
     RMS position error against the twin was 24 % of the stroke on 10 g (h*(sigma1+sigma2)/m =

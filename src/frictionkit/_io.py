@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import json
 import os
 import stat
 import tempfile
@@ -185,6 +186,28 @@ def check_not_input(out: str | os.PathLike, inputs: Iterable[str | os.PathLike |
         if _same_file(o, Path(inp)):
             raise DataError(f"{option} '{out}' is the input file '{inp}': refusing to overwrite an input; "
                             "choose another path")
+
+
+class DuplicateKeyError(ValueError):
+    """A JSON object names the same key twice (see :func:`json_loads`)."""
+
+
+def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            shown = json.dumps(value)[:40] if not isinstance(value, (dict, list)) else type(value).__name__
+            raise DuplicateKeyError(f"key {key!r} appears twice in one object (values {json.dumps(out[key])[:40]} "
+                                    f"and {shown}); a hand edit? keep one")
+        out[key] = value
+    return out
+
+
+def json_loads(text: str | bytes) -> Any:
+    """``json.loads`` for the package's input files (model files, results, tests): a key named twice in
+    one object raises :class:`DuplicateKeyError` — plain ``json`` keeps the last silently, so an edited
+    first copy was ignored without a word (issue 13 round 8: ``{"Fc": 1.0, "Fc": 5.0}`` ran with 5)."""
+    return json.loads(text, object_pairs_hook=_unique_pairs)
 
 
 def plot_formats() -> dict[str, str]:

@@ -135,3 +135,24 @@ def test_a_static_map_given_twice_is_refused(runner, tmp_path, static_json):
         assert res.exit_code == 2
         assert one_error_line(res) == (f"error: {named} and --static-json both give the static map; give one "
                                        "(--static-json STATIC.json, or --Fc with --Fs, --vs, --delta, --sigma2)")
+
+
+def test_a_key_named_twice_in_a_json_file_is_refused(tmp_path):
+    """Was (round 8): {"Fc": 1.0, "Fc": 5.0} in a law file ran with 5 (plain json keeps the last copy), and
+    "written_by": "me" in a result was read as absent. Every JSON input of the package reads through
+    frictionkit._io.json_loads."""
+    from frictionkit.identify.result import read_json_object
+    from frictionkit.models.files import ModelFile
+
+    p = tmp_path / "dup.json"
+    p.write_text('{"format": "frictionkit.model/1", "model": {"law": "Dahl", "Fc": 1.0, "Fc": 5.0, "sigma0": 1e5}}')
+    with pytest.raises(DataError, match=r"key 'Fc' appears twice in one object \(values 1.0 and 5.0\)"):
+        ModelFile.load(p)
+    with pytest.raises(DataError, match=r"key 'Fc' appears twice"):
+        read_json_object(p)
+    from frictionkit.identify.result import IdentificationResult
+
+    with pytest.raises(DataError, match=r'"written_by" is "me", expected an object'):
+        IdentificationResult.from_dict({"format": "frictionkit.identification/1", "written_by": "me", "kind": "static_map",
+                                        "model_name": "x", "model": None, "parameters": {}, "correlation": [],
+                                        "rms": None, "relative_error_percent": None, "n_obs": 0, "dof": 0})

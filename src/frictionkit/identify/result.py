@@ -203,10 +203,14 @@ def read_json_object(path: str | Path, where: str | None = None) -> dict[str, An
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise DataError(f"{where}: not UTF-8 text (byte {exc.start})") from None
+    from .._io import DuplicateKeyError, json_loads
+
     try:
-        doc = json.loads(text)
+        doc = json_loads(text)
     except json.JSONDecodeError as exc:
         raise DataError(f"{where}: not valid JSON ({exc.msg} at line {exc.lineno}, column {exc.colno})") from None
+    except DuplicateKeyError as exc:
+        raise DataError(f"{where}: {exc}") from None
     except RecursionError:
         raise DataError(f"{where}: JSON nested too deeply") from None
     if not isinstance(doc, dict):
@@ -587,6 +591,7 @@ class IdentificationResult:
         typed("warnings", (list, tuple), "a list of strings", ())
         typed("diagnostics", Mapping, "an object", {})
         typed("provenance", Mapping, "an object", {})
+        typed("written_by", Mapping, "an object", {})
         typed("parts", Mapping, "an object", {})
         typed("data", Mapping, "an object", {})
         for key in ("rms", "relative_error_percent"):

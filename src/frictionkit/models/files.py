@@ -287,8 +287,12 @@ class ModelFile:
             raise DataError(f"{where}: is a folder, expected a JSON file") from None
         except FileNotFoundError:
             raise DataError(f"{where}: no such file") from None
+        from .._io import DuplicateKeyError, json_loads
+
         try:
-            doc = json.loads(raw.decode("utf-8"))
+            doc = json_loads(raw.decode("utf-8"))
+        except DuplicateKeyError as exc:
+            raise DataError(f"{where}: {exc}") from None
         except UnicodeDecodeError as exc:
             raise DataError(f"{where}: not UTF-8 text (byte {exc.start}); expected JSON") from None
         except json.JSONDecodeError as exc:

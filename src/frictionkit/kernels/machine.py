@@ -1036,7 +1036,9 @@ def run(
     for j in range(ns):
         if sch_mode[j] != 0:
             has_sched = True
-    has_load = False
+    # np.bool_, not a literal False: a literal types the call of _predict_profile first with
+    # Literal[bool](False), then again with bool once the loop below unifies it (two compiles)
+    has_load = np.bool_(False)
     for j in range(ns):
         if ld_mode[j] != 0:
             has_load = True

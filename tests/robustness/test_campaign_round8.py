@@ -156,3 +156,32 @@ def test_a_key_named_twice_in_a_json_file_is_refused(tmp_path):
         IdentificationResult.from_dict({"format": "frictionkit.identification/1", "written_by": "me", "kind": "static_map",
                                         "model_name": "x", "model": None, "parameters": {}, "correlation": [],
                                         "rms": None, "relative_error_percent": None, "n_obs": 0, "dof": 0})
+
+
+def test_a_drawn_run_on_an_unstable_loop_fails_by_the_screen_not_by_the_message(tmp_path, monkeypatch):
+    """Was (round 7 leftover): study's _axis_run failed a drawn run whose loop is unstable by matching the text
+    "the closed loop is unstable" in the result's note. Now it reads the screen's LoopStability.unstable: a
+    mass drawn at 0.2 kg (nominal 20 kg, actuator limit 20 N) converges to a limit cycle (status 0, note) and is
+    a failed row even when the note's wording changes."""
+    import frictionkit as fk
+    from frictionkit.machines import simulate as msim
+    from frictionkit.study import _SPREADABLE, _axis_run, load_study
+
+    p = tmp_path / "s.toml"
+    p.write_text("[machine]\nlimit = 20.0\n[reference]\nduration = 0.2\n[study]\ndraws = 1\nseeds = 1\n"
+                 "compensators = ['none']\n")
+    spec = load_study(p)  # the nominal loop (20 kg) is stable
+    run = {k: spec.machine[k] for k in _SPREADABLE if k in spec.machine}
+    run.update(compensator="none", noise_seed=0)
+    assert set(_axis_run(spec, run)) >= {"max_error", "rms_error"}
+    real = msim.simulate_machine
+
+    def reworded(*a, **k):  # the note's text is not the interface
+        res = real(*a, **k)
+        assert res.status == 0 and "unstable" in res.message  # measured first: converged, with the note
+        return __import__("dataclasses").replace(res, message="ok")
+
+    monkeypatch.setattr(fk, "simulate_machine", reworded)
+    run["mass"] = 0.2
+    with pytest.raises(fk.SimulationError, match=r"^the closed loop is unstable: .*; the run measured a limit cycle"):
+        _axis_run(spec, run)

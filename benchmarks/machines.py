@@ -22,7 +22,9 @@ discretisation, result checks):
   ``R (theta_s + theta_n)`` in seed 000's sign convention) and the table guide; two PID loops
   at 250 µs (eq. 15: the table error compensated on the screw), 23-bit encoders, 10 nm scale.
   Its closed loop is linearly stable (``loop_stability`` radius 0.965); the fraction of
-  samples with an actuator at its limit is printed.
+  samples with an actuator at its limit is printed, and the kernel CPU of the user's run beside
+  that of the loop screen's hunting-check rerun (the loop can hunt: Stribeck radius 1.0117, so
+  ``simulate_machine`` reruns it at 4x the sub-steps; 2026-11-23 under load: 40 vs 75 ms).
 * ``emps``: ``presets/emps.py`` (published rigid model, CoulombViscous + offset, gain 35.15,
   ±10 V, one-sample delay) on the recorded EMPS reference at 1 ms: as a user runs it (the
   core's one-DOF fast path ``kernels/machine_axis.py``, exact step per sample; this is
@@ -95,6 +97,8 @@ class _KernelClock:
         #: ``kernels.machine.run`` calls since the last reset: ``(samples advanced in one step,
         #: samples, sub-steps)`` each (the wrapper's sub-step or loop check may add a run)
         self.calls = []
+        #: the kernel CPU time of each of those calls (the user's run, then any check run)
+        self.call_cpu = []
         setattr(km, name, self)
 
     def __call__(self, *args, **kwargs):
@@ -103,6 +107,7 @@ class _KernelClock:
             out = self.inner(*args, **kwargs)
             if len(out) == 4:  # kernels.machine.run: (status, k_end, n_bad, n_one)
                 self.calls.append((int(out[3]), int(out[1]), int(args[0])))
+                self.call_cpu.append(time.thread_time() - c0)
             return out
         finally:
             self.cpu += time.thread_time() - c0
@@ -124,6 +129,7 @@ def best_of(fn, repeat):
     for _ in range(repeat):
         KERNEL_CLOCK.cpu = AXIS_CLOCK.cpu = 0.0
         KERNEL_CLOCK.calls = []
+        KERNEL_CLOCK.call_cpu = []
         c0 = time.thread_time()
         t0 = time.perf_counter()
         out = fn()
@@ -274,6 +280,11 @@ def bench_two_shaft(duration, repeat):
     inp = two_shaft_reference(duration, dt)
     t, c, r = best_of(lambda: simulate_machine(m, dt=dt, inputs=inp, substeps=10), repeat)
     one = _one_step()
+    # where the kernel time goes (last timed run): the user's run and the loop check's rerun
+    # (the hunting check: 4x the sub-steps, machines/stability.py HUNT_CHECK_FACTOR)
+    kc = list(KERNEL_CLOCK.call_cpu)
+    one["kernel_cpu_run_s"] = kc[0] if kc else None
+    one["kernel_cpu_check_s"] = sum(kc[1:]) if kc else None
     x = r.position(R0 * (m.coord("screw") + m.coord("nut")))
     x_ref = R0 * (inp["th1_ref"] + inp["th2_ref"])
     at_limit = {a.name: float(np.mean(np.abs(r.u[:, i]) >= a.limit * (1 - 1e-9))) for i, a in enumerate(m.actuators)}
@@ -578,7 +589,9 @@ def main() -> None:
           f"{r['rt_cpu']:11,.0f} {_kshare(r)}{_one_step_note(r)}  max|e| {r['max_err_um']:.2f} um; {r['message']}")
     print(f"{'two-shaft drive, GMS-3 x4, 2 PID, 250 us, 10 sub (core)':58s} {ts['rt']:12,.0f} {ts['core_s']:9.3f} "
           f"{ts['rt_cpu']:11,.0f} {_kshare(ts)}{_one_step_note(ts)}  "
-          f"max table err {ts['max_table_err_um']:.2f} um; loop radius {ts['loop_radius']:.3f}; at limit "
+          + (f"kernel CPU: run {1e3 * ts['kernel_cpu_run_s']:.1f} ms, hunting-check rerun "
+             f"{1e3 * ts['kernel_cpu_check_s']:.1f} ms; " if ts.get("kernel_cpu_run_s") is not None else "")
+          + f"max table err {ts['max_table_err_um']:.2f} um; loop radius {ts['loop_radius']:.3f}; at limit "
           + ", ".join(f"{k} {100 * v:.1f} %" for k, v in ts["at_limit"].items()) + f"; {ts['message']}")
     for key in ("axis", 40, 10):
         r = em[key]

@@ -185,3 +185,33 @@ def test_a_drawn_run_on_an_unstable_loop_fails_by_the_screen_not_by_the_message(
     run["mass"] = 0.2
     with pytest.raises(fk.SimulationError, match=r"^the closed loop is unstable: .*; the run measured a limit cycle"):
         _axis_run(spec, run)
+
+
+def test_a_flag_reported_as_false_is_right_against_the_twin():
+    """Item 10 of issue 13: last session counted 3 of 18 extreme LuGre sets as flagged "yet within 1.7e-4 of the
+    solve_ivp twin" — measured on x only, and only over the samples the flag kept. Over the whole run and on v
+    and the friction too, all three were wrong (friction 6.8 % / 12 % of its range, v 13 %, x 1.2e-3): the check
+    was right. This one (sigma0 4.57e6 N/m on 1.7 kg, (c/m) dt 4.4) keeps x and v within 1e-7 of the twin but
+    not the friction; the flag must stay."""
+    import warnings
+
+    import numpy as np
+
+    import frictionkit as fk
+    from frictionkit.simulation import core
+    from frictionkit.simulation.reference import reference_force_driven
+
+    u = 2.0 * np.sin(2 * np.pi * np.arange(400) * 1e-3)
+    law = fk.LuGre(fk.Stribeck(Fc=0.0309, Fs=0.04635, vs=1e-3, sigma2=0.4), sigma0=4.57e6, sigma1=7.51e3)
+    ref = reference_force_driven(law, 1.7, u, 1e-3, rtol=1e-10, atol=1e-15)
+    kind, pk = core._pack(law)
+    raw = core._force_run(kind, pk, u, 1e-3, 1.7, 0.0, 0.0, None, fk.SimOptions(), core._f_scale(pk.static), law,
+                          warn=False)
+    err = {k: float(np.max(np.abs(a - ref[k])) / np.ptp(ref[k])) for k, a in
+           (("x", raw.x), ("v", raw.v), ("friction", raw.friction))}
+    # measured first: x and v right, the friction wrong beyond the check's bound (1e-2 of its range)
+    assert raw.status == 0 and err["x"] < 1e-6 and err["v"] < 1e-6 and err["friction"] > 5e-2, err
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        res = fk.simulate(law, plant=fk.Mass(1.7), force=u, dt=1e-3)
+    assert res.status == 2 and "moves friction by" in res.message

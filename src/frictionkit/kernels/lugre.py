@@ -513,9 +513,14 @@ def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, 
             while j < n:
                 uk = u[k + j]
                 du = u[k + j + 1] - uk
-                xn = xa + Pxv * va + Pxz * za + Rx + Ax * uk + Bx * du
-                vn = E[0] * va + E[1] * za + Rv + Av * uk + Bv * du
-                zn = E[2] * va + E[3] * za + Rz + Az * uk + Bz * du
+                # the input's part first, the state's last: the sample-to-sample dependency is
+                # one product and two additions (was five additions; ~30 % of the kernel, issue 15)
+                fx = Rx + Ax * uk + Bx * du
+                fv = Rv + Av * uk + Bv * du
+                fz = Rz + Az * uk + Bz * du
+                xn = xa + ((Pxv * va + Pxz * za) + fx)
+                vn = (E[0] * va + E[1] * za) + fv
+                zn = (E[2] * va + E[3] * za) + fz
                 if vn * sd <= 0.0 or not math.isfinite(xn + vn + zn):
                     flip = True
                     break
@@ -558,12 +563,23 @@ def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, 
             ok = True
             zmx = zs
             zmn = zs
+            # the forcing of sample i, W1 c0 + W2 c1 + W3 c2 with c0 = al i + c2 i^2, c1 = al + 2 c2 i
+            # (al = ca / j, c2 = cb / j^2), as a quadratic in i by Horner: 12 operations per sample
+            # instead of ~23 (issue 15); the same for the remainder's share of F below
+            al = ca * ij
+            G0x, G1x, G2x = X3 * al + X4 * c2, X2 * al + 2.0 * X3 * c2, X2 * c2
+            G0v, G1v, G2v = W2v * al + W3v * c2, W1v * al + 2.0 * W2v * c2, W1v * c2
+            G0z, G1z, G2z = W2z * al + W3z * c2, W1z * al + 2.0 * W2z * c2, W1z * c2
+            Fa = s1 * al
+            Fb = s1 * c2
             for i in range(j):
-                c0 = (ca + cb * i * ij) * i * ij
-                c1 = ca * ij + 2.0 * cb * i * ij * ij
-                nx = ex + Pxv * ev + Pxz * ez + X2 * c0 + X3 * c1 + X4 * c2
-                nv = E[0] * ev + E[1] * ez + W1v * c0 + W2v * c1 + W3v * c2
-                nz = E[2] * ev + E[3] * ez + W1z * c0 + W2z * c1 + W3z * c2
+                ti = float(i)
+                gx = G0x + ti * (G1x + ti * G2x)  # the forcing first, as in pass 1
+                gv = G0v + ti * (G1v + ti * G2v)
+                gz = G0z + ti * (G1z + ti * G2z)
+                nx = ex + ((Pxv * ev + Pxz * ez) + gx)
+                nv = (E[0] * ev + E[1] * ez) + gv
+                nz = (E[2] * ev + E[3] * ez) + gz
                 ex, ev, ez = nx, nv, nz
                 vv = v[k + i + 1] + ev
                 zz = z[k + i + 1] + ez
@@ -577,8 +593,8 @@ def _span(u, k, n_try, xs, vs_, zs, have, pt, vpk, dt, m, p0, p1, d0, d1, rtol, 
                 v[k + i + 1] = vv
                 z[k + i + 1] = zz
                 # linearised F plus sigma1 times the remainder of dz/dt there
-                th = (i + 1) * ij
-                F[k + i + 1] = cFv * vv + cFz * zz + cF0 + s1 * (ca + cb * th) * th
+                t1 = ti + 1.0  # s1 (ca + cb th) th at th = (i + 1) / j
+                F[k + i + 1] = cFv * vv + cFz * zz + cF0 + t1 * (Fa + t1 * Fb)
             # the correction is the error of pass 1 (conservative for the corrected path)
             e = abs(ev) / (tol_v + rtol * abs(va))
             q = abs(ez) / (atol_z + rtol * abs(za))

@@ -213,10 +213,12 @@ class StudySpec:
             if k in text:
                 continue
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-                raise DataError(f"{where}: {k} = {v!r}: must be a finite number >= 0")
+                raise DataError(f"{where}: [{'reference' if k in self.reference else 'machine'}] {k} = {v!r}: must "
+                                "be a finite number >= 0")
         for k in ("mass", "Fc", "Fs", "vs", "sigma0", "presliding_length", "dt", "duration", "frequency"):
-            if k in m and m[k] <= 0 or k in self.reference and self.reference[k] <= 0:
-                raise DataError(f"{where}: {k} must be > 0")
+            for sec, d in (("machine", m), ("reference", self.reference)):  # the section and value named
+                if k in d and d[k] <= 0:
+                    raise DataError(f"{where}: [{sec}] {k} = {d[k]!r}: must be > 0")
         spreadable = self.spreadable
         for k, v in self.spread.items():
             if k not in spreadable:

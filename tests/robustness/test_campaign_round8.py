@@ -110,7 +110,7 @@ def test_a_non_numeric_cell_is_named_with_its_row(tmp_path):
     cases = {"units": ("t_s,v_ms,F_N\ns,m/s,N\n" + body, r"is not numeric: row 0 holds 's' \(a units row"),
              "nul": ("t_s,v_ms,F_N\n" + body + "\n\x00\x00\n" + body, r"is not numeric: row 20 holds '\\x00\\x00'"),
              "comment": ("# bench 3\nt_s,v_ms,F_N\n" + body,
-                         r"header names 1 column\(s\) \('# bench 3'\) .*a comment line above the header")}
+                         r"header names 1 column\(s\) .*\(header: '# bench 3'\) \(a comment line above the header")}
     for name, (text, want) in cases.items():
         p = tmp_path / f"{name}.csv"
         p.write_text(text)
@@ -215,3 +215,17 @@ def test_a_flag_reported_as_false_is_right_against_the_twin():
         warnings.simplefilter("ignore", RuntimeWarning)
         res = fk.simulate(law, plant=fk.Mass(1.7), force=u, dt=1e-3)
     assert res.status == 2 and "moves friction by" in res.message
+
+
+@pytest.mark.parametrize("text, want", [
+    ("[reference]\nduration = 0.0\n", r"\[reference\] duration = 0.0: must be > 0"),
+    ("[machine]\nmass = -1.0\n", r"\[machine\] mass = -1.0: must be a finite number >= 0"),
+])
+def test_a_study_value_is_named_with_its_section_and_value(tmp_path, text, want):
+    """Was (round 8): "duration must be > 0" — neither the section nor the value, unlike the study's other errors."""
+    from frictionkit.study import load_study
+
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    with pytest.raises(DataError, match=rf"^study '{p}': {want}$"):
+        load_study(p)

@@ -167,8 +167,8 @@ def _csv_unshifted(p: Path, delimiter: str):
         head = ", ".join(map(str, names[:8]))
         note = (" (a comment line above the header? remove it: the first line is the header)"
                 if str(names[0]).lstrip().startswith(("#", "%", "//")) else "")
-        raise DataError(f"file '{p}': the header names {len(names)} column(s) ({head[:80]!r}) but the data rows have "
-                        f"{raw.shape[1]} fields; every column needs a name{note}")
+        raise DataError(f"file '{p}': the header names {len(names)} column(s) but the data rows have "
+                        f"{raw.shape[1]} fields; every column needs a name (header: {head[:80]!r}){note}")
     return pd.read_csv(p, sep=delimiter, index_col=False)
 
 

@@ -604,7 +604,7 @@ def simulate(
             raise ParameterError("simulate: force= needs plant= (e.g. fk.Mass(1.0))")
         if not isinstance(plant, Mass):
             raise ParameterError(f"simulate: plant = {type(plant).__name__}: must be frictionkit.Mass")
-        u = val.signal("force", force)
+        u = val.signal("force", force, copy=False)  # read by the kernel only
         x0 = val.position("simulate", "x0", x0)
         v0 = val.finite("simulate", "v0", v0)
         run = _force_run(kind, pk, u, dt, plant.m, x0, v0, state0, options, F_scale, model)

@@ -64,6 +64,10 @@ CHUNK_AFTER = 8  # samples in the first LSODA call after a switch (doubling back
 EVENT_TOL = 1e-6
 LOC_GRID = 16  # points per LSODA call when locating a GMS switch
 TOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
+#: LuGre / Dahl / batch peers: half decades (issue 15, fairness): with whole decades the peer ran at
+#: up to 10x tighter rtol than the kernel's accuracy needs (the issue's table: rtol 3.2e-8 matched
+#: where the decade grid picks 1e-8).
+TOLS_HALF = tuple(t * f for t in TOLS[:-1] for f in (1.0, 10 ** -0.5)) + TOLS[-1:]
 
 
 def best_of(fn, repeat):
@@ -76,18 +80,20 @@ def best_of(fn, repeat):
     return best, out
 
 
-def interleaved(fa, fb, repeat):
+def interleaved(fa, fb, repeat, clock=time.perf_counter):
     """Min times of ``fa`` and ``fb`` run alternately ``repeat`` times (a shared machine's load hits
-    both alike; timing one after the other gave peer/kernel ratios 3.7x and 9.7x in two runs)."""
+    both alike; timing one after the other gave peer/kernel ratios 3.7x and 9.7x in two runs).
+    ``clock``: ``time.process_time`` for single-threaded runs (CPU time: a preempted run does not
+    count its wait; system time -- page faults -- still counts)."""
     fa()
     fb()
     ta = tb = math.inf
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = clock()
         fa()
-        t1 = time.perf_counter()
+        t1 = clock()
         fb()
-        t2 = time.perf_counter()
+        t2 = clock()
         ta, tb = min(ta, t1 - t0), min(tb, t2 - t1)
     return ta, tb
 
@@ -349,9 +355,9 @@ def gms_data(model, m, u):
 
 
 # --------------------------------------------------------------------------- runs
-def matched(run, ex, eF, ref):
+def matched(run, ex, eF, ref, tols=TOLS):
     """Loosest rtol whose errors are both <= (ex, eF); returns (rtol, dx, dF) or None."""
-    for rtol in TOLS:
+    for rtol in tols:
         x, F, ok = run(rtol)
         if not ok:
             continue
@@ -361,21 +367,23 @@ def matched(run, ex, eF, ref):
     return None
 
 
-def single(name, model, m, u, data, run_peer, repeat):
+def single(name, model, m, u, data, run_peer, repeat, tols=TOLS, clock=time.perf_counter):
     t_k, res = best_of(lambda: fk.simulate(model, plant=fk.Mass(m), force=u, dt=DT), repeat)
     ref = reference_force_driven(model, m, u, DT, method="LSODA", rtol=1e-11, atol=1e-13)
     ex, eF = errors(res.x, res.friction, ref)
     N = u.size
     print(f"\n== {name}: kernel {t_k * 1e3:7.2f} ms ({t_k / (N - 1) * 1e9:5.1f} ns/sample, "
           f"{res.substeps / (N - 1):.2f} sub-steps/sample)  max|dx| {ex * 1e6:.3f} um  max|dF| {eF:.2e} N")
-    mt = matched(run_peer, ex, eF, ref)
+    mt = matched(run_peer, ex, eF, ref, tols)
     if mt is None:
-        print(f"   peer did not reach the kernel's accuracy at rtol >= {TOLS[-1]:g}")
+        print(f"   peer did not reach the kernel's accuracy at rtol >= {tols[-1]:g}")
         return {"model": name, "kernel_s": t_k, "ratio": None}
     rtol, dx, dF = mt
-    t_k, t_p = interleaved(lambda: fk.simulate(model, plant=fk.Mass(m), force=u, dt=DT), lambda: run_peer(rtol), repeat)
-    print(f"   peer at rtol {rtol:g}: {t_p * 1e3:7.2f} ms  max|dx| {dx * 1e6:.3f} um  max|dF| {dF:.2e} N"
-          f"  -> ratio peer/kernel {t_p / t_k:.2f} (min of {repeat} interleaved pairs: kernel {t_k * 1e3:.2f} ms)")
+    t_k, t_p = interleaved(lambda: fk.simulate(model, plant=fk.Mass(m), force=u, dt=DT), lambda: run_peer(rtol), repeat,
+                           clock)
+    what = "CPU" if clock is time.process_time else "wall"
+    print(f"   peer at rtol {rtol:.3g}: {t_p * 1e3:7.2f} ms  max|dx| {dx * 1e6:.3f} um  max|dF| {dF:.2e} N"
+          f"  -> ratio peer/kernel {t_p / t_k:.2f} (min {what} of {repeat} interleaved pairs: kernel {t_k * 1e3:.2f} ms)")
     # and the peer at its loosest tolerance that is at least as accurate in x only
     return {"model": name, "kernel_s": t_k, "peer_s": t_p, "ratio": t_p / t_k, "kernel_err": (ex, eF),
             "peer_err": (dx, dF), "peer_rtol": rtol}
@@ -398,11 +406,15 @@ def main() -> None:
     lg = example_lugre()
     st = lg.static
     d = lugre_data(st.Fc, st.Fs, st.vs, lg.sigma0, lg.sigma1, st.sigma2, 1.0, u)
-    rows.append(single("LuGre", lg, 1.0, u, d, lambda r: lugre_single(d, t_eval, r, r * 1e-3), repeat))
+    # LuGre / Dahl (issue 15): CPU time, 3x the repeats (a ~1-2 ms run: min of 10 wall-clock pairs
+    # spread ~15 % between quiet runs), half-decade peer tolerances
+    rows.append(single("LuGre", lg, 1.0, u, d, lambda r: lugre_single(d, t_eval, r, r * 1e-3), 3 * repeat,
+                       TOLS_HALF, time.process_time))
 
     dahl = fk.Dahl(Fc=1.0, sigma0=1e5, sigma2=0.4)
     dd = lugre_data(1.0, 1.0, 1.0, dahl.sigma0, 0.0, dahl.sigma2, 1.0, u)  # g = Fc: Fs = Fc
-    rows.append(single("Dahl", dahl, 1.0, u, dd, lambda r: lugre_single(dd, t_eval, r, r * 1e-3), repeat))
+    rows.append(single("Dahl", dahl, 1.0, u, dd, lambda r: lugre_single(dd, t_eval, r, r * 1e-3), 3 * repeat,
+                       TOLS_HALF, time.process_time))
 
     for M in (4, 16):
         gm = example_gms(M)
@@ -443,7 +455,7 @@ def main() -> None:
     print(f"   simulate_batch adaptive: {rate_k:8,.0f} sets/s   worst max|dx| over {len(probe)} probed sets "
           f"{wk * 1e6:.3f} um")
     rate_p, wp, rtol_p = None, None, None
-    for rtol in TOLS:
+    for rtol in TOLS_HALF:
         w = 0.0
         for j, ref in zip(probe, refs):
             x, F, ok = lugre_single(datas[j], t_eval, rtol, rtol * 1e-3)
@@ -459,7 +471,7 @@ def main() -> None:
     if rate_p is None:
         print("   numbalsoda prange did not reach the kernel's worst-case accuracy")
     else:
-        print(f"   numbalsoda prange rtol {rtol_p:g}: {rate_p:8,.0f} sets/s   worst max|dx| {wp * 1e6:.3f} um"
+        print(f"   numbalsoda prange rtol {rtol_p:.3g}: {rate_p:8,.0f} sets/s   worst max|dx| {wp * 1e6:.3f} um"
               f"   -> ratio kernel/peer {rate_k / rate_p:.2f} (interleaved: kernel {rate_k:,.0f} sets/s)")
 
     print("\nsummary (peer time / kernel time at matching accuracy; > 1: frictionkit faster)")

@@ -20,6 +20,10 @@ ST = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4)
 TRUE = fk.GMS(ST, k=[4e5, 1e5, 2e4], xi=[0.2, 0.3, 0.5], C=20.0)
 DT = 1e-4
 
+# one worker: the force-drive tests compile kernels.sensitivity_gms.gms_force_sens (~18 s CPU cold),
+# which nothing outside this module reaches (clean clone: it compiled on both xdist workers)
+pytestmark = pytest.mark.xdist_group("sensitivity_gms")
+
 
 def _stroke(n: int) -> np.ndarray:
     t = np.arange(n) * DT

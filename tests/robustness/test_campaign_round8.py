@@ -229,3 +229,24 @@ def test_a_study_value_is_named_with_its_section_and_value(tmp_path, text, want)
     p.write_text(text)
     with pytest.raises(DataError, match=rf"^study '{p}': {want}$"):
         load_study(p)
+
+
+@pytest.mark.parametrize("Fc, sigma0", [(1e100, 1e5), (1e30, 1.0)])
+def test_a_position_driven_lugre_far_from_its_breakaway_stays_a_spring(Fc, sigma0):
+    # Round 8: with g / sigma0 far above the travel (a = sigma0 |v| / g, a dt < 1e-16), the exact
+    # update zss + (z - zss) exp(-a dt) cancelled and z stayed at 0: status ok, friction half its
+    # range off. Then the bristle follows the motion: z = x, F = sigma0 x + (sigma1 + sigma2) v.
+    import numpy as np
+
+    import frictionkit as fk
+
+    dt = 1e-3
+    t = np.arange(2001) * dt
+    x = 1e-6 * np.sin(2 * np.pi * t)
+    law = fk.LuGre(fk.Stribeck(Fc=Fc, Fs=1.5 * Fc, vs=1e-3, sigma2=0.4), sigma0=sigma0, sigma1=2.0)
+    res = fk.simulate(law, dt=dt, position=x)
+    assert res.status == 0, res.message
+    v = np.diff(x) / dt
+    spring = sigma0 * x[1:] + (2.0 + 0.4) * v
+    err = np.max(np.abs(res.friction[1:] - spring)) / np.ptp(spring)
+    assert err < 1e-6, f"friction {err:.3g} of its range off the spring-damper"

@@ -799,8 +799,13 @@ def lugre_motion(xpos, dt, static, dyn, z0, v_out, F_out, z_out):
         av = abs(vk)
         a = s0 * av / g_row(p, av)
         if a > 0.0:
-            zss = vk / a  # = sgn(v) g / sigma0
-            z = zss + (z - zss) * math.exp(-a * dt)
+            # z(dt) = z E + zss (1 - E), zss = vk / a = sgn(v) g / sigma0, with 1 - E from expm1:
+            # the form zss + (z - zss) E cancels when a dt < ~1e-16 (g >> sigma0 |dx|, e.g. Fc 1e100
+            # or sigma0 1e-10: z stayed put, friction half its range off; campaign round 8).
+            e1 = -math.expm1(-a * dt)
+            z = z * (1.0 - e1) + vk * (e1 / a)
+        else:  # a = 0 (sigma0 = 0 or v = 0): dz/dt = v
+            z = z + vk * dt
         if k == 0:
             v_out[0] = vk
             zd0 = vk - a * z0

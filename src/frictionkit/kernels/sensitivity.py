@@ -140,16 +140,20 @@ def lugre_motion_sens(xpos, dt, static, dyn, coef, F_out, S_out):
             if N == 1:
                 return OK
         if a > 0.0:
+            # 1 - E from expm1: zss + (z - zss) E cancels when a dt < ~1e-16 (kernels.lugre.lugre_motion)
+            e1 = -math.expm1(-a * dt)
             E = math.exp(-a * dt)
             sg = 1.0 if vk > 0.0 else -1.0
             zss = sg * g / s0
             zo = z
-            z = zss + (zo - zss) * E
+            z = zo * E + zss * e1
             for j in range(p):
                 dgj = _dg(coef, j, row, Fc, Fs, phi, dphi_vs, dphi_de)
                 da = av * (coef[j, row, C_S0] / g - s0 * dgj / (g * g))
                 dzss = sg * (dgj / s0 - g * coef[j, row, C_S0] / (s0 * s0))
-                dz[j] = dzss * (1.0 - E) + dz[j] * E - (zo - zss) * dt * E * da
+                dz[j] = dzss * e1 + dz[j] * E - (zo - zss) * dt * E * da
+        else:  # a = 0 (v = 0, or s0 |v| / g below the smallest double): dz/dt = v, as lugre_motion
+            z = z + vk * dt
         zd = vk - a * z
         F = s0 * z + s1 * zd + s2 * vk
         F_out[k + 1] = F

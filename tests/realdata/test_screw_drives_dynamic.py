@@ -111,7 +111,9 @@ def test_every_parameter_spanning_a_decade_is_flagged(fits, drive, model):
     assert res.flagged and "not identifiable: " in stdout
     for w in res.warnings:
         if w.startswith(("sigma0 is not", "k1 is not")):
-            assert "sampling 40 ms against a" in w and "sample at ≥" in w and "kHz" in w
+            # the rate follows sigma0's estimate: kHz, or MHz for drive 2's LuGre since the motion-driven
+            # bristle update stopped cancelling at small sigma0 |dx| / g (d86ad96: its fit moved)
+            assert "sampling 40 ms against a" in w and "sample at ≥" in w and ("kHz" in w or "MHz" in w)
     # ... while the inertia is pinned
     assert "J" not in flagged
     assert 1e-6 < res["J"] < 2e-5  # kg·m²; the input element alone is 2.186e-6 (drives 1, 2), 6.5e-7 (drive 3)

@@ -230,8 +230,12 @@ def _break(table, path: Path, fmt: str, kind: str) -> None:
             pq.write_table(table, buf)
         raw = buf.getvalue()
         cut = int(0.6 * len(raw))
-        if fmt == "csv":  # cut just after a field separator: the last row lacks fields (as a crashed logger leaves it)
-            cut = raw.index(b",", cut) + 1
+        if fmt == "csv":  # cut just after a row's FIRST field: the last row lacks fields (as a crashed logger
+            # leaves it). Its first separator, not the next one after 60 %: that landed in whichever column the
+            # byte count reached, and when it was an unused one (temperature) the file read fine — the fixture's
+            # damage then depended on the simulated values' digits.
+            start = raw.index(b"\n", cut) + 1
+            cut = raw.index(b",", start) + 1
         with atomic_open(path, "wb") as f:
             f.write(raw[:cut])
         return

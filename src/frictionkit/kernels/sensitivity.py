@@ -140,9 +140,10 @@ def lugre_motion_sens(xpos, dt, static, dyn, coef, F_out, S_out):
             if N == 1:
                 return OK
         if a > 0.0:
-            # 1 - E from expm1: zss + (z - zss) E cancels when a dt < ~1e-16 (kernels.lugre.lugre_motion)
+            # 1 - E from expm1: zss + (z - zss) E cancels when a dt < ~1e-16 (kernels.lugre.lugre_motion);
+            # E from it too, as lugre_motion does (one transcendental call per sample, not two)
             e1 = -math.expm1(-a * dt)
-            E = math.exp(-a * dt)
+            E = 1.0 - e1
             sg = 1.0 if vk > 0.0 else -1.0
             zss = sg * g / s0
             zo = z

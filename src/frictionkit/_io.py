@@ -69,6 +69,24 @@ def _named(exc: OSError, target: Path) -> OSError:
     return OSError(exc.errno, f"cannot write '{target}': {exc.strerror or exc}")
 
 
+def _through_link(path: Path) -> Path:
+    """The file a write to ``path`` means: ``path`` itself, or for a symbolic link the file it points to.
+
+    Named decision (issue 13 round 8 leftover): renaming over a link replaced the link by a regular file and
+    left its target stale (a dangling link ``--out`` became a plain file beside nothing). A write now goes
+    through the link, as the shell's ``>`` and editors do: the target is replaced atomically and the link
+    stays; a dangling link creates its target when the target's folder exists. A link loop is refused.
+    """
+    if not os.path.islink(path):
+        return path
+    try:
+        os.stat(path)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise OSError(errno.ELOOP, f"cannot write '{path}': a loop of symbolic links") from None
+    return Path(os.path.realpath(path))
+
+
 @contextlib.contextmanager
 def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | None = None) -> Iterator[IO[Any]]:
     """Open a temporary file beside ``path``; on a clean exit it replaces ``path`` atomically.
@@ -103,7 +121,7 @@ def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | No
     """
     if mode not in ("wb", "w"):
         raise ValueError(f"atomic_open: mode = {mode!r}: must be 'wb' or 'w'")
-    target = Path(path)
+    target = _through_link(Path(path))
     folder = target.parent
     try:  # renaming over a device or pipe would replace it (as root: --json /dev/null deleted the device)
         st = os.stat(target)
@@ -247,16 +265,17 @@ def _probe_folder(folder: Path) -> str | None:
     return None
 
 
-def _writable_folder(folder: Path, option: str, out: Path) -> None:
+def _writable_folder(folder: Path, option: str, q: str) -> None:
+    """``q``: the output as shown in messages, quoted (``'out.json'``, or with its link target)."""
     if not folder.exists():
-        raise DataError(f"{option} '{out}': folder '{folder}' does not exist")
+        raise DataError(f"{option} {q}: folder '{folder}' does not exist")
     if not folder.is_dir():
-        raise DataError(f"{option} '{out}': '{folder}' is not a folder")
+        raise DataError(f"{option} {q}: '{folder}' is not a folder")
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise DataError(f"{option} '{out}': folder '{folder}' is not writable")
+        raise DataError(f"{option} {q}: folder '{folder}' is not writable")
     why = _probe_folder(folder)
     if why is not None:
-        raise DataError(f"{option} '{out}': folder '{folder}' is not writable ({why})")
+        raise DataError(f"{option} {q}: folder '{folder}' is not writable ({why})")
 
 
 def _nearest_existing(folder: Path) -> Path:
@@ -282,30 +301,41 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
     out = Path(path)
     if str(path) == "" or out.name in ("", ".", ".."):
         raise DataError(f"{option} '{path}': not a file name")
-    if out.is_dir():
-        raise DataError(f"{option} '{out}' is a folder; give a file name")
-    if out.exists() and not out.is_file():
-        raise DataError(f"{option} '{out}' is not a regular file (a device, pipe or socket); give a file name")
-    if out.is_file() and not os.access(out, os.W_OK):
-        raise DataError(f"{option} '{out}': the file is read-only; refusing to replace it (make it writable or "
+    real, q = out, f"'{out}'"
+    if os.path.islink(out):  # the write goes to the link's target (see _through_link): check that one
+        try:
+            real = _through_link(out)
+        except OSError:
+            raise DataError(f"{option} '{out}' is a loop of symbolic links; give a file name") from None
+        q = f"'{out}' (a link to '{real}')"
+    if real.is_dir():
+        raise DataError(f"{option} {q} is a folder; give a file name")
+    if real.exists() and not real.is_file():
+        raise DataError(f"{option} {q} is not a regular file (a device, pipe or socket); give a file name")
+    if real.is_file() and not os.access(real, os.W_OK):
+        raise DataError(f"{option} {q}: the file is read-only; refusing to replace it (make it writable or "
                         "choose another path)")
-    folder = out.parent
-    if make_parents and not folder.exists():
+    folder = real.parent
+    if make_parents and not folder.exists() and real == out:
         base = _nearest_existing(folder)
         if not base.is_dir():
-            raise DataError(f"{option} '{out}': '{base}' is a file, not a folder")
-        _writable_folder(base, option, out)
+            raise DataError(f"{option} {q}: '{base}' is a file, not a folder")
+        _writable_folder(base, option, q)
     else:
-        _writable_folder(folder, option, out)
+        _writable_folder(folder, option, q)
     check_not_input(out, inputs, option=option)
     if plot:
-        ext = out.suffix.lower().lstrip(".")
-        formats = plot_formats()
-        if ext not in formats:
-            known = ", ".join(f".{e}" for e in sorted(formats))
-            what = f"extension '.{ext}' is not a plot format" if ext else "no file extension"
-            raise DataError(f"{option} '{out}': {what}; use one of {known}")
+        _check_plot_extension(out, option)
     return out
+
+
+def _check_plot_extension(out: Path, option: str) -> None:
+    ext = out.suffix.lower().lstrip(".")
+    formats = plot_formats()
+    if ext not in formats:
+        known = ", ".join(f".{e}" for e in sorted(formats))
+        what = f"extension '.{ext}' is not a plot format" if ext else "no file extension"
+        raise DataError(f"{option} '{out}': {what}; use one of {known}")
 
 
 def check_output_dir(path: str | os.PathLike, *, option: str, inputs: Iterable[str | os.PathLike | None] = ()) -> Path:

@@ -206,7 +206,7 @@ def test_demo_checks_its_result_files_before_the_work(tmp_path, monkeypatch):
         demo.run_demo(tmp_path / "a", shared=tmp_path)
     (tmp_path / "b").mkdir()
     (tmp_path / "b" / "summary.txt").symlink_to("/dev/null")
-    with pytest.raises(DataError, match=r"summary.txt' is not a regular file"):
+    with pytest.raises(DataError, match=r"summary.txt' \(a link to '/dev/null'\) is not a regular file"):
         demo.run_demo(tmp_path / "b", shared=tmp_path)
 
 

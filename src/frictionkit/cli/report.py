@@ -6,6 +6,7 @@ Thin: the page is :class:`frictionkit.report.Report`, each file is read by its a
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Optional
 
@@ -49,9 +50,16 @@ def report(
     out = Path(out)
     if not title.strip() or "\n" in title:
         raise ParameterError(f"--title {title!r}: must be a non-empty one-line text")
+    seen: list[Path] = []
     for r in results:
         if not r.exists():
             raise DataError(f"result file '{r}': no such file")
+        for q in seen:  # `report FIT FIT` built two identical sections (issue 13 round 8 leftover)
+            if os.path.samefile(q, r):
+                same = f"'{q}'" if str(q) == str(r) else f"'{q}' (the same file as '{r}')"
+                raise DataError(f"result file {same} is given twice; each file makes one section of the page: "
+                                "give it once")
+        seen.append(r)
     check_output_dir(out, option="--out", inputs=results)
     page = out / "report.html"
     check_not_input(page, results, option="--out")

@@ -1,6 +1,6 @@
 """Recordings of motion axes: validated containers, file loaders, filters, segmentation."""
 
-from .loaders import load_csv, load_groups, load_recording, read_table
+from .loaders import ShortRowWarning, load_csv, load_groups, load_recording, read_table
 from .recording import IrregularSamplingWarning, Recording
 from .rests import find_rests, motion_segments
 from .segmentation import (
@@ -17,6 +17,7 @@ __all__ = [
     "IrregularSamplingWarning",
     "Recording",
     "Segment",
+    "ShortRowWarning",
     "SteadyStatePoints",
     "decimate",
     "derivative",

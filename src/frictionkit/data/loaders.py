@@ -97,9 +97,54 @@ class Table(dict):
 
     duplicates: dict[str, list[int]]
 
-    def __init__(self, *args: Any, duplicates: Mapping[str, list[int]] | None = None, **kw: Any) -> None:
+    def __init__(self, *args: Any, duplicates: Mapping[str, list[int]] | None = None,
+                 short_row: tuple[int, int, list[str]] | None = None, **kw: Any) -> None:
         super().__init__(*args, **kw)
         self.duplicates = dict(duplicates or {})
+        #: ``(row, fields, missing column names)`` when a CSV's last row has fewer fields than its header
+        self.short_row = short_row
+
+
+class ShortRowWarning(UserWarning):
+    """A CSV's last row has fewer fields than its header (a truncated file?) and only columns the
+    load does not use are missing there; a used column missing there is an error (its value is NaN)."""
+
+
+def _last_row_fields(p: Path, delimiter: str) -> int | None:
+    """Field count of the last non-blank line of a CSV (read from its last 64 kB), or None."""
+    import csv
+
+    if len(delimiter) != 1:
+        return None
+    with p.open("rb") as fh:
+        fh.seek(0, 2)
+        size = fh.tell()
+        fh.seek(max(0, size - (1 << 16)))
+        tail = fh.read().decode("utf-8", "replace")
+    lines = [ln for ln in tail.splitlines() if ln.strip()]
+    if not lines:
+        return None
+    try:
+        return len(next(csv.reader([lines[-1]], delimiter=delimiter)))
+    except (csv.Error, StopIteration):
+        return None
+
+
+def _note_short_row(table: Mapping[str, np.ndarray], p: Path, used: Sequence[str]) -> None:
+    """Warn (:class:`ShortRowWarning`) when the last row lacks only unused columns. Was (issue 13, round 8
+    leftover): a fleet log cut inside its last row read without a word when the lost field was the unused
+    temperature column. Only the last row is looked at (a cut file); a short row inside a file is not."""
+    import warnings
+
+    short = getattr(table, "short_row", None)
+    if short is None:
+        return
+    row, fields, missing = short
+    if set(missing) & set(used):
+        return  # the used column holds NaN there: the recording's own check names file, column and row
+    names = ", ".join(f"'{m}'" for m in missing[:6]) + (" ..." if len(missing) > 6 else "")
+    warnings.warn(f"file '{p}': its last row (row {row}) has {fields} of {fields + len(missing)} fields, a truncated "
+                  f"file? column(s) {names} are empty there", ShortRowWarning, stacklevel=4)
 
 
 def _duplicates(names: Sequence[str]) -> dict[str, list[int]]:
@@ -196,7 +241,12 @@ def _read_csv(p: Path, delimiter: str | None) -> dict[str, np.ndarray]:
         header = next(csv.reader([head], delimiter=delimiter)) if len(delimiter) == 1 else []
     except csv.Error:
         header = []
-    return Table({str(c): df[c].to_numpy() for c in df.columns}, duplicates=_duplicates([h.strip() for h in header]))
+    short = None
+    fields = _last_row_fields(p, delimiter) if len(df) else None
+    if fields is not None and 0 < fields < len(df.columns):
+        short = (len(df) - 1, fields, [str(c) for c in df.columns[fields:]])
+    return Table({str(c): df[c].to_numpy() for c in df.columns}, duplicates=_duplicates([h.strip() for h in header]),
+                 short_row=short)
 
 
 def _read_parquet(p: Path) -> dict[str, np.ndarray]:
@@ -364,6 +414,7 @@ def _grid_input(table: Mapping[str, np.ndarray], p: Path, tcol: str, col: str, r
     be uniformly sampled and match ``grid`` (``(samples, step, file)`` of the first file, or None),
     the column numeric and finite. Returns the column and the grid."""
     _si_header(p, tcol, "s", time_role)
+    _note_short_row(table, p, [tcol, col])
     t = _column(table, p, time_role, tcol)
     # the cause first: "not uniformly sampled" misled on an empty file, a NaN time or a time running backwards
     if t.size < 2:
@@ -509,6 +560,7 @@ def _build(
     extra_prov: Mapping[str, Any],
 ) -> Recording:
     scales = dict(scales or {})
+    _note_short_row(table, p, [c for c in roles.values() if c is not None])
     unknown = set(scales) - set(ROLE_TO_SIGNAL)
     if unknown:
         raise DataError(f"scales: unknown key(s) {sorted(unknown)}; use {sorted(ROLE_TO_SIGNAL)}")

@@ -117,8 +117,9 @@ class Machine:
     """
 
     def __init__(self, name: str = "machine"):
-        if not isinstance(name, str):
-            raise ParameterError(f"Machine name = {name!r}: must be a string")
+        if not isinstance(name, str) or not name.strip():
+            # "" (or blanks) was accepted and printed as Machine('') (issue 13 round 8 leftover)
+            raise ParameterError(f"Machine name = {name!r}: must be a non-empty string")
         self.name = name
         self.dofs: list[Dof] = []
         self.inertias: list[tuple[Coord, float]] = []
@@ -133,7 +134,7 @@ class Machine:
 
     # ------------------------------------------------------------------ helpers
     def _new_name(self, what: str, name) -> str:
-        if not isinstance(name, str) or not name:
+        if not isinstance(name, str) or not name.strip():
             raise ParameterError(f"Machine.{what} name = {name!r}: must be a non-empty string")
         if name in self._names:
             raise ParameterError(f"Machine.{what}: the name {name!r} is already used in machine {self.name!r}")

@@ -33,7 +33,7 @@ accepted state. Since the breakaway level ``xi_i g(v)`` falls with ``|v|``, a st
 cross it mid-step and be below it again at an end where the mass is slow (``g ~ Fs``): a step
 whose ends show no switch but whose force reaches ``xi_i min(Fc, Fs)`` is searched on its cubic
 Hermite (:func:`_interior_breakaway`), and a span sample tests the force against the lowest ``g``
-over the interval's speeds (:func:`_g_span`), not ``g`` at its end (issue 13).
+over the interval's speeds (:func:`_g_low`), not ``g`` at its end (issue 13).
 
 Spanning steps (issue 15)
 -------------------------
@@ -96,7 +96,7 @@ import numpy as np
 from .._jit import njit, prange
 from ._oscillator import coefficients
 from ._gms_span import exp_load
-from ._stribeck import R_FC, R_FS, R_S2, g_row
+from ._stribeck import R_DF, R_FC, R_FS, R_S2, g_row
 from ._stribeck import row as static_row
 from .lugre import _atol_run
 
@@ -243,20 +243,29 @@ def _is_directional(static, k, xi, C):
 
 
 @njit(inline="always")
-def _g_span(sp, v, vn, a0, an, dt):
-    """Lowest ``g`` over a span sample interval with end speeds ``v, vn`` (one sign) and end
+def _g_low(p, v, vn, a0, an, h):
+    """Lowest ``g`` of row ``p`` over a step ``h`` with end speeds ``v, vn`` (one sign) and end
     accelerations ``a0, an``: the breakaway level a sticking element's force must stay below
-    throughout the interval, not at its end only (issue 13: ``g`` falls with ``|v|``, so a force
-    below ``xi g(vn)`` at a slow end can have crossed ``xi g`` where the mass was faster). ``g`` is
-    monotone in ``|v|``; where the accelerations differ in sign ``|v|`` may overshoot its end values,
-    by at most ``dt (|a0| + |an|) / 4`` (the bound of the spans' turn test)."""
+    throughout the step, not at its end only (issue 13: ``g`` falls with ``|v|``, so a force below
+    ``xi g(vn)`` at a slow end can have crossed ``xi g`` where the mass was faster).
+
+    ``g`` is monotone in ``|v|`` (rising when ``Fs < Fc``), so one evaluation at the end of the
+    speed range. Unless the cubic Hermite of ``v`` is monotone (Fritsch-Carlson: end slopes of the
+    chord's sign, ``alpha^2 + beta^2 <= 9``), ``|v|`` may overshoot its end values, by at most
+    ``h (|a0| + |an|) / 4`` on that cubic."""
     lo = min(abs(v), abs(vn))
     hi = max(abs(v), abs(vn))
-    if a0 * an < 0.0:
-        ov = 0.25 * dt * (abs(a0) + abs(an))
+    dv = vn - v
+    mono = False
+    if dv != 0.0:
+        al = h * a0 / dv
+        be = h * an / dv
+        mono = al >= 0.0 and be >= 0.0 and al * al + be * be <= 9.0
+    if not mono:
+        ov = 0.25 * h * (abs(a0) + abs(an))
         lo = max(0.0, lo - ov)
         hi += ov
-    return min(g_row(sp, lo), g_row(sp, hi))
+    return g_row(p, hi if p[R_DF] >= 0.0 else lo)
 
 
 # IEEE division (``error_model="numpy"``): no zero test and exception branch per division in the
@@ -311,7 +320,7 @@ def _span_run(
                     why = 1  # a turn near a breakaway level: sub-steps
                 else:
                     svn = 1.0 if vn > 0.0 else -1.0
-                    gn = _g_span(sp, v, vn, sacc, accn, dt)
+                    gn = _g_low(sp, v, vn, sacc, accn, dt)
                     for i in range(M):
                         if st_[i] and svn * (sa_[i] + sb_[i] * Xn) >= xi[srow, i] * gn:
                             why = 1  # a breakaway (at the sample or inside): located by the sub-steps
@@ -323,7 +332,7 @@ def _span_run(
             if sacc * sv < 0.0 < accn * sv and min(abs(v), abs(vn)) < 0.25 * dt * (abs(sacc) + abs(accn)):
                 why = 1  # |v| turns inside the interval and may dip through zero
             elif sv * Xn >= Xcross:
-                gn = _g_span(sp, v, vn, sacc, accn, dt)
+                gn = _g_low(sp, v, vn, sacc, accn, dt)
                 for i in range(M):
                     if st_[i] and sv * (sa_[i] + sb_[i] * Xn) >= xi[srow, i] * gn:
                         why = 1  # a breakaway (at the sample or inside): located by the sub-steps
@@ -854,6 +863,21 @@ def _drive(
                                 Pn += sb[i]
                     a0_ = (w - S0 - P0 - c * v) * im
                     an_ = (w + du * h - S0 - K * xi_n - Pn - c * vn) * im
+                    # cheap screen first: the lowest g over the step's speeds (both directions
+                    # when the step reverses); most such steps are slow sticking, g ~ Fs
+                    if reversed_:
+                        gl = min(g_row(p0, 0.0), g_row(p1, 0.0))
+                        gl = min(gl, min(_g_low(p0, v, vn, a0_, an_, h), _g_low(p1, v, vn, a0_, an_, h)))
+                    else:
+                        gl = _g_low(pn, v, vn, a0_, an_, h)
+                    cand = False
+                    for i in range(M):
+                        if st_[i]:
+                            kr = k[row, i]
+                            if max(abs(Fi[i]), abs(Fi[i] + kr * xi_n)) + kr * ext >= xi_lo[i] * gl:
+                                cand = True
+                                break
+                if cand:
                     th_i = _interior_breakaway(
                         M, st_, Fi, k, xi, row, p0, p1, xi_lo, g_lo, v, vn, a0_, an_, xi_n, h
                     )

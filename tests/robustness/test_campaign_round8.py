@@ -252,14 +252,16 @@ def test_a_position_driven_lugre_far_from_its_breakaway_stays_a_spring(Fc, sigma
     assert err < 1e-6, f"friction {err:.3g} of its range off the spring-damper"
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="issue 13, round 8: a run that passes its accuracy check (78 sub-steps per sample, "
-                          "omega dt 14.9, damping ratio 0.009) is 4.4 % of its speed range off the twin; the "
-                          "kernel gives the same answer at every rtol, so the check cannot see it — not fixed")
 def test_a_run_that_passes_its_accuracy_check_agrees_with_the_twin():
     # Reproducer from round 8's random extreme sets (LuGre, light bristle damping, a contact much
     # faster than the samples). The twin interpolates the force linearly, as simulate() documents;
     # with the force held (ZOH) it is 60 % off instead, so it is not an input-convention mismatch.
+    # Was (issue 13, until 2026-11-24): status 0 "accuracy check passed" with v 4.44 % and x 4.16e-4
+    # of their ranges off the twin at every rtol (1e-5 ... 1e-7 the same): single-sample spanning
+    # steps of kernels/lugre.py across 2.4 periods of the pre-sliding ringing, whose remainder
+    # estimate saw the samples only. The twin was confirmed by a fixed-step RK4 at dt/1e5 (v within
+    # 1e-6 of its range) and Radau at rtol 1e-11 (1.5e-8). Now those intervals are checked between
+    # the samples (RING_RESOLVE, _ring_misfit) and go to ROS2 sub-steps.
     import numpy as np
 
     import frictionkit as fk
@@ -275,5 +277,9 @@ def test_a_run_that_passes_its_accuracy_check_agrees_with_the_twin():
     tw = reference_force_driven(law, m, u, dt)
     v_err = float(np.max(np.abs(res.v - tw["v"])) / np.ptp(tw["v"]))
     x_err = float(np.max(np.abs(res.x - tw["x"])) / np.ptp(tw["x"]))
-    assert 0.03 < v_err < 0.06 and 2e-4 < x_err < 8e-4, (v_err, x_err)  # measured 2026-11-23: 0.0444, 4.16e-4
+    F_err = float(np.max(np.abs(res.friction - tw["friction"])) / np.ptp(tw["friction"]))
+    rtol = fk.SimOptions().rtol
+    # README error contract: 10 rtol of the ranges of x and the friction; v: the accuracy check's
+    # own bound (CHECK_BOUND_RATE rtol = 1 %). Measured 2026-11-24: x 3.7e-6, F 9.8e-7, v 7.5e-4.
+    assert x_err < 10 * rtol and F_err < 10 * rtol, (x_err, F_err)
     assert v_err < 0.01, f"v {v_err:.3g} of its range off the twin although the check passed"

@@ -63,9 +63,17 @@ def test_small_mass_matches_the_solve_ivp_twin(m):
     u = 2.0 * np.sin(np.pi * np.arange(1201) * DT)
     ref = reference_force_driven(LUGRE, m, u, DT, rtol=1e-8, atol=1e-11)
     res = _quiet_simulate(LUGRE, plant=fk.Mass(m), force=u, dt=DT)
-    err = np.abs(res.x - ref["x"]).max()
+    k = None
+    if m == 1e-5:
+        # flagged since the accuracy check bounds the friction at the error contract (core.CHECK_BOUND 5,
+        # was 1000 for the friction; 2026-11-24): the unchecked run's friction is 8.9e-4 of its range off
+        # the twin at sample 868 (89 rtol; the contract is 10), x within 2.1e-6
+        assert res.status == 2 and res.failed_at >= 800, (res.status, res.failed_at)
+        k = res.failed_at + 1
+    else:
+        assert res.status == 0
+    err = np.abs(res.x[:k] - ref["x"][:k]).max()
     stroke = np.abs(ref["x"]).max()
-    assert res.status == 0
     assert err < 1e-4 * stroke, (err, stroke)
 
 

@@ -399,14 +399,19 @@ CHECK_FACTOR = 10.0
 #: 4 check runs failed at rtol/10; 3 of those runs were right (within 5e-5 of the twin's ranges), 1 was
 #: 5 % off in x.
 CHECK_FACTOR_RETRY = 3.0
-#: See :data:`FAST_LIMIT`: a run fails the check when x of the tighter run differs from it by more
-#: than ``CHECK_BOUND * rtol`` of its range, v or the friction by more than ``CHECK_BOUND_RATE * rtol``
-#: (1e-3 and 1e-2 at the default rtol; the machines' sub-step check bounds positions and rates the
-#: same 1 : 10). Why these: the accuracy contract is 10 rtol of the ranges of x and the friction; the
-#: round-4 silent errors were 1.6e-3 ... 0.5 in x or 4.7e-2 ... 19 in v or the friction; a LuGre on
-#: 1e-5 kg (tests/robustness/test_library_simulate.py) keeps x within 2e-6 of the twin and one
-#: velocity sample 2.6e-3 off it, which this bound leaves unflagged.
-CHECK_BOUND = 100.0
+#: See :data:`FAST_LIMIT`: a run fails the check when x or the friction of the tighter run differs from
+#: it by more than ``CHECK_BOUND * rtol`` of its range, v by more than ``CHECK_BOUND_RATE * rtol``
+#: (5e-5 and 1e-2 at the default rtol). Why: the error contract is 10 rtol of the ranges of x and the
+#: friction, and a run that passes the check must keep it. The difference to a run at rtol/10 sees
+#: ``(1 - rho)`` of the run's own error when the tighter run's error is ``rho`` times it; assumption
+#: ``rho <= 1/2`` (measured 0.09-0.12 on issue 13's light fast contacts once their spanning steps were
+#: fixed, RING_RESOLVE), so 5 keeps x and the friction within 10 rtol. Was 100 (x) and 1000 (the
+#: friction) until 2026-11-24: a LuGre at omega dt 4.1 (tests/robustness/test_accuracy_check.py,
+#: lugre_s1_72) passed 22 rtol off in x, random extreme LuGre sets 14-53 rtol in x and 15-52 rtol in the
+#: friction (helper lugw's campaign, issue 13). v has no contract; its bound stays loose: a LuGre on
+#: 1e-5 kg (tests/robustness/test_library_simulate.py) keeps x within 2e-6 of the twin and one velocity
+#: sample 2.6e-3 off it, which this bound leaves unflagged.
+CHECK_BOUND = 5.0
 #: See :data:`CHECK_BOUND`.
 CHECK_BOUND_RATE = 1000.0
 
@@ -443,9 +448,10 @@ def oscillator_detail(K: float, c: float, m: float, dt: float, kind: str = "lugr
 def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str, K: float, c: float,
                     m: float, dt: float, F_scale: float | None = None) -> SimulationResult:
     """Repeat a run whose contact is faster than the samples at tighter tolerances (see
-    :data:`FAST_LIMIT`) and flag it (status 2) when x, v or the friction move by more than
-    ``CHECK_BOUND * rtol`` of their range; the samples after the last one within the bound are NaN
-    (``failed_at``). Other runs are returned untouched (nothing extra runs)."""
+    :data:`FAST_LIMIT`) and flag it (status 2) when x or the friction move by more than
+    ``CHECK_BOUND * rtol`` of their range, v by more than ``CHECK_BOUND_RATE * rtol``; the samples
+    after the last one within the bound are NaN (``failed_at``). Other runs are returned untouched
+    (nothing extra runs)."""
     n = int(res.t.size)
     if res.status != 0 or n < 2:
         return res
@@ -491,7 +497,7 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     end = n if fine.status == 0 else int(fine.failed_at)
     first_bad, worst, worst_frac = None, "", 0.0
     for name, a, b, mult in (("x", res.x, fine.x, CHECK_BOUND), ("v", res.v, fine.v, CHECK_BOUND_RATE),
-                             ("friction", res.friction, fine.friction, CHECK_BOUND_RATE)):
+                             ("friction", res.friction, fine.friction, CHECK_BOUND)):
         a, b = a[:end + (fine.status == 0)], b[:end + (fine.status == 0)]
         span = float(np.ptp(b)) if b.size else 0.0
         bound = mult * options.rtol * span + 1e-300
@@ -522,8 +528,8 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
         return _finish(res.t, res.x, res.v, res.friction, res.states, 2, max(at, 0), res.substeps, res.model,
                        message=message, stacklevel=4)
     note = (f"{res.message}; accuracy check passed ({why}; a run at rtol = {tight.rtol:.3g} agrees within "
-            f"{100 * CHECK_BOUND * options.rtol:.3g} % of the range of x, {100 * CHECK_BOUND_RATE * options.rtol:.3g} % "
-            "of those of v and the friction)")
+            f"{100 * CHECK_BOUND * options.rtol:.3g} % of the ranges of x and the friction, "
+            f"{100 * CHECK_BOUND_RATE * options.rtol:.3g} % of that of v)")
     return dataclasses.replace(res, message=note)
 
 

@@ -69,6 +69,20 @@ def _named(exc: OSError, target: Path) -> OSError:
     return OSError(exc.errno, f"cannot write '{target}': {exc.strerror or exc}")
 
 
+def missing_reason(p: str | os.PathLike) -> str:
+    """Why an input path that does not exist is missing, in words: ``"not found"``, or for a symbolic
+    link ``"a loop of symbolic links"`` / ``"a symbolic link to 'X', which does not exist"`` (both said
+    "not found", pointing at the link's own name; issue 13 round 9)."""
+    if os.path.islink(p):
+        try:
+            os.stat(p)
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                return "a loop of symbolic links"
+        return f"a symbolic link to '{os.readlink(p)}', which does not exist"
+    return "not found"
+
+
 def _through_link(path: Path) -> Path:
     """The file a write to ``path`` means: ``path`` itself, or for a symbolic link the file it points to.
 
@@ -135,7 +149,8 @@ def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | No
         raise PermissionError(errno.EACCES, f"cannot write '{target}': the file is read-only; refusing to replace "
                                             "it (make it writable or choose another path)")
     try:
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
+        # the name's first 40 characters: the whole name + 14 exceeded NAME_MAX for names of 242-255 bytes
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name[:40]}.", suffix=".tmp")
     except OSError as exc:
         raise _named(exc, target) from exc
     ok = False
@@ -308,6 +323,7 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
         except OSError:
             raise DataError(f"{option} '{out}' is a loop of symbolic links; give a file name") from None
         q = f"'{out}' (a link to '{real}')"
+    _check_name_length(real, option, q)  # before any stat: Path.is_dir raises on a name too long
     if real.is_dir():
         raise DataError(f"{option} {q} is a folder; give a file name")
     if real.exists() and not real.is_file():
@@ -327,6 +343,18 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
     if plot:
         _check_plot_extension(out, option)
     return out
+
+
+def _check_name_length(path: Path, option: str, q: str) -> None:
+    """A name longer than the file system takes failed only when the result was written, after the work
+    (issue 13 round 9: a 304-byte --json name, "File name too long", exit 1)."""
+    try:
+        most = os.pathconf(path.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        return
+    size = len(os.fsencode(path.name))
+    if most > 0 and size > most:
+        raise DataError(f"{option} {q}: the file name is {size} bytes; the file system takes at most {most}")
 
 
 def _check_plot_extension(out: Path, option: str) -> None:

@@ -103,3 +103,81 @@ def test_a_csv_cut_inside_its_last_row_is_noted_even_when_only_an_unused_column_
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             assert load_recording(whole, time="t_s", velocity="v_ms", force="F_N").n == 30
+
+
+@pytest.mark.parametrize("argv,option", [(["fleet", "simulate", "--axes", "1", "--days", "1", "--out", ""], "--out"),
+                                         (["fleet", "identify", " ", "--out", "r.parquet"], "DATASET"),
+                                         (["demo", "--out", ""], "--out"),
+                                         (["reproduce", "zhang2023", "--json", "z.json", "--robustness", "--out", ""],
+                                          "--out")])
+def test_an_empty_folder_option_is_refused_not_read_as_the_working_folder(runner, tmp_path, monkeypatch, argv,
+                                                                           option):
+    """Was (round 9): typer turns "" into Path("."): `fleet simulate --out ""` (an unset $DIR) wrote the fleet
+    into the working folder without a word, `demo --out ""` ran the demo there."""
+    import frictionkit.cli.fleet  # noqa: F401  (registers the verb)
+    from frictionkit.cli import app
+
+    monkeypatch.chdir(tmp_path)
+    res = runner.invoke(app, argv)
+    assert res.exit_code == 2
+    assert one_error_line(res).startswith(f"error: {option} {argv[argv.index(option) + 1] if option != 'DATASET' else ' '!r}: "
+                                          "give a folder (an empty value would mean the working folder")
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_result_name_longer_than_the_file_system_takes_is_refused_up_front(tmp_path):
+    """Was (round 9): `--json` with a 300-byte name failed with "File name too long" (exit 1) after the fit,
+    and names of 242-255 bytes too: the writer's temporary file added 14 bytes to the name."""
+    from frictionkit._io import atomic_write_text, check_output_file
+
+    most = os.pathconf(tmp_path, "PC_NAME_MAX")
+    ok = tmp_path / ("x" * (most - 5) + ".json")
+    check_output_file(ok, option="--json")
+    atomic_write_text(ok, "{}")
+    assert ok.read_text() == "{}" and os.listdir(tmp_path) == [ok.name]
+    long = tmp_path / ("x" * most + ".json")
+    with pytest.raises(DataError, match=rf"^--json '.*': the file name is {most + 5} bytes; the file system takes "
+                                        rf"at most {most}$"):
+        check_output_file(long, option="--json")
+
+
+def test_a_fixed_stribeck_exponent_that_overflows_the_fit_is_refused():
+    """Was (round 9): `identify static --model exponential --delta 1e9` ended in scipy's "array must not
+    contain infs or NaNs" (100 ran, 300 did not)."""
+    from frictionkit.identify import fit_static_map
+    from frictionkit.identify.static_map import MAX_FIXED_DELTA
+
+    v = np.r_[np.geomspace(1e-4, 0.2, 12), -np.geomspace(1e-4, 0.2, 12)]
+    F = np.sign(v) * (1.0 + 0.5 * np.exp(-np.abs(v / 1e-3) ** 2)) + 0.4 * v  # seed 002 eq. 9b, delta = 2
+    res = fit_static_map(v, F, model="exponential", delta=MAX_FIXED_DELTA)  # the wrong exponent: a result, maybe flagged
+    assert np.isfinite(res.values).all()
+    with pytest.raises(ParameterError, match=r"^fit_static_map.delta = 1000000000.0: a fixed Stribeck exponent "
+                                             r"must be <= 50 "):
+        fit_static_map(v, F, model="exponential", delta=1e9)
+
+
+def test_an_input_that_is_a_broken_link_or_a_folder_is_named_as_such(runner, tmp_path, staircase_csv):
+    """Was (round 9): a link loop or a dangling link as RECORDING said "not found" (naming the link, which is
+    there); a recording of 2 rows said "v has 2 samples: need at least 3", naming no file."""
+    from _robustness_helpers import STATIC_ARGS
+
+    from frictionkit.cli import app
+    from frictionkit.data import load_recording
+
+    loop, dangling = tmp_path / "loop.csv", tmp_path / "dangling.csv"
+    loop.symlink_to(loop)
+    dangling.symlink_to(tmp_path / "gone.csv")
+    for path, why in ((loop, "a loop of symbolic links"),
+                      (dangling, f"a symbolic link to '{tmp_path}/gone.csv', which does not exist")):
+        res = runner.invoke(app, ["identify", "static", str(path), *STATIC_ARGS])
+        assert one_error_line(res) == f"error: RECORDING '{path}': {why}"
+        with pytest.raises(DataError, match=rf"^file '{path}': {why}$"):
+            load_recording(path, time="t_s")
+    (tmp_path / "d.csv").mkdir()
+    with pytest.raises(DataError, match=r"^file '.*d.csv' is a folder; give a data file$"):
+        load_recording(tmp_path / "d.csv", time="t_s")
+    two = tmp_path / "two.csv"
+    two.write_text("\n".join(staircase_csv.read_text().splitlines()[:3]))
+    res = runner.invoke(app, ["identify", "static", str(two), *STATIC_ARGS])
+    assert one_error_line(res) == (f"error: recording 'two' (file '{two}'): 2 samples; finding constant-velocity "
+                                   "segments needs at least 3")

@@ -13,7 +13,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from .._io import atomic_open, atomic_write_text, check_output_file
+from .._io import atomic_open, atomic_write_text, check_output_file, missing_reason
 from ..errors import DataError, ParameterError
 
 #: Bounds of ``--*-scale`` factors (|scale|). Unit conversions in practice span
@@ -130,6 +130,20 @@ def where_items(items: Iterable[str] | None) -> dict[str, str]:
 
 
 # --------------------------------------------------------------------------- output files
+def folder(value: str | None, option: str) -> Path | None:
+    """A folder option given as text: ``""`` (an unset shell variable, ``--out "$DIR"``) is refused.
+
+    Was (issue 13 round 9): typer turns ``""`` into ``Path(".")``, so ``fleet simulate --out ""`` wrote
+    the fleet into the working folder and ``demo --out ""`` its report, without a word.
+    """
+    if value is None:
+        return None
+    if not value.strip():
+        raise ParameterError(f"{option} {value!r}: give a folder (an empty value would mean the working folder; "
+                             "write '.' for that)")
+    return Path(value)
+
+
 def input_files(inputs: Mapping[str, Path | None]) -> None:
     """Check every input file up front, named by its option: it exists, is a file and can be read.
 
@@ -143,7 +157,7 @@ def input_files(inputs: Mapping[str, Path | None]) -> None:
             continue
         p = Path(path)
         if not p.exists():
-            raise DataError(f"{option} '{p}': not found")
+            raise DataError(f"{option} '{p}': {missing_reason(p)}")
         if p.is_dir():
             raise DataError(f"{option} '{p}' is a folder; give a data file")
         if not os.access(p, os.R_OK):

@@ -6,17 +6,19 @@ from pathlib import Path
 
 import typer
 
+from . import _common as chk
 from . import app
 
 
 @app.command("demo")
-def demo(out: Path = typer.Option(Path("out/demo"), "--out", help="Folder for the report, plots and summary.")) -> None:
+def demo(out: str = typer.Option("out/demo", "--out", help="Folder for the report, plots and summary.")) -> None:
     """Simulate every friction law, identify on the shared real data, reproduce, and write a report."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
     from .._io import check_output_dir
     from ..report.demo import run_demo
 
+    out = chk.folder(out, "--out")
     check_output_dir(out, option="--out")
     with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn()) as bar:
         task = bar.add_task("demo", total=None)

@@ -75,7 +75,7 @@ def _json_option(json_out: Optional[str], inputs: list, out: Optional[Path] = No
 def simulate(
     axes: int = typer.Option(..., "--axes", help="Number of axes."),
     days: int = typer.Option(..., "--days", help="Number of days (one 20 s, 1 kHz log per axis and day)."),
-    out: Path = typer.Option(..., "--out", help="Folder to write the fleet into (created)."),
+    out: str = typer.Option(..., "--out", help="Folder to write the fleet into (created)."),
     seed: int = typer.Option(0, "--seed", help="Seed (0 to 2**32 - 1); the same seed gives the same files."),
     fmt: str = typer.Option("mixed", "--format", help="csv, parquet, or mixed (CSV and Parquet by axis)."),
     drifting: float = typer.Option(0.3, "--drifting", help="Fraction of axes with wear drift [0, 1]."),
@@ -94,6 +94,7 @@ def simulate(
     drifting = chk.fraction(drifting, "--drifting", below=1.0 + 1e-12)
     if broken is not None:
         broken = chk.integer(broken, "--broken", lo=0, hi=axes * days, why="at most one per file")
+    out = chk.folder(out, "--out")
     check_output_dir(out, option="--out")
     _json_option(json_out, [])
     formats = ("csv", "parquet") if fmt == "mixed" else (fmt,)
@@ -140,6 +141,7 @@ def identify(
     from ..fleet import identify_fleet
     from ..fleet.identify import resolve_config
 
+    chk.folder(dataset, "DATASET")
     workers = dask_options(workers, scheduler)
     batch = chk.integer(batch, "--batch", lo=1, hi=100_000)
     if config is not None and not config.is_file():

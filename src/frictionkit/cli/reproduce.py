@@ -26,7 +26,7 @@ SweepWorkers = Annotated[Optional[int], typer.Option(
 SweepScheduler = Annotated[Optional[str], typer.Option(
     "--scheduler", help="With --robustness: address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786), or "
                         "'none'.")]
-SweepOut = Annotated[Optional[Path], typer.Option(
+SweepOut = Annotated[Optional[str], typer.Option(
     "--out", help="With --robustness: folder for the Parquet results (one row per variant); a rerun computes only "
                   "the missing variants.")]
 
@@ -90,7 +90,7 @@ def zhu_fujimoto(
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot and not robustness
                 else {}, make_parents=True)
-    workers = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
+    workers, out_dir = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
     if robustness:
         variants = zf_rep.robustness(quick=quick, nut_model=nut_model, stage=stage, progress=True, workers=workers,
                                      scheduler=scheduler, out=out_dir)
@@ -180,21 +180,22 @@ def zhu_fujimoto(
 
 
 def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
-    """Check --workers/--scheduler/--out of a reproduction's --robustness; the worker count."""
+    """Check --workers/--scheduler/--out of a reproduction's --robustness; the worker count and the folder."""
     if not robustness:
         if workers is not None or scheduler is not None or out_dir is not None:
             raise ParameterError("--workers, --scheduler and --out go with --robustness")
-        return workers
+        return workers, None
     from .fleet import dask_options
 
     workers = dask_options(workers, scheduler)
+    out_dir = chk.folder(out_dir, "--out")
     if out_dir is not None and out_dir.resolve() == json_out.resolve():  # else the sweep ran, then --json failed
         raise ParameterError(f"--out '{out_dir}' and --json '{json_out}' name the same path; --out is a folder")
     if out_dir is not None:
         from .._io import check_output_dir
 
         check_output_dir(out_dir, option="--out")  # writable, not a file, before the sweep
-    return workers
+    return workers, out_dir
 
 
 @reproduce_app.command("sdss")
@@ -290,7 +291,7 @@ def zhang2023(
     png = json_out.with_suffix(".png")
     chk.outputs([], files={"--json": json_out},
                 plots={"the plot beside --json": png} if plot and not robustness else {}, make_parents=True)
-    workers = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
+    workers, out_dir = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
     console = Console(stderr=True)
     if robustness:
         out = zr.robustness(quick=quick, progress=True, workers=workers, scheduler=scheduler, out=out_dir)

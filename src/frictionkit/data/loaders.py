@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from .._io import missing_reason
 from .._validate import HUGE
 from ..errors import DataError
 from .recording import Recording
@@ -72,9 +73,11 @@ def _sha256(path: Path) -> str:
 def _check_path(path: str | Path) -> Path:
     p = Path(path)
     if not p.exists():
-        raise DataError(f"file '{p}': not found")
+        raise DataError(f"file '{p}': {missing_reason(p)}")
+    if p.is_dir():
+        raise DataError(f"file '{p}' is a folder; give a data file")
     if not p.is_file():
-        raise DataError(f"file '{p}': is not a regular file")
+        raise DataError(f"file '{p}': is not a regular file (a device, pipe or socket)")
     return p
 
 

@@ -319,6 +319,11 @@ def _mean_std(a: np.ndarray) -> tuple[float, float]:
     return float(np.mean(a)), (float(np.std(a, ddof=1)) if a.size > 1 else 0.0)
 
 
+def _from_file(rec: Recording) -> str:
+    src = (rec.provenance or {}).get("file")
+    return f" (file '{src}')" if src else ""
+
+
 def steady_state_points(
     source: Recording | Mapping[str, Recording],
     *,
@@ -368,6 +373,9 @@ def steady_state_points(
         source.require("F")
         v = _velocity(source)
         F = source.force()
+        if plateaus is None and source.n < 3:  # said "v has 2 samples: need at least 3", naming no file (round 9)
+            raise DataError(f"recording '{source.name}'{_from_file(source)}: {source.n} samples; finding "
+                            "constant-velocity segments needs at least 3")
         if plateaus is None:
             if trim is not None:
                 find_kw["trim"] = trim

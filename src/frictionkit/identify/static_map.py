@@ -125,6 +125,13 @@ def _jacobian(st: _Structure, p: np.ndarray, u: np.ndarray, delta: float | None)
     return np.column_stack([cols[n] for n in st.params])
 
 
+#: Largest fixed ``delta`` (issue 13 round 9: ``--delta 1e9`` ended in scipy's "array must not contain
+#: infs or NaNs"; 100 ran, 300 did not). Why 50: the fit scales speeds by the top speed and bounds vs
+#: below by 1e-6 of it (:func:`_bounds`), so ``|v|/vs`` reaches 1e6 and ``(1e6)**delta`` stays below the
+#: double's 1.8e308 for ``delta <= 51``; at delta = 50 ``phi`` falls from 0.99 to 0.01 within 10 % of vs.
+MAX_FIXED_DELTA = 50.0
+
+
 def _bounds(st: _Structure) -> tuple[np.ndarray, np.ndarray]:
     lo = {"Fc": 0.0, "Fs": 0.0, "vs": 1e-6, "delta": 0.1, "sigma2": 0.0}
     hi = {"Fc": np.inf, "Fs": np.inf, "vs": 1e3, "delta": 10.0, "sigma2": np.inf}
@@ -449,6 +456,10 @@ def fit_static_map(
         _structure(model, delta)
     if delta is not None and (val.is_bool(delta) or not (np.isfinite(delta) and delta > 0)):
         raise ParameterError(f"fit_static_map.delta = {delta!r}: must be finite and > 0")
+    if delta is not None and delta > MAX_FIXED_DELTA:
+        raise ParameterError(f"fit_static_map.delta = {delta!r}: a fixed Stribeck exponent must be <= "
+                             f"{MAX_FIXED_DELTA:g} (above it (|v|/vs)**delta overflows within the fit's vs range; "
+                             f"the drop is then a step anyway)")
     if sig is not None:
         sig = np.asarray(sig, dtype=float).ravel()
         if sig.size != va.size or not np.all(np.isfinite(sig) & (sig > 0)):

@@ -47,7 +47,8 @@ Peers (``peer_ratio``: peer time / frictionkit time, > 1 when frictionkit is fas
 
 Compile time: a fresh process with an empty ``NUMBA_CACHE_DIR`` runs the ball-screw stage
 twice (first call minus second = compile), then again with the filled cache; the cold run also
-lists the self CPU time of every compiled function (numba's compile events). A third fresh
+lists the self CPU time of every compiled function (numba's compile events) and the part of it
+spent in LLVM (numba's LLVM lock events; the rest is numba's own front end). A third fresh
 process with the filled cache runs another layout first (the two-shaft drive): every layout calls
 the one compiled kernel (``tests/kernels/test_machine_parity.py`` checks the argument types), so
 nothing of the kernel compiles again.
@@ -454,20 +455,34 @@ import json, time, sys
 from numba.core import event
 # self CPU time of every compiled function (its own typing, lowering, LLVM optimisation and code
 # generation, including the re-optimisation of the callees linked into it; nested compiles of
-# callees excluded), from numba's compile events
-stack, self_cpu = [], {}
+# callees excluded), from numba's compile events; and the part of it spent inside LLVM
+# (optimisation passes and machine code, numba's LLVM lock events): the rest is numba's own
+# front end (bytecode analysis, type inference, rewrites, lowering to LLVM IR)
+stack, self_cpu, llvm_cpu = [], {}, {}
 class Clock(event.Listener):
     def on_start(self, ev):
-        stack.append([time.thread_time(), 0.0])
+        stack.append([time.thread_time(), 0.0, 0.0])
     def on_end(self, ev):
-        c0, inner = stack.pop()
+        c0, inner, llvm = stack.pop()
         d = time.thread_time() - c0
         if stack:
             stack[-1][1] += d
         f = ev.data["dispatcher"].py_func
         name = (f.__module__ or "?").rsplit(".", 1)[-1] + "." + f.__name__  # a jitclass getter has no module
         self_cpu[name] = self_cpu.get(name, 0.0) + d - inner
+        llvm_cpu[name] = llvm_cpu.get(name, 0.0) + llvm
+class LLVMClock(event.Listener):  # outermost lock only (it may nest)
+    depth = 0
+    def on_start(self, ev):
+        if self.depth == 0:
+            self.c0 = time.thread_time()
+        self.depth += 1
+    def on_end(self, ev):
+        self.depth -= 1
+        if self.depth == 0 and stack:
+            stack[-1][2] += time.thread_time() - self.c0
 event.register("numba:compile", Clock())
+event.register("numba:llvm_lock", LLVMClock())
 t0 = time.perf_counter()
 import numpy as np
 import frictionkit as fk
@@ -495,6 +510,7 @@ if which == "core":
     t3 = time.perf_counter(); fk.simulate_machine(m, dt=250e-6, inputs=inp); extra = time.perf_counter() - t3
 print(t_import, (t1 - t0) - (t2 - t1), t2 - t1, extra, (c1 - c0) - (c2 - c1))
 print(json.dumps(self_cpu))
+print(json.dumps(llvm_cpu))
 """
 
 
@@ -512,18 +528,18 @@ def compile_times():
                 p = subprocess.run([sys.executable, "-c", CHILD, which, here], env=env, capture_output=True,
                                    text=True, check=True)
                 lines = p.stdout.strip().splitlines()
-                t_imp, t_comp, t_run, t_other, c_comp = map(float, lines[-2].split())
+                t_imp, t_comp, t_run, t_other, c_comp = map(float, lines[-3].split())
                 row[label] = {"import_s": t_imp, "first_call_minus_second_s": t_comp, "second_call_s": t_run,
                               "other_layout_first_call_s": t_other, "first_call_minus_second_cpu_s": c_comp,
-                              "self_cpu_s": json.loads(lines[-1])}
+                              "self_cpu_s": json.loads(lines[-2]), "llvm_cpu_s": json.loads(lines[-1])}
             # a fresh process whose first run is another layout (the two-shaft drive), same cache
             p = subprocess.run([sys.executable, "-c", CHILD, "layout", here], env=env, capture_output=True,
                                text=True, check=True)
             lines = p.stdout.strip().splitlines()
-            t_imp, t_comp, t_run, _, c_comp = map(float, lines[-2].split())
+            t_imp, t_comp, t_run, _, c_comp = map(float, lines[-3].split())
             row["new_layout_cached"] = {"import_s": t_imp, "first_call_minus_second_s": t_comp,
                                         "second_call_s": t_run, "first_call_minus_second_cpu_s": c_comp,
-                                        "self_cpu_s": json.loads(lines[-1])}
+                                        "self_cpu_s": json.loads(lines[-2])}
             out[which] = row
     return out
 
@@ -636,8 +652,13 @@ def main() -> None:
                   "numba compiles: " + (", ".join(f"{k} {v:.2f} s" for k, v in nl["self_cpu_s"].items()
                                                   if k.startswith("machine")) or "none of the kernel's") + ")")
             top = sorted(c["cold"]["self_cpu_s"].items(), key=lambda kv: -kv[1])
+            llvm = c["cold"]["llvm_cpu_s"]
             print("  cold compile, self CPU per compiled function (numba compile events; 'impl' = numba's own "
-                  "overloads):\n    " + ", ".join(f"{k} {v:.2f} s" for k, v in top[:10] if v >= 0.05))
+                  "overloads; in brackets its LLVM part):\n    "
+                  + ", ".join(f"{k} {v:.2f} s ({llvm.get(k, 0.0):.2f})" for k, v in top[:10] if v >= 0.05))
+            tot, tl = sum(c["cold"]["self_cpu_s"].values()), sum(llvm.values())
+            print(f"    all compiled functions {tot:.1f} s: LLVM (optimisation + machine code) {tl:.1f} s, numba's "
+                  f"front end (typing, rewrites, lowering to LLVM IR) {tot - tl:.1f} s")
     summary = {
         "ballscrew_dahl_realtime": bs["sliding"]["rt"],
         "ballscrew_gms4_realtime": bs["gms4"]["rt"],

@@ -386,7 +386,15 @@ def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, w
 #: (the "3 of 18 flagged yet right" of round 7 compared x only, over the samples the flag kept: those runs
 #: were 6.8-13 % off in v or the friction); of 39 passed with a twin 37 right and 2
 #: off the twin by an amount no tolerance changes (rtol 1e-5 ... 1e-9 the same: a kernel-vs-twin
-#: disagreement, not a tolerance error, so invisible to this check; reported to the kernel owners).
+#: disagreement, not a tolerance error, so invisible to this check; the LuGre one was the kernel's spanning
+#: steps across fast ringing, fixed 2026-11-24: kernels/lugre.py RING_RESOLVE).
+#: LuGre/Dahl runs whose contact rings lightly damped against the samples are checked too, also below
+#: FAST_LIMIT: ``omega dt > RING_FAST`` and damping ratio ``< RING_ZETA`` (the kernel's own named
+#: limits for such ringing, ``kernels/lugre.py``), with more than ``SUBSTEP_RISK`` sub-steps per sample.
+#: Why (issue 13, helper lugw's campaign of 82 random extreme LuGre/Dahl sets against tight twins): a
+#: LuGre at omega dt 0.68, damping ratio 0.0012 (1.1 kg, sigma0 6.8e4) passed unchecked 13 rtol of its
+#: position range off the twin -- the phase error of ~100 ROS2 sub-steps per sample adding up over its
+#: nearly undamped periods, beyond the contract's 10 rtol.
 FAST_LIMIT = 1.0
 #: See :data:`FAST_LIMIT` (assumption: a run whose fast motion is spanned, not followed, takes
 #: < 1 sub-step per sample on the README runs and the accuracy contract's sets).
@@ -457,7 +465,10 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
         return res
     fast = max(math.sqrt(K / m), c / m) * dt
     per_sample = res.substeps / (n - 1)
-    if not (fast > FAST_LIMIT and per_sample > SUBSTEP_RISK):
+    zeta = c / (2.0 * math.sqrt(K * m))
+    ringing = (kind == "lugre" and math.sqrt(K / m) * dt > _lugre.RING_FAST
+               and zeta < _lugre.RING_ZETA)
+    if not ((fast > FAST_LIMIT or ringing) and per_sample > SUBSTEP_RISK):
         return res
     for f in (CHECK_FACTOR, CHECK_FACTOR_RETRY):
         tight = SimOptions(rtol=options.rtol / f, atol_v=None if options.atol_v is None else options.atol_v / f,
@@ -479,9 +490,8 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
                                                                       F_scale, K, m, c))
             fine = rerun(tight)
     osc = oscillator_detail(K, c, m, dt, kind)
-    zeta = c / (2.0 * math.sqrt(K * m))
-    why = (f"the contact is faster than the samples and the run followed it ({per_sample:.3g} sub-steps per "
-           f"sample): {osc}")
+    why = (f"the contact is {'faster than' if fast > FAST_LIMIT else 'a lightly damped ringing against'} the samples "
+           f"and the run followed it ({per_sample:.3g} sub-steps per sample): {osc}")
     if zeta < 1.0:
         how = ("the error control is local, so the phase error of that lightly damped ringing adds up over its "
                "periods")

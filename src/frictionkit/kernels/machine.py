@@ -886,6 +886,18 @@ def _quantise(x, q):
 
 
 # --------------------------------------------------------------------------- main loop
+# Compile time (issue 8; the ball-screw stage's first call, empty cache, CPU at load 8-11, 2026-11-23):
+# 38-42 s at NUMBA_OPT=3, 29-30 s at NUMBA_OPT=0; of it LLVM 15 s and numba's front end (typing,
+# rewrites, lowering to LLVM IR) 23-27 s, so a free LLVM would still leave the front end above 10 s
+# (~14-16 s on a quiet machine): the target needs less code for numba to type, not another
+# arrangement of it. ``run`` stays ONE function on purpose: numba keeps an NRT incref/decref pair
+# per array argument of every call to a numba function, even when LLVM inlines it
+# (``forceinline=True``). Measured: run_axis's controller blocks as two such calls made the EMPS
+# fast path 1.5-2.3x slower (8 more incref and decref sites in its loop); ``run`` split into
+# forceinline sections (record, sensors, blocks, actuators, PID integrators, _merged_step) was
+# bit-identical but compiled no faster in total (38.9-42.0 s vs 36.3-39.7 s: each function's fixed
+# cost ate the front end's saving) and ran the EMPS general loop 1.29x slower. (A forceinline
+# function's callees also inherit forceinline unless they set it.)
 @njit(error_model="numpy")
 def run(
     n_sub, dt, Phi, G0, G1, Gf, Gss, Hss, Cq, Cm, s_off, s_visc, mg_on, mg_R, mg_M,

@@ -194,7 +194,7 @@ def test_model_file(files):
     assert ["method", "test <model>"] in _table(sec, "Provenance")
     assert "test &lt;model&gt;" in Report("t").add(sec).html()
     # the hysteresis loop over 5 pre-sliding distances: 5 x Fs / sigma0 = 5 x 1.5 N / 1e5 N/m = 75 µm
-    assert sec.text == ["Hysteresis loop: the law driven along a slow sine of ±7.5e-05 m (5 × its pre-sliding "
+    assert sec.text == ["Hysteresis loop: the law driven along a slow sine of ±75 µm (5 × its pre-sliding "
                         "distance, level / stiffness) from the unloaded state."]
     assert len(sec.figures) == 1
 

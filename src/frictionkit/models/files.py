@@ -472,6 +472,7 @@ class ModelFile:
         ax.set_xlabel(f"v [{self.units['v']}]")
         ax.set_ylabel(f"friction [{self.units['F']}]")
         ax.set_title(f"{law_entry(self.model).name}: steady state")
+        ax.locator_params(axis="x", nbins=6)  # ±10 vs: labels like -0.0075 ran together in a half-width panel
         return ax
 
 

@@ -436,11 +436,13 @@ def model_sections(mf, *, name: str = "model") -> list[Section]:
     mf.plot(ax=axs[0, 0])
     if loop:
         x, F, amp = loop
-        axs[0, 1].plot(1e6 * x if mf.units["x"] == "m" else x, F, lw=1)
-        axs[0, 1].set(xlabel=f"x [{'µm' if mf.units['x'] == 'm' else mf.units['x']}]", ylabel=f"friction [{mf.units['F']}]",
-                      title=f"{law_name}: hysteresis, ±{fmt(amp, 3)} {mf.units['x']} sine, two cycles")
+        um = mf.units["x"] == "m"  # the loop's x axis and its amplitude in µm (was: axis in µm, title in m)
+        amp_txt = f"{fmt(1e6 * amp, 3)} µm" if um else f"{fmt(amp, 3)} {mf.units['x']}"
+        axs[0, 1].plot(1e6 * x if um else x, F, lw=1)
+        axs[0, 1].set(xlabel=f"x [{'µm' if um else mf.units['x']}]", ylabel=f"friction [{mf.units['F']}]",
+                      title=f"{law_name}: hysteresis, ±{amp_txt} sine, two cycles")
         axs[0, 1].grid(alpha=0.3)
-        sec.text.append(f"Hysteresis loop: the law driven along a slow sine of ±{fmt(amp, 3)} {mf.units['x']} "
+        sec.text.append(f"Hysteresis loop: the law driven along a slow sine of ±{amp_txt} "
                         "(5 × its pre-sliding distance, level / stiffness) from the unloaded state.")
     sec.figures.append((f"{Path(name).stem}_model.png", figure_png(fig)))
     return [sec]

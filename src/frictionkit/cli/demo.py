@@ -10,7 +10,14 @@ from . import _common as chk
 from . import app
 
 
-@app.command("demo")
+_EPILOG = """\b
+Examples:
+  frictionkit demo                        # writes out/demo/report.html
+  frictionkit demo --out /tmp/demo
+"""
+
+
+@app.command("demo", epilog=_EPILOG)
 def demo(out: str = typer.Option("out/demo", "--out", help="Folder for the report, plots and summary.")) -> None:
     """Simulate every friction law, identify on the shared real data, reproduce, and write a report."""
     from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn

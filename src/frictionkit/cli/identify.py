@@ -87,7 +87,16 @@ def _validation(res, path: Optional[Path], label: str, loader, how=None) -> obje
     return with_validation(res, rep)
 
 
-@identify_app.command("rigid-body")
+_EX_RIGID_BODY = """\b
+Examples:
+  frictionkit identify rigid-body DATA_EMPS.csv --time t_s --position qm_m --force vir_V \\
+      --force-scale 35.15065188248547 --json fit.json --plot fit.png
+  frictionkit identify rigid-body DATA_EMPS.csv --time t_s --position qm_m --force vir_V \\
+      --force-scale 35.15065188248547 --law stribeck --asymmetric --json stribeck.json
+"""
+
+
+@identify_app.command("rigid-body", epilog=_EX_RIGID_BODY)
 def rigid_body(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -160,7 +169,15 @@ def rigid_body(
     _write(res, json_out, plot, include_data=False)
 
 
-@identify_app.command("static")
+_EX_STATIC = """\b
+Examples:
+  frictionkit identify static steady_state_records.csv --time t_s \\
+      --velocity motor_velocity_rad_per_s --force motor_torque_N_m --group source_file \\
+      --where drive_id=1 --rotary --json static1.json
+"""
+
+
+@identify_app.command("static", epilog=_EX_STATIC)
 def static(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -255,7 +272,18 @@ def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[f
                     delta=2.0 if delta is None else delta, sigma2=0.0 if sigma2 is None else sigma2)
 
 
-@identify_app.command("output-error")
+_EX_OUTPUT_ERROR = """\b
+Examples:
+  frictionkit identify output-error REC.csv --time t --velocity v --force u --mass 1.0 \\
+      --model lugre --static-json static.json --json lugre.json --plot lugre.png
+  frictionkit identify output-error start_stop_200rpm.csv --drive motion --time t_s \\
+      --velocity motor_velocity_rad_per_s --force motor_torque_N_m --where drive_id=1 \\
+      --rotary --model lugre --static-json static1.json --free sigma0,sigma1,J \\
+      --max-presliding 0.00614 --json lugre1.json
+"""
+
+
+@identify_app.command("output-error", epilog=_EX_OUTPUT_ERROR)
 def output_error(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -523,7 +551,14 @@ def _output_error_motion(data, law, *, model, names, position, rests, mask, min_
                             profile=profile, max_presliding=max_presliding, jacobian=jacobian)
 
 
-@identify_app.command("reversal")
+_EX_REVERSAL = """\b
+Examples:
+  frictionkit identify reversal REV.csv --time t --position x --force T --rotary \\
+      --json rev.json --plot rev.png
+"""
+
+
+@identify_app.command("reversal", epilog=_EX_REVERSAL)
 def reversal(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),
@@ -577,7 +612,14 @@ def reversal(
     _write(res, json_out, plot, include_data=True)
 
 
-@identify_app.command("presliding")
+_EX_PRESLIDING = """\b
+Examples:
+  frictionkit identify presliding REC.csv --time t --position x --force F --elements 3 \\
+      --json gms.json
+"""
+
+
+@identify_app.command("presliding", epilog=_EX_PRESLIDING)
 def presliding(
     recording: Path = typer.Argument(..., help="Data file (.csv, .mat, .h5, .parquet, .tdms)."),
     time: str = typer.Option(..., "--time", help="Time column [s]."),

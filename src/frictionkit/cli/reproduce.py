@@ -54,7 +54,14 @@ def _stages(console, name: str, total: int):
         yield bar, task, step
 
 
-@reproduce_app.command("zhu-fujimoto")
+_EX_ZHU_FUJIMOTO = """\b
+Examples:
+  frictionkit reproduce zhu-fujimoto --stage fig2 --quick --json fig2.json
+  frictionkit reproduce zhu-fujimoto --robustness --quick --workers 2 --json robust.json
+"""
+
+
+@reproduce_app.command("zhu-fujimoto", epilog=_EX_ZHU_FUJIMOTO)
 def zhu_fujimoto(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
@@ -198,7 +205,13 @@ def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
     return workers, out_dir
 
 
-@reproduce_app.command("sdss")
+_EX_SDSS = """\b
+Examples:
+  frictionkit reproduce sdss --quick --json sdss.json --plot sdss.png
+"""
+
+
+@reproduce_app.command("sdss", epilog=_EX_SDSS)
 def sdss(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary."),
     quick: bool = typer.Option(False, "--quick", help="Fewer speeds and shorter runs (under a minute)."),
@@ -264,7 +277,14 @@ def sdss(
     out.print(f"wrote {json_out}")
 
 
-@reproduce_app.command("zhang2023")
+_EX_ZHANG2023 = """\b
+Examples:
+  frictionkit reproduce zhang2023 --quick --json zhang2023.json
+  frictionkit reproduce zhang2023 --robustness --workers 2 --out runs/ --json robust.json
+"""
+
+
+@reproduce_app.command("zhang2023", epilog=_EX_ZHANG2023)
 def zhang2023(
     json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer plateaus and base speeds, shorter runs (< 60 s)."),

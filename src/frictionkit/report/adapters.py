@@ -394,7 +394,9 @@ def identification_sections(res, *, name: str = "result", written: Mapping[str, 
     for w in res.warnings:
         sec.text.append(f"Flag: {w}")
     if not any(np.asarray(a).size for a in res.data.values()):
-        sec.text.append("The file holds no fitted data (saved with include_data=False): no plot of the fit.")
+        sec.text.append("The file holds no fitted data (saved with include_data=False, as the --json of identify "
+                        "rigid-body, presliding and force-driven output-error is): no plot of the fit here; the "
+                        "verb's --plot draws it.")
         return [sec]
     plt = _plt()
     try:
@@ -944,10 +946,16 @@ def traces_sections(df) -> list[Section]:
         axs[1].plot(tt, df[v].to_numpy(float), lw=0.9, color="C2")
         axs[1].set(xlabel=t, ylabel=v, title="velocity over time")
     if x is not None:
-        axs[-1].plot(df[x].to_numpy(float), df[F].to_numpy(float), lw=0.9, color="C1")
-        axs[-1].set(xlabel=x, ylabel=F, title="hysteresis loop F(x)")
+        xs, xl = df[x].to_numpy(float), x
+        if x == "x [m]":  # µm up to 2 mm, else mm: '-0.00100' ... '0.00100' in m ran together
+            span = float(np.nanmax(np.abs(xs), initial=0.0))
+            scale, unit = (1e6, "µm") if span <= 2e-3 else (1e3, "mm")
+            xs, xl = xs * scale, f"x [{unit}]"
+        axs[-1].plot(xs, df[F].to_numpy(float), lw=0.9, color="C1")
+        axs[-1].set(xlabel=xl, ylabel=F, title="hysteresis loop F(x)")
     for a in axs:
         a.grid(alpha=0.3)
+        a.locator_params(axis="x", nbins=6)
     sec.figures.append(("traces.png", figure_png(fig)))
     return [sec]
 

@@ -33,11 +33,18 @@ def finite(owner: str, name: str, value: Any) -> float:
                              "quotes)")
     try:
         out = float(value)
+    except OverflowError:  # a 400-digit integer in a model file was an "unexpected OverflowError" (round 9)
+        raise ParameterError(f"{owner}.{name} = {_short(value)}: beyond the float range; must be finite") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be a real number") from None
     if not math.isfinite(out):
         raise ParameterError(f"{owner}.{name} = {out!r}: must be finite (not NaN or inf)")
     return out
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else f"{text[:12]}...({len(text)} characters)"
 
 
 def positive(owner: str, name: str, value: Any) -> float:
@@ -100,8 +107,19 @@ def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.nda
         isinstance(value, (list, tuple)) and any(is_bool(x) for x in value)
     ) or (isinstance(value, np.ndarray) and value.dtype == np.bool_):
         raise ParameterError(f"{owner}.{name} = {value!r}: entries must be real numbers, not booleans")
+    # strings and nulls as entries, as finite() refuses them alone (round 9: "xi": ["0.5", "0.5"] ran, a null
+    # entry was reported as nan); a huge integer entry raised OverflowError
+    entries = list(value) if isinstance(value, (list, tuple)) else []
+    for i, x in enumerate(entries):
+        if x is None or isinstance(x, (str, bytes, np.str_, np.bytes_)):
+            what = "null (None)" if x is None else "a string (write it without quotes)"
+            raise ParameterError(f"{owner}.{name}[{i}] = {x!r}: must be a real number, not {what}")
+    if isinstance(value, np.ndarray) and value.dtype.kind in "US":
+        raise ParameterError(f"{owner}.{name} = {value!r}: entries must be real numbers, not strings")
     try:
         arr = np.array(value, dtype=float, ndmin=1)
+    except OverflowError:
+        raise ParameterError(f"{owner}.{name} = {_short(value)}: an entry is beyond the float range") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be a sequence of real numbers") from None
     if arr.ndim != 1 or arr.size == 0:

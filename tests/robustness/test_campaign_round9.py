@@ -181,3 +181,45 @@ def test_an_input_that_is_a_broken_link_or_a_folder_is_named_as_such(runner, tmp
     res = runner.invoke(app, ["identify", "static", str(two), *STATIC_ARGS])
     assert one_error_line(res) == (f"error: recording 'two' (file '{two}'): 2 samples; finding constant-velocity "
                                    "segments needs at least 3")
+
+
+def test_numbers_in_a_model_file_follow_one_rule_alone_or_in_a_list(tmp_path):
+    """Was (round 9): a 400-digit integer for sigma0 was an "unexpected OverflowError"; "xi": ["0.5", "0.5"]
+    ran (a string alone is refused); a null entry in "k" was reported as nan; an unknown top-level key of a
+    law file (a misspelt "provenence") was ignored without a word (a machine file refused it)."""
+    import json
+
+    from frictionkit.models.files import ModelFile
+
+    law = {"law": "Stribeck", "Fc": 1.0, "Fs": 1.5, "vs": 1e-3}
+    gms = {"format": "frictionkit.model/1", "model": {"law": "GMS", "static": law, "k": [1e4, 1e5], "xi": [0.5, 0.5],
+                                                       "C": 20.0}}
+    assert ModelFile.from_dict(gms).model.M == 2
+    p = tmp_path / "huge.json"
+    p.write_text(json.dumps({"format": "frictionkit.model/1", "model": {"law": "Dahl", "Fc": 1.0, "sigma0": 7}})
+                 .replace('"sigma0": 7', '"sigma0": ' + "9" * 400))
+    with pytest.raises(DataError, match=rf"^model file '{p}': Dahl.sigma0 = 999999999999...\(400 characters\): "
+                                        r"beyond the float range; must be finite$"):
+        ModelFile.load(p)
+    for key, value, want in (("xi", ["0.5", "0.5"], r"GMS.xi\[0\] = '0.5': must be a real number, not a string"),
+                             ("k", [1e4, None], r"GMS.k\[1\] = None: must be a real number, not null \(None\)"),
+                             ("k", [10 ** 400, 1.0], r"GMS.k = \[1000000000.*: an entry is beyond the float range")):
+        doc = json.loads(json.dumps(gms))
+        doc["model"][key] = value
+        with pytest.raises(ParameterError, match=want):
+            ModelFile.from_dict(doc)
+    with pytest.raises(DataError, match=r"^law file: unknown key\(s\) \['provenence'\]; known: "):
+        ModelFile.from_dict(dict(gms, provenence={"by": "me"}))
+
+
+def test_a_machine_of_more_degrees_of_freedom_than_it_takes_is_refused_not_run_for_minutes():
+    """Was (round 9): a machine file with 2,000 DOFs ran for minutes with no output (800 DOFs: > 300 s for 51
+    samples). MAX_DOFS is the named bound."""
+    from frictionkit.machines.machine import MAX_DOFS, Machine
+
+    m = Machine("shaft")
+    for i in range(MAX_DOFS):
+        m.dof(f"d{i}", inertia=1.0)
+    with pytest.raises(ParameterError, match=rf"^Machine.dof\('one more'\): machine 'shaft' already has {MAX_DOFS} "
+                                             r"degrees of freedom, the most a machine takes"):
+        m.dof("one more", inertia=1.0)

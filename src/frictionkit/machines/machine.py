@@ -94,6 +94,14 @@ def _int(owner: str, name: str, value, *, minimum: int = 0) -> int:
     return int(value)
 
 
+#: Most degrees of freedom a machine takes (named assumption, issue 13 round 9). A machine file with 2,000
+#: DOFs ran for minutes with no output (a 51-sample run: 150 DOFs 0.8 s, 400 DOFs 9.6 s CPU, 800 DOFs
+#: > 300 s, measured under load 10): the set-up grows faster than the cube of the count. The machines this
+#: package models are drive trains of 1-6 DOFs (presets) up to a few dozen (a discretised shaft); 200 keeps
+#: every such model and a run's set-up within seconds.
+MAX_DOFS = 200
+
+
 class Machine:
     """A drive as degrees of freedom, couplings, friction sites, actuators, sensors and a controller.
 
@@ -168,6 +176,10 @@ class Machine:
         """
         if kind not in KINDS:
             raise ParameterError(f"Machine.dof({name!r}).kind = {kind!r}: must be one of {sorted(KINDS)}")
+        if len(self.dofs) >= MAX_DOFS:
+            raise ParameterError(f"Machine.dof({name!r}): machine {self.name!r} already has {MAX_DOFS} degrees of "
+                                 "freedom, the most a machine takes (a drive train is a handful; the set-up cost "
+                                 "grows faster than the cube of the count: see MAX_DOFS)")
         d = Dof(name, val.nonnegative(f"Machine.dof({name!r})", "inertia", inertia), kind,
                 val.finite(f"Machine.dof({name!r})", "x0", x0), val.finite(f"Machine.dof({name!r})", "v0", v0))
         self._new_name("dof", name)

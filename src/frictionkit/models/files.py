@@ -356,6 +356,10 @@ class ModelFile:
             return cls._machine_from_dict(doc, fmt)
         if not is_law_dict(doc["model"]):
             raise DataError("\"model\" is not a friction law in JSON form ({\"law\": ..., ...})")
+        unknown = sorted(set(doc) - {"format", "kind", "model", "units", "provenance"})
+        if unknown:  # as a machine file: a misspelt "provenence" or "unit" was ignored without a word (round 9)
+            raise DataError(f"law file: unknown key(s) {unknown}; known: ['format', 'kind', 'model', 'provenance', "
+                            "'units'] (notes go under \"provenance\")")
         units = _optional(doc, "units", Mapping, "an object", {})
         prov = _optional(doc, "provenance", Mapping, "an object", {})
         return cls(model=law_from_dict(doc["model"]), units={k: v for k, v in units.items() if k != "parameters"},

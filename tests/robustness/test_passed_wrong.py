@@ -164,3 +164,12 @@ def test_lugre_dahl_runs_that_pass_keep_the_error_contract(name):
             for k, a in (("x", res.x), ("v", res.v), ("friction", res.friction))}
     # README error contract: 10 rtol of the ranges of x and the friction; v: the check's 1000 rtol
     assert errs["x"] <= 10 * rtol and errs["friction"] <= 10 * rtol and errs["v"] <= 1000 * rtol, errs
+
+
+def test_simulate_batch_checks_a_lightly_damped_ringing_set_too():
+    """simulate_batch runs such a set alone, as it does a fast one: ring_068 (its unchecked run is 1.3e-4 of
+    its position range off the twin, 13 rtol) gets status 2 and sse inf (was 0 and a finite sse)."""
+    law, m, dt, amp, cycles, n = LUGRE_DAHL_PASSED_WRONG["ring_068"]
+    u = amp * np.sin(2 * np.pi * cycles * np.arange(n) / n)
+    b = fk.simulate_batch([law], masses=[m], force=u, dt=dt, target=np.zeros(n))
+    assert b.status[0] == 2 and np.isinf(b.sse[0]), b.message

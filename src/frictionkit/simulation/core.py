@@ -747,7 +747,7 @@ class BatchResult:
         return f"simulate_batch: {self.message}; {best}"
 
 
-def _batch_accuracy_check(K, c, m, dt, sse, status, single) -> dict:
+def _batch_accuracy_check(K, c, m, dt, sse, status, single, ringing: bool = False) -> dict:
     """The accuracy check of ``simulate_batch`` (issue 13): the batch keeps no traces, so each set
     whose contact is faster than the samples (:data:`FAST_LIMIT`; ``K``, ``c``, ``m`` per set) is
     run alone by :func:`simulate` (``single(j)``), whose per-sample check decides: a set it flags
@@ -758,10 +758,14 @@ def _batch_accuracy_check(K, c, m, dt, sse, status, single) -> dict:
     RMS moved > 10 %): one-sided — round 4's GMS on 7e-5 kg, one sample 4.7 % of its friction range
     off, kept its RMS — and without simulate's retries it flagged 6 of 180 random sets simulate
     verifies (a LuGre on 3.3e-4 kg within 2.3e-7 of the twin). Only fast sets pay (two or three
-    serial runs each)."""
+    serial runs each). ``ringing`` (LuGre/Dahl): sets whose contact rings lightly damped against the
+    samples are run alone too, as :func:`_accuracy_check` checks them (see :data:`FAST_LIMIT`)."""
     fast = np.maximum(np.sqrt(K / m), c / m) * dt
+    check = fast > FAST_LIMIT
+    if ringing:
+        check |= (np.sqrt(K / m) * dt > _lugre.RING_FAST) & (c / (2.0 * np.sqrt(K * m)) < _lugre.RING_ZETA)
     out = {}
-    for j in np.flatnonzero((fast > FAST_LIMIT) & (status == 0)):
+    for j in np.flatnonzero(check & (status == 0)):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             alone = single(int(j))
@@ -946,7 +950,7 @@ def simulate_batch(
             u, dt, m, static, dyn, options.rtol, atol_v, atol_z,
             int(options.max_substeps), y, which, w, sse, status, _v_floor(options),
         )
-        checked = _batch_accuracy_check(s0_sets, damp_sets, m, dt, sse, status, alone)
+        checked = _batch_accuracy_check(s0_sets, damp_sets, m, dt, sse, status, alone, ringing=True)
         failed = np.flatnonzero(np.isin(status, (1, 2, 3)))
         if failed.size:
             j = int(failed[0])

@@ -141,6 +141,8 @@ class CompensationResult:
     unit: str = "m"
     #: What the numbers do not show (e.g. a reference velocity without a reversal), "" when nothing.
     note: str = ""
+    #: Fraction of the run left out of ``max_error`` / ``rms_error`` (shaded in ``plot``).
+    settle_fraction: float = SETTLE_FRACTION
 
     @property
     def shown(self) -> tuple[str, float]:
@@ -195,6 +197,9 @@ class CompensationResult:
             ax.plot(self.t, e * k, lw=0.8, label=name)
         for t0 in self.reversals:
             ax.axvline(t0, color="0.6", ls=":", lw=0.8)
+        if self.settle_fraction > 0 and self.t.size:  # the start transient the max and RMS leave out
+            t_end = float(self.t[int(self.settle_fraction * self.t.size)])
+            ax.axvspan(float(self.t[0]), t_end, color="0.9", zorder=0, label="not scored (settling)")
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"tracking error r - x [{label}]")
         ax.set_title(f"{self.preset}: friction compensators")
@@ -635,4 +640,5 @@ def compensate(preset: str | Path, compensators: str | Sequence[str] | None = No
                 f"the reference velocity {name!r} never changes sign: no reversal, so there is no reversal error "
                 "and the compensators were tested away from reversals only")
     return CompensationResult(preset=preset, rows=rows, t=t, errors=errors, reversals=revs, model=model_name,
-                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=unit, note=note)
+                              quick=bool(quick), elapsed=time.perf_counter() - t0, unit=unit, note=note,
+                              settle_fraction=float(settle))

@@ -142,6 +142,8 @@ _KNOWN_UNITS = {"Fc", "Fs", "vs", "delta", "sigma0", "sigma1", "sigma2", "k", "x
 def _sentence(text: str, limit: int = 200) -> str:
     """The first sentence of ``text``, at most ``limit`` characters."""
     text = " ".join(text.replace("``", "").split())
+    # Sphinx roles read as their target: ':class:`~frictionkit.machines.Machine`' -> 'Machine'
+    text = re.sub(r":[a-z]+:`(~?)([^`]+)`", lambda g: g.group(2).rsplit(".", 1)[-1] if g.group(1) else g.group(2), text)
     m = re.search(r"(?<=[a-z0-9)\]])\.\s(?=[A-Z])", text[20:])
     if m:
         text = text[: 20 + m.start() + 1]

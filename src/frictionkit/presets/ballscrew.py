@@ -1,6 +1,11 @@
 """Seed 001 ball-screw stage on the machine core: the plant, sensors and Fig. 3 controller as a
 :class:`~frictionkit.machines.Machine`.
 
+This module builds the stage the private kernel ``kernels/ballscrew.py`` used to run, with
+the machine API, so the stage can carry any friction law at the nut and the guide (issue 8,
+part 6); that kernel is deleted and :func:`frictionkit.control.loop.simulate_closed_loop`
+is now a thin wrapper over :func:`simulate_stage`.
+
 Provenance
 ----------
 * Zhu & Fujimoto, "High-precision control for ball-screw-driven stage in zero-speed region"
@@ -8,10 +13,6 @@ Provenance
   §2.1 sensors. The parameter values and every assumption live in
   :mod:`frictionkit.presets.zhu_fujimoto`; the plant objects in
   :mod:`frictionkit.plants.ballscrew`.
-* This module builds the stage the private kernel ``kernels/ballscrew.py`` used to run, with
-  the machine API, so the stage can carry any friction law at the nut and the guide (issue 8,
-  part 6); that kernel is deleted and :func:`frictionkit.control.loop.simulate_closed_loop`
-  is now a thin wrapper over :func:`simulate_stage`.
 
 Mechanics (elastic stage, one DOF per chain coordinate)
 -------------------------------------------------------

@@ -47,6 +47,12 @@ form eq. 10 fits) by default; eq. 9a (``shape="lorentzian"``) or another exponen
 per axis (decision: the bristle stiffness and damping are properties of the contact, and the
 paper counts "six parameters" per axis: σ0, σ1, σ2, v_s, T_s, T_c); the static four are per
 direction, as eq. 10 is run per direction.
+
+Provenance
+----------
+* Seed 002, *Friction Model of the 2.5 m SDSS Telescope*: the axis equations (paper numbering
+  above); it gives no number for any inertia, gain, ratio or friction parameter, so every value
+  is a named assumption with its reasoning.
 """
 
 from __future__ import annotations

@@ -58,6 +58,12 @@ on the compensation results: of those, each stage reproduces some the other does
 (``"table1"``: Fig. 5's degradation after a fast deceleration; ``"fig2"``: Table 3's order).
 ``"table1"`` stays available (``frictionkit reproduce zhu-fujimoto --stage table1``); the
 README table and the demo report give every finding for both stages.
+
+Provenance
+----------
+* Zhu & Fujimoto, "High-precision control for ball-screw-driven stage in zero-speed region"
+  (seed 001): every value cites its table, equation, figure or section; what the paper does
+  not give is a named assumption in this module.
 """
 
 from __future__ import annotations

@@ -61,6 +61,12 @@ THK's DIR series is an offset-preload nut: the preload removes the geometric cle
 shaft and support bearings under the axial force: the table is a degree of freedom joined to
 ``R (theta1 + theta2)`` by the axial spring ``k_axial`` (``e_g = F_ax / k_axial``). That
 spring's force is the axial load that scales the ball pair's friction (:class:`NormalLoad`).
+
+Provenance
+----------
+* Zhang et al., Actuators 2023 (seed 000): Tables 2-8 in SI with every correction next to the
+  value (:data:`PAPER_TABLES`); every value the paper does not give is a field of
+  :class:`Assumptions` with its reasoning.
 """
 
 

@@ -823,8 +823,8 @@ def study_figure(df) -> bytes:
 
 
 #: Study columns that are results or bookkeeping, not drawn parameters.
-_NOT_DRAWN = {"draw", "noise_seed", "max_error", "rms_error", "max_error_measured", "max_force", "run_seconds",
-              "task_seconds", "ok"}
+_NOT_DRAWN = {"draw", "noise_seed", "max_error", "rms_error", "max_error_measured", "max_force", "reversal_error",
+              "run_seconds", "task_seconds", "ok"}  # reversal_error (ball-screw studies) was listed as drawn
 
 
 def study_sections(df) -> list[Section]:

@@ -183,7 +183,7 @@ def zhu_fujimoto(
                   f"resonance {g['first_resonance_hz']:.1f} Hz; level vs eq. 1 fit in "
                   f"{g['band_hz'][0]:g}-{g['band_hz'][1]:g} Hz: {g['gain_offset_vs_eq1_db'][0]:+.1f} to "
                   f"{g['gain_offset_vs_eq1_db'][1]:+.1f} dB")
-    out.print(f"wrote {json_out}")
+    out.print(f"wrote {json_out}" + (f" and {png}" if summary.get("plot") else ""))  # the PNG beside it too
 
 
 def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
@@ -274,7 +274,7 @@ def sdss(
     trk = summary["sidereal_tracking_rms_arcsec"]
     out.print(f"sidereal tracking RMS (ours): no compensation {trk['no_compensation']:.4f} arcsec, "
               f"LuGre feed-forward {trk['lugre_feedforward']:.4f} arcsec")
-    out.print(f"wrote {json_out}")
+    out.print(f"wrote {json_out}" + (f" and {plot}" if plot is not None else ""))
 
 
 _EX_ZHANG2023 = """\b
@@ -371,4 +371,4 @@ def zhang2023(
         out.print(f"crawling {r['table_speed_um_s']:g} µm/s: CDFS ripple {r['cdfs_ripple_percent']:.1f} %, "
                   f"TDMS {r['tdms_ripple_percent']:.1f} %")
     out.print("findings: " + ", ".join(f"{k}={'yes' if v['holds'] else 'no'}" for k, v in summary["findings"].items()))
-    out.print(f"wrote {json_out}")
+    out.print(f"wrote {json_out}" + (f" and {png}" if summary.get("plot") else ""))

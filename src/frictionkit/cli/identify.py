@@ -44,11 +44,14 @@ def _parse_where(items: list[str] | None) -> dict[str, str]:
 
 
 def _write(res, json_out: Optional[Path], plot: Optional[Path], *, include_data: bool = True) -> None:
-    """The result files, each written atomically (a failed write keeps the previous file)."""
+    """The result files, each written atomically (a failed write keeps the previous file), each named
+    on stdout like the other verbs' (identify printed nothing about them)."""
     if json_out is not None:
         res.save_json(json_out, include_data=include_data)
+        typer.echo(f"wrote {json_out}")
     if plot is not None:
         chk.save_plot(res, plot)
+        typer.echo(f"wrote {plot}")
 
 
 def _load(path: Path, *, group: Optional[list[str]], where: Optional[list[str]], **kw):

@@ -88,7 +88,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
         "h2{border-bottom:1px solid #ddd}</style></head><body><h1>frictionkit — fleet report</h1>",
     ]
     method = df["drift_method"].dropna().iloc[0] if "drift_method" in df and df["drift_method"].notna().any() else "?"
-    parts.append(_table(["", ""], [
+    parts.append(_table(["item", "value"], [  # was an empty header row
         ["axes", len(axes)], ["axis-periods", len(df)], ["periods", f"{periods[0]} … {periods[-1]}" if periods else ""],
         ["identified", int(ok.sum())], ["failed (see below)", int((~ok).sum())],
         ["drift flagged", f"{len(flagged)} axes (monitor: {method})"],

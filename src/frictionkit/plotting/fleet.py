@@ -55,7 +55,9 @@ def plot_parameter_distribution(results, parameter: str = "Fc_pos", *, period: s
         bins = np.histogram_bin_edges(vals[fin], bins=min(30, max(5, int(np.sqrt(fin.sum())))))
         ax.hist([vals[fin & ~flag], vals[fin & flag]], bins=bins, stacked=True, color=["#4c72b0", "#c44e52"],
                 label=["not flagged", "drift flagged"])
-        ax.legend(fontsize=8)
+        ax.set_ylim(0, 1.25 * ax.get_ylim()[1])  # headroom: the legend sat on the bars
+        ax.legend(fontsize=8, loc="upper center", ncols=2)
+    ax.yaxis.get_major_locator().set_params(integer=True)  # counts of axes (ticks were 0.2, 0.4, ...)
     unit = _unit(df, parameter)
     ax.set_xlabel(parameter + (f" [{unit}]" if unit else ""))
     ax.set_ylabel("axes")

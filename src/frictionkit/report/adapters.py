@@ -885,7 +885,7 @@ def fleet_sections(df) -> list[Section]:
     ok = df["ok"].astype(bool)
     periods = sorted(df["period"].astype(str).unique())
     sec = Section(f"Fleet: {df['axis'].nunique()} axes, {len(df)} axis-periods")
-    rows = [["", ""], ["axes", str(df["axis"].nunique())], ["axis-periods", str(len(df))],
+    rows = [["item", "value"], ["axes", str(df["axis"].nunique())], ["axis-periods", str(len(df))],
             ["periods", f"{periods[0]} … {periods[-1]}" if periods else ""],
             ["identified", str(int(ok.sum()))], ["failed", str(int((~ok).sum()))]]
     monitored = "drift_flag" in df

@@ -111,7 +111,7 @@ def instrumented_source(src: str) -> str:
     a = src.index("def _solve_site(")
     b = src.index("def _loads(")
     body = src[a:b].replace("_site_mean(kind, par, o, st, stw, so, s0,", "_sm(cnt, co, kind, par, o, st, stw, so, s0,")
-    body = body.replace("xg, dl):", "xg, dl, cnt, co):", 1)
+    body = body.replace("):", ", cnt, co):", 1)  # the def line's end
     src = src[:a] + body + src[b:]
     src = rep("q_out, v_out, F_out, sig_out, u_out, coarse=True,\n):",
               "q_out, v_out, F_out, sig_out, u_out, coarse=True, tm=None, cnt=None,\n):")
@@ -122,7 +122,7 @@ def instrumented_source(src: str) -> str:
     src = rep(last, last.replace("    return STATUS_OK", "        tB = rdtsc(); tm[10] += tB - tA; tA = tB\n    return STATUS_OK"))
     # the site solve in run: counters into its call (the law evaluations) and after it (the solves)
     a = src.index("= _solve_site(site_kind[j]")
-    b = src.index("dlam[j])", a) + len("dlam[j]")
+    b = src.index(")\n", a)
     src = src[:b] + ", cnt, 0 if coarse_now else 1" + src[b:]
     src = rep("                            kt[j] = ktj\n",
               "                            cnt[2 if coarse_now else 3] += 1\n                            kt[j] = ktj\n")

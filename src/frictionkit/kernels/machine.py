@@ -432,7 +432,7 @@ def _site_now(kind, par, o, st, so, s, v, lam):
 
 
 @njit(error_model="numpy")
-def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0, xg, dl):
+def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt, v0, xg, dl, F0g, z0g):
     """Solve ``ds = a - Gjj Fbar(ds)`` for the site; returns ``(ds, Fbar, kt, z1)`` (state untouched;
     ``z1`` the LuGre end state at ``ds``, NaN when the last evaluation was elsewhere).
 
@@ -440,7 +440,8 @@ def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt,
     explicit guess ``a - Gjj Fguess``, or from ``xg`` when it is finite: the caller's
     linearised update of the site's last solution when only ``a`` moved); secant steps follow
     until the root is bracketed, then Illinois regula falsi. Most sub-steps converge in two or
-    three law evaluations.
+    three law evaluations. ``F0g``, ``z0g``: the law's value at that first point when the caller
+    evaluated it already (``run``'s inline first step of a LuGre/Dahl solve), else NaN.
     """
     if Gjj <= 0.0:  # kinematic site (moved by prescribed motion only)
         Fa, za = _site_mean(kind, par, o, st, stw, so, s0, a, h, lam, v0, dl)
@@ -523,7 +524,10 @@ def _solve_site(kind, par, o, st, stw, so, s0, a, Gjj, h, Fguess, xtol, lam, kt,
                 fhi = f1
     else:
         x0 = xg if math.isfinite(xg) else a - Gjj * Fguess
-        F0, z0e = _site_mean(kind, par, o, st, stw, so, s0, x0, h, lam, v0, dl)
+        if math.isfinite(F0g):  # the caller evaluated the law at x0 already (run's inline first step)
+            F0, z0e = F0g, z0g
+        else:
+            F0, z0e = _site_mean(kind, par, o, st, stw, so, s0, x0, h, lam, v0, dl)
         f0 = x0 + Gjj * F0 - a
         if abs(f0) <= xtol:
             return x0, F0, kt, z0e
@@ -1397,6 +1401,7 @@ def run(
                                 if slope >= 0.05:
                                     xg = ds[j] + (aj - aused[j]) / slope
                             done_j = False
+                            F0 = z0e = math.nan
                             if site_kind[j] == S_LUGRE and Gjj > 0.0:
                                 # _solve_site's first step inline, same numbers: one call passing one
                                 # array instead of three nested calls passing three (each array argument
@@ -1410,7 +1415,7 @@ def run(
                             if not done_j:
                                 dsj, Fj, ktj, zj = _solve_site(site_kind[j], par, site_po[j], st, stw, site_so[j], s0[j],
                                                                aj, Gjj, ha, Fbar[j], tj, lam[j], kt[j], v0s[j], xg,
-                                                               dlam[j])
+                                                               dlam[j], F0, z0e)
                             kt[j] = ktj
                             zend[j] = zj
                             aused[j] = aj

@@ -142,6 +142,25 @@ def test_vs_flagged_without_low_speed_plateaus():
     assert "positive" in joined
 
 
+def test_rank_deficient_fit_has_unbounded_intervals_not_narrow_wrong_ones():
+    # Issue 13 round 9: a staircase with one plateau inside the Stribeck range (truth Fs 1.5, vs 1e-3,
+    # delta 2) leaves Fs, vs and delta on directions the data cannot see; pinv gave them finite
+    # intervals (the CLI printed delta 4.008 in [4.00845, 4.00849]) that excluded the truth. Here the
+    # other plateaus sit at >= 50 vs, where exp(-(v/vs)**delta) is 0 in floating point.
+    law = Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
+    u = np.r_[1e-3, np.geomspace(0.05, 0.5, 7)]
+    rng = np.random.default_rng(0)
+    y = law.steady_state(u) + 1e-4 * rng.standard_normal(u.size)
+    res = fit_static_map(u, y, model="exponential", direction="positive")
+    joined = " ".join(res.warnings)
+    assert res.flagged and "rank deficient" in joined and "Fs, vs, delta" in joined, joined
+    ci = np.asarray(res.ci95)
+    for i in (1, 2, 3):  # Fs, vs, delta: unbounded, the truth inside
+        assert np.isinf(ci[i, 1]) and ci[i, 0] <= (1.5, 1e-3, 2.0)[i - 1], ci.tolist()
+    assert ci[0, 0] <= 1.0 <= ci[0, 1] and np.isfinite(ci[0]).all(), ci.tolist()  # Fc still determined
+    assert ci[4, 0] <= 0.4 <= ci[4, 1] and np.isfinite(ci[4]).all(), ci.tolist()  # sigma2 likewise
+
+
 def test_robust_loss_resists_an_outlier():
     law = CoulombViscous(Fc=1.0, sigma2=2.0)
     u = np.linspace(0.01, 0.3, 20)

@@ -187,6 +187,25 @@ def _hc3(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float]:
     return cov, float(np.max(h)) if h.size else 0.0
 
 
+#: Component along a right singular vector of the Jacobian whose singular value is below
+#: :data:`RANK_TOL` of the largest, above which a parameter counts as moved by that unseen direction
+#: (singular vectors are unit vectors; rounding leaves components ~1e-16 x the condition number).
+UNSEEN_COMPONENT = 1e-4
+
+
+def _unseen(J: np.ndarray) -> np.ndarray:
+    """Parameters (boolean mask) that move along a direction the data do not determine."""
+    p = J.shape[1]
+    if J.shape[0] == 0 or not np.all(np.isfinite(J)):
+        return np.zeros(p, dtype=bool)
+    _, sv, vt = np.linalg.svd(J, full_matrices=True)
+    sv = np.r_[sv, np.zeros(p - sv.size)] if sv.size < p else sv
+    if sv[0] <= 0:
+        return np.ones(p, dtype=bool)
+    weak = vt[sv < RANK_TOL * sv[0]]
+    return (np.abs(weak) > UNSEEN_COMPONENT).any(axis=0) if weak.size else np.zeros(p, dtype=bool)
+
+
 def _fit_direction(
     u: np.ndarray, y: np.ndarray, w: np.ndarray, st: _Structure, *, delta: float | None,
     loss: str, f_scale: float | None, covariance: str = "residual",
@@ -239,6 +258,15 @@ def _fit_direction(
         with np.errstate(invalid="ignore"):
             cov_s = corr * np.outer(sd, sd)
         cov_s[np.diag_indices_from(cov_s)] = sd**2
+    # pinv drops the directions the data cannot see, which leaves their parameters a small, finite
+    # variance: a rank-deficient negative staircase (one plateau inside the Stribeck range) printed
+    # delta 4.008 with a 95 % interval 4e-5 wide around a true 2 (issue 13, round 9). A parameter
+    # that moves along such a direction has an unbounded variance instead.
+    unseen = _unseen(J)
+    if unseen.any():
+        cov_s = cov_s.copy()
+        cov_s[unseen, :] = np.inf
+        cov_s[:, unseen] = np.inf
     # J and s2 are both in scaled residual units, so cov_s is the covariance of the
     # scaled parameters; each physical parameter is scaled parameter * scale.
     cov = cov_s * np.outer(scale, scale)
@@ -270,11 +298,11 @@ def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str, delta: float | 
     vals, se = fit["values"], np.sqrt(np.clip(np.diag(fit["cov"]), 0, None))
     lo, hi = _bounds(st)
     x = fit["res"].x
+    weak = []
     if fit["rank_ratio"] < RANK_TOL:
-        _, _, vt = np.linalg.svd(fit["jac"])
-        weak = [n for n, c in zip(st.params, vt[-1]) if abs(c) > 0.3]
+        weak = [n for n, u in zip(st.params, _unseen(fit["jac"])) if u]
         out.append(f"{label}: Jacobian is rank deficient (singular value ratio {fit['rank_ratio']:.2g}); "
-                   f"{', '.join(weak)} not identifiable from these data")
+                   f"{', '.join(weak)} not identifiable from these data (unbounded intervals)")
     if st.name != "coulomb_viscous":
         phi = _phi(st, vals, u, delta)
         k = int(np.sum((phi > 0.05) & (phi < 0.95)))
@@ -288,6 +316,8 @@ def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str, delta: float | 
             np.isfinite(hi[i]) and abs(hi[i] - x[i]) <= 1e-6 * abs(hi[i]))
         if near:
             out.append(f"{label}: {n} = {vals[i]:.6g} is at its bound; its standard error is not meaningful")
+            continue
+        if n in weak:  # named above
             continue
         rse = se[i] / abs(vals[i]) if vals[i] != 0 else np.inf
         if not np.isfinite(rse) or rse > UNIDENTIFIABLE_RSE:
@@ -317,6 +347,8 @@ def _sign_respecting(params, values, stats, dof) -> np.ndarray:
         v, se = float(values[i]), float(stats["stderr"][i])
         if n in ("vs", "delta") and v > 0 and np.isfinite(se):
             ci[i] = log_interval(v, se / v, dof)
+        elif n in ("vs", "delta"):  # unbounded: anywhere it may live
+            ci[i] = (0.0, np.inf)
         elif n in ("Fc", "Fs", "sigma2"):
             ci[i, 0] = max(ci[i, 0], 0.0)
     return ci

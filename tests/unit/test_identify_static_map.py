@@ -161,6 +161,27 @@ def test_rank_deficient_fit_has_unbounded_intervals_not_narrow_wrong_ones():
     assert ci[4, 0] <= 0.4 <= ci[4, 1] and np.isfinite(ci[4]).all(), ci.tolist()  # sigma2 likewise
 
 
+def test_unbounded_interval_survives_json_and_is_flagged_per_direction_in_the_report():
+    # JSON has no infinity: an unbounded end is written as null. Read back it must stay unbounded
+    # (was NaN: the report showed '[0.695, –]'), and a directional fit's warning ('negative: ...
+    # Fs, vs, delta') marks Fs_neg, vs_neg, delta_neg flagged in the report's parameter table.
+    from frictionkit.identify.result import IdentificationResult
+    from frictionkit.report.adapters import _flags
+
+    law = Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, delta=2.0, sigma2=0.4)
+    u = np.r_[1e-3, np.geomspace(0.05, 0.5, 7)]
+    y = law.steady_state(u) + 1e-4 * np.random.default_rng(0).standard_normal(u.size)
+    v = np.r_[np.linspace(2e-3, 0.5, 8), -u]
+    F = np.r_[Stribeck(Fc=1.0, Fs=1.5, vs=0.05, delta=2.0, sigma2=0.4).steady_state(v[:8]), -y]
+    res = fit_static_map(v, F, model="exponential", direction="both")
+    back = IdentificationResult.from_dict(res.to_dict())
+    i = list(back.names).index("vs_neg")
+    assert back.ci95[i, 0] == 0.0 and back.ci95[i, 1] == np.inf and back.stderr[i] == np.inf, back.ci95[i]
+    flags = _flags(back)
+    assert {"Fs_neg", "vs_neg", "delta_neg"} <= set(flags), flags
+    assert not {"Fc_neg", "sigma2_neg"} & set(flags), flags
+
+
 def test_robust_loss_resists_an_outlier():
     law = CoulombViscous(Fc=1.0, sigma2=2.0)
     u = np.linspace(0.01, 0.3, 20)

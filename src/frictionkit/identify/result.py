@@ -609,14 +609,29 @@ class IdentificationResult:
         bad = _table_model_disagreement(d.get("model"), params, names, d.get("parts"))
         if bad:
             raise DataError("; ".join(bad))
+        stderr = _floats([params[n]["stderr"] for n in names])
+        ci95 = _floats([params[n]["ci95"] for n in names]).reshape(len(names), 2)
+        # JSON has no infinity, so to_dict writes an unbounded interval end as null, like a value never
+        # computed. One null end beside a number is unbounded (an unseen direction of a fit: [0, null]
+        # is [0, inf)), and its standard error too; read back as NaN it showed as '[0.695, –]' (issue 13).
+        for i in range(len(names)):
+            lo, hi = ci95[i]
+            if np.isnan(hi) and np.isfinite(lo):
+                ci95[i, 1] = np.inf
+            elif np.isnan(lo) and np.isfinite(hi):
+                ci95[i, 0] = -np.inf
+            else:
+                continue
+            if np.isnan(stderr[i]):
+                stderr[i] = np.inf
         return cls(
             kind=d["kind"],
             model_name=d["model_name"],
             model=model,
             names=names,
             values=_floats([params[n]["value"] for n in names]),
-            stderr=_floats([params[n]["stderr"] for n in names]),
-            ci95=_floats([params[n]["ci95"] for n in names]).reshape(len(names), 2),
+            stderr=stderr,
+            ci95=ci95,
             units=tuple(params[n]["unit"] for n in names),
             correlation=_floats(d["correlation"]).reshape(len(names), len(names)),
             rms=float(d["rms"]) if d["rms"] is not None else math.nan,

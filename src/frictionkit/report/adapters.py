@@ -340,9 +340,12 @@ _KIND_TITLES = {"static_map": "Static friction map", "rigid_body": "Rigid-body i
 def _flags(res) -> dict[str, list[str]]:
     """Warnings that name a parameter (as a word), by parameter."""
     out: dict[str, list[str]] = {}
+    sides = {"_pos": "positive:", "_neg": "negative:"}  # a directional fit's warnings name side and base name
     for w in res.warnings:
         for n in res.names:
-            if re.search(rf"(?<![\w.]){re.escape(n)}(?!\w)", w):
+            base, side = (n[:-4], sides[n[-4:]]) if n[-4:] in sides else (n, None)
+            if re.search(rf"(?<![\w.]){re.escape(n)}(?!\w)", w) or (
+                    side and w.startswith(side) and re.search(rf"(?<![\w.]){re.escape(base)}(?!\w)", w[len(side):])):
                 out.setdefault(n, []).append(w)
     return out
 

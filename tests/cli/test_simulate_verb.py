@@ -64,7 +64,9 @@ def test_force_below_breakaway_rests_at_z_equal_u_over_sigma0(tmp_path, model):
                               str(tmp_path / "tr.parquet"), "--json", "-"])
     assert res.exit_code == 0, res.output
     doc = json.loads(res.stdout)  # --json -: only the JSON on stdout
-    assert doc["drive"] == "force" and doc["success"] is True and doc["message"] == "ok"
+    # omega dt 0.32, damping ratio 0.1: a lightly damped ringing the accuracy check reruns (issue 13)
+    assert doc["drive"] == "force" and doc["success"] is True
+    assert doc["message"] == "ok" or doc["message"].startswith("ok; accuracy check passed"), doc["message"]
     import pandas as pd
 
     tr = pd.read_parquet(tmp_path / "tr.parquet")

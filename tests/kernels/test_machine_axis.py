@@ -69,6 +69,8 @@ def test_controller_is_the_general_kernels_bit_for_bit():
     fast, gen = _both(m, _parity_inputs(), seed=7)
     assert fast.path.startswith("axis") and gen.path.startswith("general"), (fast.path, gen.path)
     assert fast.success and gen.success, (fast.message, gen.message)
+    # the fast path picks its own steps: its summary must not claim "0 sub-steps/sample"
+    assert "0 sub-steps" not in fast.summary() and f"{gen.substeps} sub-steps/sample" in gen.summary()
     # the premise: no motion (the general loop's stick leaves round-off: ~1e-16 m, 1e-20 m/s)
     assert np.all(fast.q == fast.q[0]) and np.max(np.abs(gen.q - gen.q[0])) <= 1e-13 * abs(gen.q[0, 0])
     assert fast.signal_names == gen.signal_names

@@ -248,8 +248,10 @@ class MachineResult(TraceAccess):
         return self.signals[:, self._index(self.signal_names, name, "signal")]
 
     def summary(self) -> str:
+        # the fast paths choose their own steps (substeps is 0 there): "0 sub-steps/sample" misread
+        steps = f"{self.substeps} sub-steps/sample" if self.substeps else "steps chosen by its error control"
         lines = [f"{self.machine.name}: {self.t.size} samples over {self.t[-1]:.6g} s, "
-                 f"{self.substeps} sub-steps/sample, status {self.status} ({self.message})", f"  kernel: {self.path}"]
+                 f"{steps}, status {self.status} ({self.message})", f"  kernel: {self.path}"]
         lines += self._dof_lines()
         for j, s in enumerate(self.site_names):
             lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}")

@@ -12,6 +12,21 @@ import pytest
 import frictionkit as fk
 from frictionkit.simulation.reference import reference_force_driven
 
+
+def _errors(res, tw) -> dict[str, float]:
+    """Largest difference run - twin of x, v and the friction, each relative to the twin's range."""
+    return {name: float(np.max(np.abs(getattr(res, name) - tw[name])) / np.ptp(tw[name]))
+            for name in ("x", "v", "friction")}
+
+
+def _gms_sine_run(law, m, dt, n, amp, hz):
+    """A GMS on a mass under ``amp sin(2 pi hz t)`` for ``n`` samples: ``(result, errors against a twin
+    whose steps are at most dt/8)``."""
+    u = amp * np.sin(2 * np.pi * hz * np.arange(n) * dt)
+    res = fk.simulate(law, dt=dt, plant=fk.Mass(m), force=u)
+    tw = reference_force_driven(law, m, u, dt, rtol=1e-11, atol=1e-16, max_step=dt / 8)
+    return res, _errors(res, tw)
+
 # --------------------------------------------------------------------------- GMS
 
 # Round 8's passed-WRONG GMS set (random extreme-but-legal parameters): omega dt = 5.28, damping ratio
@@ -54,8 +69,7 @@ def test_gms_breakaway_inside_a_substep_is_not_missed(gms_r8):
     # the twin's own switches: two breakaways between samples 136 and 137, then the reversal
     ev = [(t / GMS_R8_DT, kind) for t, kind, _ in tw["event_log"] if 136 < t / GMS_R8_DT < 137]
     assert [kind for _, kind in ev] == ["breakaway", "breakaway", "reversal"], ev
-    for name, a, b in (("x", res.x, tw["x"]), ("v", res.v, tw["v"]), ("friction", res.friction, tw["friction"])):
-        err = float(np.max(np.abs(a - b)) / np.ptp(b))
+    for name, err in _errors(res, tw).items():
         assert err <= 10 * rtol, f"{name} {err:.3g} of its range off the twin at status 0 (contract 10 rtol)"
 
 
@@ -79,14 +93,9 @@ GMS_STIFF = fk.GMS(
 
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason="global slip-force error amplified by a stiff re-stick")
 def test_gms_stiff_restick_after_slow_slip_agrees_with_the_twin():
-    m, dt = 1.8736176219710425, 0.0003013291405700899
-    t = np.arange(126) * dt
-    u = 0.0690033639617832 * np.sin(2 * np.pi * 16.06541234172489 * t)
-    res = fk.simulate(GMS_STIFF, dt=dt, plant=fk.Mass(m), force=u)
-    tw = reference_force_driven(GMS_STIFF, m, u, dt, rtol=1e-11, atol=1e-16, max_step=dt / 8)
+    res, errs = _gms_sine_run(GMS_STIFF, 1.8736176219710425, 0.0003013291405700899, 126,
+                              0.0690033639617832, 16.06541234172489)
     assert res.status == 0
-    errs = {name: float(np.max(np.abs(a - b)) / np.ptp(b))
-            for name, a, b in (("x", res.x, tw["x"]), ("v", res.v, tw["v"]), ("friction", res.friction, tw["friction"]))}
     # measured 2026-11-24 (126 samples): x 3e-6, v 1.1e-5, friction 3.7e-4 of their ranges, at sample 123
     assert errs["x"] < 1e-4 and errs["v"] < 1e-4 and 2e-4 < errs["friction"] < 6e-4, errs
     assert errs["friction"] <= 10 * fk.SimOptions().rtol, errs
@@ -109,14 +118,9 @@ GMS_FAST_SLIP = fk.GMS(
 
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason="slip-force error estimate low in the Stribeck range")
 def test_gms_fast_slip_relaxation_through_the_stribeck_range_keeps_the_contract():
-    m, dt = 5.031449682254583, 0.00034727580691770824
-    t = np.arange(136) * dt
-    u = 0.8858957811421615 * np.sin(2 * np.pi * 12.744890273873612 * t)
-    res = fk.simulate(GMS_FAST_SLIP, dt=dt, plant=fk.Mass(m), force=u)
-    tw = reference_force_driven(GMS_FAST_SLIP, m, u, dt, rtol=1e-11, atol=1e-16, max_step=dt / 8)
+    res, errs = _gms_sine_run(GMS_FAST_SLIP, 5.031449682254583, 0.00034727580691770824, 136,
+                              0.8858957811421615, 12.744890273873612)
     assert res.status == 0
-    errs = {name: float(np.max(np.abs(a - b)) / np.ptp(b))
-            for name, a, b in (("x", res.x, tw["x"]), ("v", res.v, tw["v"]), ("friction", res.friction, tw["friction"]))}
     # measured 2026-11-24 (136 samples): x 2.7e-4, v 1.8e-4, friction 3.4e-4 of their ranges
     assert 1.5e-4 < errs["x"] < 4e-4 and 1e-4 < errs["v"] < 3e-4 and 2e-4 < errs["friction"] < 5e-4, errs
     assert max(errs.values()) <= 10 * fk.SimOptions().rtol, errs
@@ -160,8 +164,7 @@ def test_lugre_dahl_runs_that_pass_keep_the_error_contract(name):
     period = 2 * np.pi / np.sqrt(law.sigma0 / m)
     tw = reference_force_driven(law, m, u, dt, rtol=1e-12, atol=1e-16, max_step=min(dt / 4, period / 16))
     rtol = fk.SimOptions().rtol
-    errs = {k: float(np.max(np.abs(a - tw[k])) / np.ptp(tw[k]))
-            for k, a in (("x", res.x), ("v", res.v), ("friction", res.friction))}
+    errs = _errors(res, tw)
     # README error contract: 10 rtol of the ranges of x and the friction; v: the check's 1000 rtol
     assert errs["x"] <= 10 * rtol and errs["friction"] <= 10 * rtol and errs["v"] <= 1000 * rtol, errs
 

@@ -123,6 +123,18 @@ def _sgn(v):
 
 
 @njit(inline="always")
+def _sticking_may_reach(M, st_, Fi, k, row, xi_n, ext, xi_lo, g):
+    """Whether a sticking element's force, over a step moving ``xi_n`` (plus ``ext`` of speed
+    overshoot), can reach its lowest breakaway threshold ``xi_lo[i] * g``."""
+    for i in range(M):
+        if st_[i]:
+            kr = k[row, i]
+            if max(abs(Fi[i]), abs(Fi[i] + kr * xi_n)) + kr * ext >= xi_lo[i] * g:
+                return True
+    return False
+
+
+@njit(inline="always")
 def _side(v, p0, p1, C0, C1):
     """``(row, Stribeck row tuple, C)`` for the direction of ``v`` (row 0: ``v >= 0``)."""
     if v >= 0.0:
@@ -848,13 +860,7 @@ def _drive(
             # shorter step is looked at again.
             if theta > 1.0:
                 ext = h * max(abs(v), abs(vn)) if reversed_ else 0.0
-                cand = False
-                for i in range(M):
-                    if st_[i]:
-                        kr = k[row, i]
-                        if max(abs(Fi[i]), abs(Fi[i] + kr * xi_n)) + kr * ext >= xi_lo[i] * g_lo:
-                            cand = True
-                            break
+                cand = _sticking_may_reach(M, st_, Fi, k, row, xi_n, ext, xi_lo, g_lo)
                 if cand:
                     Pn = 0.0
                     if any_slip:
@@ -870,13 +876,7 @@ def _drive(
                         gl = min(gl, min(_g_low(p0, v, vn, a0_, an_, h), _g_low(p1, v, vn, a0_, an_, h)))
                     else:
                         gl = _g_low(pn, v, vn, a0_, an_, h)
-                    cand = False
-                    for i in range(M):
-                        if st_[i]:
-                            kr = k[row, i]
-                            if max(abs(Fi[i]), abs(Fi[i] + kr * xi_n)) + kr * ext >= xi_lo[i] * gl:
-                                cand = True
-                                break
+                    cand = _sticking_may_reach(M, st_, Fi, k, row, xi_n, ext, xi_lo, gl)
                 if cand:
                     th_i = _interior_breakaway(
                         M, st_, Fi, k, xi, row, p0, p1, xi_lo, g_lo, v, vn, a0_, an_, xi_n, h

@@ -280,7 +280,7 @@ def _fit_direction(
     bic = n * np.log(rss_eff / n) + k * np.log(n)
     return {"res": best, "values": values, "cov": cov, "dof": dof, "raw": raw, "rss": rss,
             "aic": float(aic), "bic": float(bic), "rank_ratio": rank_ratio, "jac": J,
-            "max_leverage": max_leverage}
+            "max_leverage": max_leverage, "unseen": unseen}
 
 
 def _phi(st: _Structure, vals: np.ndarray, u: np.ndarray, delta: float | None) -> np.ndarray:
@@ -300,7 +300,7 @@ def _flags(st: _Structure, fit: dict, u: np.ndarray, label: str, delta: float | 
     x = fit["res"].x
     weak = []
     if fit["rank_ratio"] < RANK_TOL:
-        weak = [n for n, u in zip(st.params, _unseen(fit["jac"])) if u]
+        weak = [n for n, u in zip(st.params, fit["unseen"]) if u]
         out.append(f"{label}: Jacobian is rank deficient (singular value ratio {fit['rank_ratio']:.2g}); "
                    f"{', '.join(weak)} not identifiable from these data (unbounded intervals)")
     if st.name != "coulomb_viscous":

@@ -169,7 +169,7 @@ def rigid_body(
             typer.echo("not identifiable: " + (", ".join(res.diagnostics["identifiability"]["not_identifiable"])
                                                or "see warnings"))
     res = _validation(res, validate, "force", loader)
-    _write(res, json_out, plot, include_data=False)
+    _write(res, json_out, plot, include_data=True)
 
 
 _EX_STATIC = """\b
@@ -489,7 +489,7 @@ def output_error(
     res = _validation(res, validate, {"v": "velocity", "x": "position"}[res.provenance["procedure"]["compare"]],
                       loader, how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path),
                                                 "min_rest": min_rest})
-    _write(res, json_out, plot, include_data=False)
+    _write(res, json_out, plot, include_data=True)
 
 
 def _output_error_force(data, law, *, model, names, mass, offset, compare, rest, min_rest, sigma0, sigma1, k, xi,
@@ -708,4 +708,4 @@ def presliding(
                    f"'{res.provenance['recording']}'")
     res = _validation(res, validate, "force", loader,
                       how=lambda path: {"rests": _rest_option(rests, mask, mask_loader, path), "min_rest": min_rest})
-    _write(res, json_out, plot, include_data=False)
+    _write(res, json_out, plot, include_data=True)

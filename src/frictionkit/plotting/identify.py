@@ -4,13 +4,20 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Height of the fit panel over the residual panel in the two-panel time-series plot (a residual is
+#: read for its size and pattern, not its detail; 2:1 keeps the fit readable at the report's 8 x 5 in).
+RESIDUAL_PANEL_RATIO = 2.0
+
 
 def plot_identification(result, ax=None):
     """Draw an :class:`~frictionkit.identify.IdentificationResult`.
 
     Static maps: averaged data points and the fitted steady-state curve for each
     direction. Rigid body and pre-sliding: measured and predicted force against
-    time. Output error: measured and simulated velocity (or position) against time.
+    time. Output error: measured and simulated velocity (or position; the force in the
+    motion drive) against time. Drawn on a new figure, a time-series fit gets a second
+    panel below, sharing the time axis: the residual ``measured − predicted``
+    (``ax.figure.axes[1]``); on a given ``ax`` only the fit is drawn.
 
     Parameters
     ----------
@@ -23,6 +30,7 @@ def plot_identification(result, ax=None):
     Returns
     -------
     matplotlib Axes
+        The Axes of the fit (the residual panel, when drawn, is the figure's second Axes).
 
     Examples
     --------
@@ -31,9 +39,16 @@ def plot_identification(result, ax=None):
     """
     import matplotlib.pyplot as plt
 
-    if ax is None:
-        _, ax = plt.subplots(figsize=(6.4, 4.0))
     d = result.data
+    series = result.kind not in ("static_map", "reversal")
+    y, y_pred = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0))
+    res_ax = None
+    if ax is None:
+        if series and y.size and y.size == y_pred.size:  # the fit over its residual, one time axis
+            fig, (ax, res_ax) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True,
+                                             gridspec_kw={"height_ratios": [RESIDUAL_PANEL_RATIO, 1]})
+        else:
+            _, ax = plt.subplots(figsize=(6.4, 4.0))
     prov = result.provenance
     if result.kind == "static_map":
         v, F = d.get("v", np.zeros(0)), d.get("F", np.zeros(0))
@@ -81,18 +96,27 @@ def plot_identification(result, ax=None):
             if y_static is not None:
                 y_static = np.insert(np.asarray(y_static, float), gap, np.nan)
         ax.plot(t, y, "-", lw=0.8, color="C0", label="measured")
+        if res_ax is not None:
+            res_ax.plot(t, y - y_pred, "-", lw=0.6, color="C3")
+            res_ax.axhline(0.0, color="0.6", lw=0.8)
         ax.plot(t, y_pred, "-", lw=0.8, color="C1", label="predicted")
         if y_static is not None:
             ax.plot(t, y_static, "--", lw=0.8, color="C2", label="static map")
-        ax.set_xlabel("time [s]")
+        (res_ax or ax).set_xlabel("time [s]")
         # output-error fits compare a velocity or a position (force drive) or the force (motion drive)
         compare = prov.get("procedure", {}).get("compare") if result.kind == "output_error" else None
         unit = prov.get("units", {}).get(compare if compare in ("v", "x") else "F", "N")
         quantity = {"v": "velocity", "x": "position"}.get(compare, "torque" if "·m" in unit else "force")
         ax.set_ylabel(f"{quantity} [{unit}]")
+        if res_ax is not None:
+            res_ax.set_ylabel(f"residual [{unit}]")
+            res_ax.set_title("measured − predicted", fontsize="small", loc="left")
         title = f"{result.model_name}: relative error {result.relative_error_percent:.3g} %"
         if "static_rms" in result.diagnostics:
             title += f", RMS {result.rms:.3g} (static map {result.diagnostics['static_rms']:.3g}) {unit}"
         ax.set_title(title, fontsize="medium")
-    ax.legend(loc="best", fontsize="small")
+    if series:  # dense traces fill the axes (the EMPS fit's legend hid its peaks): legend outside, right
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
+    else:
+        ax.legend(loc="best", fontsize="small")
     return ax

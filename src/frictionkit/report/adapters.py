@@ -397,15 +397,15 @@ def identification_sections(res, *, name: str = "result", written: Mapping[str, 
     for w in res.warnings:
         sec.text.append(f"Flag: {w}")
     if not any(np.asarray(a).size for a in res.data.values()):
-        sec.text.append("The file holds no fitted data (saved with include_data=False, as the --json of identify "
-                        "rigid-body, presliding and force-driven output-error is): no plot of the fit here; the "
-                        "verb's --plot draws it.")
+        sec.text.append("The file holds no fitted data (saved with include_data=False, or by identify rigid-body, "
+                        "presliding or force-driven output-error before 2026-11-24): no plot of the fit here; "
+                        "the verb's --plot draws it.")
         return [sec]
     plt = _plt()
     try:
         ax = res.plot()
         fig = ax.figure
-        fig.set_size_inches(8, 4.2)
+        fig.set_size_inches(8, 4.2 if len(fig.axes) == 1 else 5.6)  # fit over its residual: two panels
         fig.tight_layout()
         sec.figures.append((f"{Path(name).stem}.png", figure_png(fig)))
     except Exception as exc:  # noqa: BLE001 - a plot must not hide the numbers

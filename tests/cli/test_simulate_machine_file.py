@@ -56,7 +56,7 @@ def test_machine_file_runs_as_the_library_does(tmp_path, emps):
     assert res.stdout.startswith("EMPS: 1501 samples") and f"wrote {out}" in res.stdout
     lib = fk.simulate_machine(m, dt=1e-3, inputs={"qg": qg})
     tr = _traces(out)
-    assert list(tr)[:5] == ["t [s]", "x.q [m]", "v.q [m/s]", "force.friction [N|N·m]", "u.motor"]
+    assert list(tr)[:5] == ["t [s]", "x.q [m]", "v.q [m/s]", "force.friction [N]", "u.motor"]
     # the file's machine, the file's dt (from the time column) and 17 digits in the CSV: the library's numbers
     np.testing.assert_allclose(tr["x.q [m]"], lib.q[:, 0], rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(tr["nu"], lib.signal("nu"), rtol=1e-12, atol=1e-12)
@@ -149,7 +149,7 @@ def test_readme_machine_files_example_runs_as_written(tmp_path, monkeypatch):
     doc = json.loads((tmp_path / "run.json").read_text())
     assert doc["status"] == 0 and doc["samples"] == 5001
     cols = (tmp_path / "traces.csv").read_text(encoding="utf-8").splitlines()[0].split(",")
-    assert cols[:4] == ["t [s]", "x.q [m]", "v.q [m/s]", "force.friction [N|N·m]"]  # as the README says
+    assert cols[:4] == ["t [s]", "x.q [m]", "v.q [m/s]", "force.friction [N]"]  # as the README says
     assert (tmp_path / "run.png").stat().st_size > 5000
 
 

@@ -66,6 +66,30 @@ class Site:
     role: str  # "friction", "compliance", "load"
     load: NormalLoad | None = None
     schedule: CoordSignal | None = None
+    unit: str = "N"  # of its force: "N" along a length, "N·m" about an angle (labels of plots and traces)
+
+
+#: Force units a site may carry: a force along a length, a torque about an angle.
+SITE_UNITS = ("N", "N·m")
+
+
+def site_unit(owner: str, at: Coord, dofs: list[Dof], unit: str | None) -> str:
+    """The force unit of a site on ``at``: ``unit`` when given (checked), else inferred from the coordinate.
+
+    Inferred: ``"N"`` when a translational DOF (or only prescribed motions) is in it; on rotational DOFs
+    only, ``"N·m"`` when one enters with coefficient ±1 (an angle, an angle difference ``th_m - th_s``) and
+    ``"N"`` when all are scaled — the package's transmissions to a length, a screw's lead ratio ``R * theta``
+    [m/rad] (seed 000's ``R * (theta1 + theta2)``). A coordinate is only numbers, so a scaled *angle* (a gear
+    ``theta_m / n``) cannot be told from a length: pass ``unit="N·m"`` there.
+    """
+    if unit is not None:
+        if unit not in SITE_UNITS:
+            raise ParameterError(f"{owner}.unit = {unit!r}: must be one of {list(SITE_UNITS)}")
+        return unit
+    kinds = {dofs[i].kind for i in at.dofs}
+    if kinds != {"rotational"}:
+        return "N"
+    return "N·m" if any(abs(abs(c) - 1.0) <= 1e-12 for c in at.dofs.values()) else "N"
 
 
 @dataclass(frozen=True)
@@ -225,7 +249,8 @@ class Machine:
         self.spring(a, b, c=c, name=name)
 
     def friction(self, name: str, a: Coord, b: Coord | None = None, *, law: FrictionLaw,
-                 load: NormalLoad | None = None, schedule: CoordSignal | None = None) -> None:
+                 load: NormalLoad | None = None, schedule: CoordSignal | None = None,
+                 unit: str | None = None) -> None:
         """A friction site on the motion of ``a`` relative to ``b`` (ground when None).
 
         ``law`` is any friction law: ``Stribeck``, ``CoulombViscous``, ``Directional``,
@@ -237,7 +262,8 @@ class Machine:
         nut's base speed ``(R * theta2).velocity``); required for such a law, refused for the
         others. A site on prescribed motions only (no degree of freedom) is kinematic: it is
         driven by the motion and acts on nothing — a motion-driven friction experiment inside a
-        machine.
+        machine. ``unit`` (``"N"`` or ``"N·m"``) labels its force in plots and traces; default from the
+        coordinate (:func:`site_unit`).
         """
         from ..models.tdmssc import is_scheduled
         from .simulate import law_family
@@ -260,28 +286,34 @@ class Machine:
                 raise ParameterError(f"{o}.schedule: {schedule.at!r} moves with nothing")
         elif schedule is not None:
             raise ParameterError(f"{o}.schedule = {schedule!r}: {type(law).__name__} reads no scheduling variable")
+        unit = site_unit(o, at, self.dofs, unit)
         name = self._new_name("friction", name)
-        self.sites.append(Site(name, at, law, "friction", load, schedule))
+        self.sites.append(Site(name, at, law, "friction", load, schedule, unit))
 
-    def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law: Any, c: float = 0.0) -> None:
+    def compliance(self, name: str, a: Coord, b: Coord | None = None, *, law: Any, c: float = 0.0,
+                   unit: str | None = None) -> None:
         """A nonlinear spring on ``a - b``: :class:`HertzContact` or :class:`PiecewiseLinearSpring`
-        (a harmonic drive's torque-dependent stiffness), with an optional linear damper ``c``."""
+        (a harmonic drive's torque-dependent stiffness), with an optional linear damper ``c``;
+        ``unit`` as in :meth:`friction`."""
         if not isinstance(law, (HertzContact, PiecewiseLinearSpring)):
             raise ParameterError(f"Machine.compliance({name!r}).law = {type(law).__name__}: "
                                  "must be HertzContact or PiecewiseLinearSpring")
         at = self._coord("compliance", a, b)
+        unit = site_unit(f"Machine.compliance({name!r})", at, self.dofs, unit)
         name = self._new_name("compliance", name)
-        self.sites.append(Site(name, at, law, "compliance"))
+        self.sites.append(Site(name, at, law, "compliance", unit=unit))
         if c:
             self.damper(a, b, c=c, name=f"{name}.damper")
 
-    def load(self, name: str, at: Coord, *, law: SineLoad) -> None:
-        """A position-dependent load, e.g. gravity imbalance ``m g X sin(theta)`` (:class:`SineLoad`)."""
+    def load(self, name: str, at: Coord, *, law: SineLoad, unit: str | None = None) -> None:
+        """A position-dependent load, e.g. gravity imbalance ``m g X sin(theta)`` (:class:`SineLoad`);
+        ``unit`` as in :meth:`friction`."""
         if not isinstance(law, SineLoad):
             raise ParameterError(f"Machine.load({name!r}).law = {type(law).__name__}: must be SineLoad")
         at = self._coord("load", at)
+        unit = site_unit(f"Machine.load({name!r})", at, self.dofs, unit)
         name = self._new_name("load", name)
-        self.sites.append(Site(name, at, law, "load"))
+        self.sites.append(Site(name, at, law, "load", unit=unit))
 
     def actuator(self, name: str, at: Coord, *, gain: float = 1.0, limit: float = math.inf,
                  delay: int = 0, command: str | None = None) -> None:
@@ -354,7 +386,8 @@ class Machine:
                     "law": law_to_dict(s.law) if s.role == "friction" else element_to_dict(s.law),
                     "load": None if s.load is None else element_to_dict(s.load),
                     "schedule": None if s.schedule is None else {"at": s.schedule.at.to_dict(),
-                                                                 "quantity": s.schedule.quantity}}
+                                                                 "quantity": s.schedule.quantity},
+                    "unit": s.unit}
 
         return {
             "name": self.name,
@@ -438,7 +471,7 @@ class Machine:
             m.spring(coord(d["at"], w), k=d.get("k", 0.0), c=d.get("c", 0.0), name=d.get("name"))
         for i, d in enumerate(seq(top, "sites")):
             w = f"machine.sites[{i}]"
-            d = obj(d, w, ("name", "role", "at", "law"), ("load", "schedule"))
+            d = obj(d, w, ("name", "role", "at", "law"), ("load", "schedule", "unit"))
             at, role = coord(d["at"], w), d["role"]
             if role == "friction":
                 sch = d.get("schedule")
@@ -447,13 +480,13 @@ class Machine:
                     sch = CoordSignal(coord(sch["at"], f"{w}.schedule"), sch["quantity"])
                 load = d.get("load")
                 load = None if load is None else element_from_dict(load, f"{w}.load")
-                m.friction(d["name"], at, law=law_from_dict(d["law"]), load=load, schedule=sch)
+                m.friction(d["name"], at, law=law_from_dict(d["law"]), load=load, schedule=sch, unit=d.get("unit"))
             elif role in ("compliance", "load"):
                 for k in ("load", "schedule"):
                     if d.get(k) is not None:
                         raise DataError(f"{w}: a {role} site has no {k!r}")
                 law = element_from_dict(d["law"], f"{w}.law")
-                (m.compliance if role == "compliance" else m.load)(d["name"], at, law=law)
+                (m.compliance if role == "compliance" else m.load)(d["name"], at, law=law, unit=d.get("unit"))
             else:
                 raise DataError(f"{w}.role = {role!r}: must be 'friction', 'compliance' or 'load'")
         for i, d in enumerate(seq(top, "actuators")):

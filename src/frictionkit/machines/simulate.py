@@ -254,38 +254,18 @@ class MachineResult(TraceAccess):
                  f"{steps}, status {self.status} ({self.message})", f"  kernel: {self.path}"]
         lines += self._dof_lines()
         for j, s in enumerate(self.site_names):
-            lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}")
+            lines.append(f"  {s:>12s}: max |F| = {np.nanmax(np.abs(self.site_forces[:, j])) if self.site_forces.shape[0] else 0:.4g}"
+                         f" {self.machine.sites[j].unit}")
         return "\n".join(lines)
 
     def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
-        """Positions of the degrees of freedom over time; returns the (left) Axes.
-
-        Translational DOFs [m] on the left axis; rotational ones [rad] on a twin right axis
-        when the machine has both.
+        """Positions, velocities and site forces over time, one panel per quantity and unit (m, rad;
+        m/s, rad/s; N, N·m) on a shared time axis; returns the array of Axes. On a given ``ax``: the
+        positions of the first DOF's unit, returning ``ax`` (:func:`frictionkit.plotting.simulation.plot_machine`).
         """
-        import matplotlib.pyplot as plt
+        from ..plotting.simulation import plot_machine
 
-        new = ax is None
-        if new:
-            _, ax = plt.subplots(figsize=(7, 3.5))
-        kinds = {d.kind for d in self.machine.dofs}
-        right = ax.twinx() if len(kinds) > 1 else None
-        lines = []
-        for i, d in enumerate(self.machine.dofs):
-            target = right if (right is not None and d.kind == "rotational") else ax
-            style = "--" if target is right else "-"
-            lines += target.plot(self.t, self.q[:, i], style, label=f"{d.name} [{d.unit}]", color=f"C{i}")
-        ax.set_xlabel("t [s]")
-        if right is not None:
-            ax.set_ylabel("position [m]")
-            right.set_ylabel("angle [rad]")
-        else:
-            ax.set_ylabel(f"position [{self.machine.dofs[0].unit}]")
-        ax.set_title(self.machine.name)
-        ax.legend(lines, [ln.get_label() for ln in lines], loc="best", fontsize=8)
-        if new:
-            ax.figure.tight_layout()
-        return ax
+        return plot_machine(self, ax=ax)
 
 
 _EXPM_CACHE: "OrderedDict[bytes, np.ndarray]" = OrderedDict()

@@ -28,3 +28,64 @@ def plot_result(res, ax=None):
     for a in ax:
         a.grid(True, alpha=0.3)
     return ax
+
+
+#: Height of one panel of :func:`plot_machine` [in]: six panels (the elastic ball screw: positions and
+#: velocities in m and rad, forces in N and N·m) then fit a report page at 8 x 10.8 in.
+MACHINE_PANEL_HEIGHT = 1.65
+
+
+def _machine_groups(res) -> list[tuple[str, str, list[tuple[str, np.ndarray]]]]:
+    """``(quantity, unit, [(label, samples), ...])`` per panel: positions and velocities per unit (m, rad),
+    then site forces per unit (N, N·m)."""
+    dofs = res.machine.dofs
+    groups = []
+    for quantity, arr, suffix in (("position", res.q, ""), ("velocity", res.v, "/s")):
+        for unit in dict.fromkeys(d.unit for d in dofs):
+            lines = [(d.name, arr[:, i]) for i, d in enumerate(dofs) if d.unit == unit]
+            groups.append((quantity, unit + suffix, lines))
+    from ..simulation.traces import site_units
+
+    units = site_units(res.machine)
+    for unit in dict.fromkeys(units):
+        lines = [(name, res.site_forces[:, j]) for j, name in enumerate(res.site_names) if units[j] == unit]
+        groups.append(("site torque" if unit == "N·m" else "site force", unit, lines))
+    return groups
+
+
+def plot_machine(res, ax=None):
+    """A machine run over time: positions, velocities and site forces, one panel per quantity and unit.
+
+    Parameters
+    ----------
+    res : MachineResult
+        A run of :func:`frictionkit.simulate_machine` (or the twin's result).
+    ax : matplotlib Axes, optional
+        Draw only the positions (one unit: the first DOF's) on it.
+
+    Returns
+    -------
+    ndarray of Axes (a new figure: one panel per quantity and unit — positions [m], [rad],
+    velocities [m/s], [rad/s], site forces [N], torques [N·m] — sharing the time axis,
+    legends outside on the right) or the given Axes.
+    """
+    import matplotlib.pyplot as plt
+
+    groups = _machine_groups(res)
+    if ax is not None:
+        groups = groups[:1]
+        axes = np.array([ax])
+    else:
+        fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
+                                 figsize=(8.0, 0.9 + MACHINE_PANEL_HEIGHT * len(groups)), layout="constrained")
+        axes = axes[:, 0]
+    for a, (quantity, unit, lines) in zip(axes, groups):
+        for k, (label, y) in enumerate(lines):
+            a.plot(res.t, y, lw=1.0, color=f"C{k % 10}", label=label)
+        a.set_ylabel(f"{quantity}\n[{unit}]")
+        a.grid(True, alpha=0.3)
+        a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
+    axes[-1].set_xlabel("time [s]")
+    status = "ok" if res.status == 0 else f"status {res.status}"
+    axes[0].set_title(f"{res.machine.name} ({status})", fontsize="medium")
+    return axes[0] if ax is not None else axes

@@ -386,7 +386,7 @@ class RotatorAxis:
         """
         m = Machine("SDSS rotator" + (" (HD bench)" if hd_only else ""))
         thm = m.dof("theta_m", inertia=self.J_m, kind="rotational")
-        m.friction("harmonic drive", thm / self.n, law=self.hd_friction)
+        m.friction("harmonic drive", thm / self.n, law=self.hd_friction, unit="N·m")  # a geared angle
         m.actuator("motor", thm, gain=self.K_T, limit=self.i_max, command="i")
         if hd_only:
             at = thm / self.ratio
@@ -396,7 +396,7 @@ class RotatorAxis:
             m.friction("bearing", th3, law=self.bearing)
             m.compliance("flexspline", thm / self.n, th3 * self.n_c,
                          law=PiecewiseLinearSpring.from_torque_breaks(self.hd_stiffness, self.hd_torques),
-                         c=self.hd_damping)
+                         c=self.hd_damping, unit="N·m")
             at = th3
             J = self.inertia
         m.sensor("encoder", at, resolution=self.encoder.resolution, noise=self.encoder.noise)

@@ -7,7 +7,8 @@ Rotary axes pass ``units={"F": "N·m", "v": "rad/s"}`` (labels only; the numbers
 is the force unit's key, as in model files).
 
 Older files (before the 2026-11-23 rename, README conventions) named the friction column ``F [N]`` (GMS
-elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]``; ``frictionkit report``
+elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]`` (now ``force.<site> [N]`` or
+``[N·m]``, each site's own unit); ``frictionkit report``
 reads a single-axis trace file in either spelling (machine traces are not a report input).
 """
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..errors import DataError
 
-__all__ = ["RUN_FORMAT", "TRACE_FORMATS", "machine_trace_table", "trace_table", "write_traces"]
+__all__ = ["RUN_FORMAT", "TRACE_FORMATS", "machine_trace_table", "site_units", "trace_table", "write_traces"]
 
 #: File formats of :func:`write_traces`, by suffix.
 TRACE_FORMATS = {".csv": "csv", ".parquet": "parquet", ".pq": "parquet"}
@@ -64,21 +65,26 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
 
 def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
     """``{column: samples}`` of a :class:`~frictionkit.machines.MachineResult`: ``t [s]``, per
-    degree of freedom ``x.<dof> [m|rad]`` and ``v.<dof> [m/s|rad/s]``, per site ``force.<site>``
-    (N on a linear coordinate, N·m on an angle: labelled ``[N|N·m]`` as the site's coordinate
-    may mix both), per actuator ``u.<actuator>`` (applied command), then every controller
+    degree of freedom ``x.<dof> [m|rad]`` and ``v.<dof> [m/s|rad/s]``, per site ``force.<site> [N]``
+    or ``[N·m]`` (the site's unit: N along a length, N·m about an angle, ``Machine.friction(unit=)``;
+    files written before 2026-11-24 labelled every site ``[N|N·m]``), per actuator ``u.<actuator>`` (applied command), then every controller
     signal by its name (units as the machine's blocks define them)."""
     out = {"t [s]": result.t}
     for i, d in enumerate(result.machine.dofs):
         out[f"x.{d.name} [{d.unit}]"] = result.q[:, i]
         out[f"v.{d.name} [{d.unit}/s]"] = result.v[:, i]
     for j, name in enumerate(result.site_names):
-        out[f"force.{name} [N|N·m]"] = result.site_forces[:, j]
+        out[f"force.{name} [{site_units(result.machine)[j]}]"] = result.site_forces[:, j]
     for j, name in enumerate(result.actuator_names):
         out[f"u.{name}"] = result.u[:, j]
     for j, name in enumerate(result.signal_names):
         out.setdefault(name, result.signals[:, j])
     return out
+
+
+def site_units(machine: Any) -> list[str]:
+    """The force unit of each site of ``machine``, in its order (``"N"`` or ``"N·m"``)."""
+    return [getattr(s, "unit", "N") for s in machine.sites]
 
 
 def write_traces(result: Any, path: str | Path, *, units: Mapping[str, str] | None = None) -> Path:

@@ -497,6 +497,21 @@ def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, A
     return row
 
 
+#: The figure of merit that orders a study's compensators, best (lowest) first: the median over the runs
+#: of each run's max tracking error (the number the summary leads with; the 95th percentile and RMS follow
+#: it). Compensators without a successful run come last, in the table's order.
+RANK_BY = "max_error_median_m"
+
+
+def rank_compensators(table: Any) -> list[str]:
+    """The compensators of a study table (one row per run), best first by the median of ``max_error`` over
+    the successful runs; ties and compensators whose every run failed keep the table's order, last."""
+    comps = list(dict.fromkeys(table["compensator"].dropna().astype(str))) if len(table) else []
+    ok = table[table["ok"].astype(bool)] if len(table) else table
+    med = {c: float(ok.loc[ok["compensator"].astype(str) == c, "max_error"].median()) for c in comps}
+    return sorted(comps, key=lambda c: (not np.isfinite(med[c]), med[c] if np.isfinite(med[c]) else 0.0))
+
+
 #: ``format`` of :meth:`StudyResult.to_dict` (``frictionkit study --json``).
 STUDY_FORMAT = "frictionkit.study/1"
 
@@ -530,10 +545,12 @@ class StudyResult:
         return "ok" if n and not bad else (f"{bad} of {n} run(s) failed" if n else "no runs")
 
     def summary(self) -> str:
-        """Per compensator: the median and 95th percentile of the max tracking error [µm]."""
+        """Per compensator, best first (:data:`RANK_BY`): the median and 95th percentile of the max tracking
+        error [µm]."""
         d = self.to_dict()
         lines = [f"study: {self.runs} run(s), {self.computed} simulated, {self.skipped} done before; "
-                 f"status {self.status} ({self.message}); {self.out}"]
+                 f"status {self.status} ({self.message}); {self.out}",
+                 "compensators, best first by the median of the runs' max tracking error:"]
         for comp, c in d["compensators"].items():
             med, p95 = c["max_error_median_m"], c["max_error_p95_m"]
             lines.append(f"  {comp:<10} max error median {1e6 * med:.3f} µm, 95th percentile {1e6 * p95:.3f} µm "
@@ -542,16 +559,17 @@ class StudyResult:
         return "\n".join(lines)
 
     def plot(self, ax=None):
-        """Max tracking error [µm] of every run, one box per compensator; returns the Axes."""
+        """Max tracking error [µm] of every run, one box per compensator (best first); returns the Axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 3.5))
         df = self.table[self.table["ok"].astype(bool)] if len(self.table) else self.table
-        comps = list(dict.fromkeys(df["compensator"])) if len(df) else []
-        data = [1e6 * df.loc[df["compensator"] == c, "max_error"].to_numpy(float) for c in comps]
+        comps = [c for c in rank_compensators(self.table) if (df["compensator"].astype(str) == c).any()]
+        data = [1e6 * df.loc[df["compensator"].astype(str) == c, "max_error"].to_numpy(float) for c in comps]
         if data:
-            ax.boxplot(data, labels=comps)
+            ax.boxplot(data)  # labels= is gone from matplotlib 3.10's boxplot (TypeError): ticks instead
+            ax.set_xticks(np.arange(1, len(comps) + 1), comps)
             for i, y in enumerate(data, start=1):
                 ax.plot(np.full(y.size, i), y, ".", color="0.3", ms=3)
         ax.set_ylabel("max tracking error [µm]")
@@ -559,10 +577,13 @@ class StudyResult:
         return ax
 
     def to_dict(self) -> dict[str, Any]:
-        """Per compensator: runs, failures, median and 95th percentile of the max and RMS tracking error [m]."""
+        """Per compensator, best first (``"ranked_by"``: :data:`RANK_BY`): runs, failures, median and 95th
+        percentile of the max and RMS tracking error [m]."""
         df = self.table
         per = {}
-        for comp, g in df.groupby("compensator", sort=False):
+        groups = dict(tuple(df.groupby(df["compensator"].astype(str), sort=False))) if len(df) else {}
+        for comp in rank_compensators(df):
+            g = groups[comp]
             ok = g[g["ok"]]
             per[comp] = {"runs": int(len(g)), "failed": int((~g["ok"]).sum()),
                          "max_error_median_m": float(ok["max_error"].median()) if len(ok) else None,
@@ -572,7 +593,7 @@ class StudyResult:
                 per[comp]["reversal_error_median_m"] = float(ok["reversal_error"].median()) if len(ok) else None
         return {"format": STUDY_FORMAT, "out": str(self.out), "runs": self.runs, "computed": self.computed,
                 "skipped": self.skipped, "other_version": self.other_version,
-                "elapsed_s": round(self.elapsed, 3), "compensators": per}
+                "elapsed_s": round(self.elapsed, 3), "ranked_by": f"{RANK_BY}, best first", "compensators": per}
 
 
 # ============================================================================ the engine

@@ -304,7 +304,8 @@ def study_cmd(
     _json_option(json_out, [spec], out)
     res = run_study(st, out=out, scheduler=scheduler, workers=workers, progress=progress)
     doc = res.to_dict()
-    lines = [f"{res.runs} run(s): {res.computed} simulated, {res.skipped} done before (skipped)"]
+    lines = [f"{res.runs} run(s): {res.computed} simulated, {res.skipped} done before (skipped); compensators best "
+             "first by the median max tracking error"]
     for comp, s in doc["compensators"].items():
         med = s["max_error_median_m"]
         p95 = s["max_error_p95_m"]

@@ -785,11 +785,10 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
 
 # --------------------------------------------------------------------------- studies
 def _compensators(df) -> list[str]:
-    """The study's compensators, in the order of :data:`frictionkit.study.COMPENSATORS` (others after)."""
-    from ..study import COMPENSATORS
+    """The study's compensators, best first (:func:`frictionkit.study.rank_compensators`)."""
+    from ..study import rank_compensators
 
-    have = list(dict.fromkeys(df["compensator"].dropna().astype(str)))
-    return [c for c in COMPENSATORS if c in have] + [c for c in have if c not in COMPENSATORS]
+    return rank_compensators(df)
 
 
 def study_table(df) -> list[list[str]]:
@@ -841,7 +840,7 @@ def study_sections(df) -> list[Section]:
                     + (f"; study {sha.iloc[0][:12]}" if len(sha) else "")
                     + (f"; frictionkit {', '.join(sorted(df['frictionkit_version'].dropna().astype(str).unique()))}"
                        if "frictionkit_version" in df else "") + ". Errors of the true position, after the first 10 % "
-                    "of each run.")
+                    "of each run. Compensators best first, by the median of the runs' max tracking error.")
     sec.table = study_table(df)
     from pandas.api.types import is_bool_dtype, is_numeric_dtype
 
@@ -869,7 +868,14 @@ def study_summary_sections(d: Mapping[str, Any]) -> list[Section]:
     sec = Section(f"Monte-Carlo study summary ({d.get('runs', '?')} runs)")
     sec.table = [["compensator", "runs", "failed", "max error median [µm]", "max error 95th pct [µm]",
                   "RMS error median [µm]"]]
-    for comp, s in d["compensators"].items():
+    from ..study import RANK_BY
+
+    def merit(item):  # files written before the ranking listed them in the table's order
+        x = item[1].get(RANK_BY)
+        return (not isinstance(x, (int, float)) or isinstance(x, bool), x if isinstance(x, (int, float)) else 0.0)
+
+    sec.text.append("Compensators best first, by the median of the runs' max tracking error.")
+    for comp, s in sorted(d["compensators"].items(), key=merit):
         sec.table.append([comp, str(s.get("runs")), str(s.get("failed")), _um(s.get("max_error_median_m")),
                           _um(s.get("max_error_p95_m")), _um(s.get("rms_error_median_m"))])
     if d.get("out"):

@@ -1402,13 +1402,18 @@ def run(
                                     xg = ds[j] + (aj - aused[j]) / slope
                             done_j = False
                             F0 = z0e = math.nan
-                            if site_kind[j] == S_LUGRE and Gjj > 0.0:
-                                # _solve_site's first step inline, same numbers: one call passing one
-                                # array instead of three nested calls passing three (each array argument
-                                # costs a reference-count update on entry and exit). Most LuGre/Dahl
-                                # solves end here (measured 2026-11-24: flank stage 1.20x kernel CPU)
+                            if (site_kind[j] == S_LUGRE or site_kind[j] == S_GMS) and Gjj > 0.0:
+                                # _solve_site's first step inline, same numbers: one call instead of
+                                # three nested ones (each array argument of a call costs a reference-
+                                # count update on entry and exit: _lugre_mean takes one array,
+                                # _solve_site and _site_mean three). Most LuGre/Dahl and GMS solves end
+                                # here (measured 2026-11-24: flank stage 1.20x kernel CPU with LuGre's)
                                 x0 = xg if math.isfinite(xg) else aj - Gjj * Fbar[j]
-                                F0, z0e = _lugre_mean(par, site_po[j], st[site_so[j]], x0, ha, lam[j], dlam[j])
+                                if site_kind[j] == S_LUGRE:
+                                    F0, z0e = _lugre_mean(par, site_po[j], st[site_so[j]], x0, ha, lam[j], dlam[j])
+                                else:  # element states to stw, as _site_mean (z0e = 1.0 says so)
+                                    F0 = _gms_mean(par, site_po[j], st, site_so[j], x0, ha, stw, lam[j], v0s[j])
+                                    z0e = 1.0
                                 if abs(x0 + Gjj * F0 - aj) <= tj:
                                     dsj, Fj, ktj, zj = x0, F0, kt[j], z0e
                                     done_j = True

@@ -136,7 +136,8 @@ class Catalog:
 
 
 #: Field names whose unit :func:`frictionkit.identify._advice.unit` knows; others are listed without one.
-_KNOWN_UNITS = {"Fc", "Fs", "vs", "delta", "sigma0", "sigma1", "sigma2", "k", "xi", "C"}
+_KNOWN_UNITS = {"Fc", "Fs", "vs", "delta", "sigma0", "sigma1", "sigma2", "k", "xi", "C",
+                "Fc0", "Fs0", "Fc1", "Fs1", "eps"}  # the last five: TDMSSC's (they were listed without a unit)
 
 
 def _sentence(text: str, limit: int = 200) -> str:

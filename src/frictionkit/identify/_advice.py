@@ -115,10 +115,23 @@ def advisor(model, names, theta, v_typ: float, dt: float, units: dict):
     return advice
 
 
+#: The unit printed for a dimensionless parameter (δ, ξ) everywhere: parameter tables, model files, the
+#: ``models`` listing, exports. Was "1" in the static fits' tables and "-" elsewhere (the new-user walk).
+DIMENSIONLESS = "-"
+
+
 def unit(name: str, units: dict) -> str:
+    """The unit of a law or fit parameter by its (base) name, for the axis units ``{"F", "x"[, "v"]}``;
+    :data:`DIMENSIONLESS` for δ, ξ and names it does not know."""
     Fu, xu = units["F"], units["x"]
     vu = units.get("v", f"{xu}/s")
     b = base_name(name)
+    if b in ("Fc0", "Fs0"):  # TDMSSC's levels at zero schedule
+        return Fu
+    if b in ("Fc1", "Fs1"):  # TDMSSC's level slopes per unit of the schedule (a speed)
+        return f"{Fu}·s/{xu}"
+    if b == "eps":  # TDMSSC's -eps·v·|v|
+        return f"{Fu}·s²/{xu}²"
     if b in ("sigma0", "k"):
         return f"{Fu}/{xu}"
     if b in ("sigma1", "sigma2"):
@@ -135,4 +148,4 @@ def unit(name: str, units: dict) -> str:
         if xu == "rad" and Fu == "N·m":
             return "kg·m²"
         return f"{Fu}·s²/{xu}"
-    return "-"
+    return DIMENSIONLESS

@@ -170,4 +170,6 @@ def _unit(name: str, Fu: str, xu: str) -> str:
         return f"{Fu}/s"
     if base == "m":
         return "kg" if xu == "m" else f"{Fu}·s²/{xu}"
-    return "-"
+    from ._advice import DIMENSIONLESS
+
+    return DIMENSIONLESS

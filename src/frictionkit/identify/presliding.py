@@ -345,7 +345,9 @@ def fit_presliding(
                                "branch": branch, "samples": [int(a), int(b)], "segment": int(pick),
                                "elements": M, "polish": bool(polish), "rests": md.rests,
                                "min_rest": int(min_rest), "fit": cfg.to_dict()}})
-    units = tuple([f"{Fu}/{xu}"] * M + ["-"] * M)
+    from ._advice import DIMENSIONLESS
+
+    units = tuple([f"{Fu}/{xu}"] * M + [DIMENSIONLESS] * M)
     if np.any(k0 <= 0):
         j = int(np.flatnonzero(k0 <= 0)[0])
         message = (f"the {branch} branch is not concave — the slope rises at breakpoint {j + 1} "

@@ -165,7 +165,9 @@ def _unit_of(name: str, Fu: str, vu: str) -> str:
     if name == "vs":
         return vu
     if name == "delta":
-        return "1"
+        from ._advice import DIMENSIONLESS
+
+        return DIMENSIONLESS
     if vu.endswith("/s"):
         return f"{Fu}·s/{vu[:-2]}"
     return f"{Fu}/({vu})"

@@ -203,7 +203,10 @@ class CompensationResult:
         ax.set_xlabel("time [s]")
         ax.set_ylabel(f"tracking error r - x [{label}]")
         ax.set_title(f"{self.preset}: friction compensators")
-        ax.legend(fontsize=8)
+        # outside, right: inside, 'best' sat beside the error peaks of the later reversals
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+        if ax.figure.get_layout_engine() is None:
+            ax.figure.tight_layout()
         return ax
 
 

@@ -86,3 +86,24 @@ def test_plot_has_positions_velocities_and_forces_on_one_time_axis(run):
         assert run.plot(ax=ax) is ax and ax.get_ylabel() == "position\n[rad]"
     finally:
         plt.close(fig)
+
+
+def test_report_reads_machine_traces(run, tmp_path, monkeypatch):
+    """``simulate MACHINE.json --out traces.csv`` becomes a report section (it was refused as 'a table of no
+    kind' while the refusal of a machine file said to report exactly these traces)."""
+    import matplotlib.pyplot as plt
+
+    from frictionkit.report import adapters
+    from frictionkit.simulation.traces import write_traces
+
+    figs = []
+    monkeypatch.setattr(adapters, "figure_png", lambda fig: figs.append(fig) or b"")
+    kind, (sec,) = adapters.sections_from_file(write_traces(run, tmp_path / "traces.csv"))
+    try:
+        assert kind == "machine-traces" and "2 degree(s) of freedom" in sec.title
+        axes = figs[0].axes
+        assert [a.get_ylabel() for a in axes] == ["position\n[rad]", "position\n[m]", "velocity\n[rad/s]",
+                                                  "velocity\n[m/s]", "site torque\n[N·m]", "site force\n[N]"]
+        np.testing.assert_allclose(axes[5].lines[0].get_ydata(), run.force("nut"), rtol=1e-15)
+    finally:
+        plt.close("all")

@@ -69,7 +69,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
     import pandas as pd
 
     from .._io import atomic_write_text
-    from ..plotting.fleet import plot_axis_history, plot_parameter_distribution
+    from ..plotting.fleet import plot_axis_histories, plot_parameter_distribution
     from .drift import drift_summary, monitor_drift
 
     df = results if isinstance(results, pd.DataFrame) else pd.read_parquet(results)
@@ -111,9 +111,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
         parts.append("<p>None: every axis's change is within what its intervals and temperature explain.</p>")
     drawn = []
     for axis in flagged["axis"].head(int(max_axes)):
-        fig, axs = plt.subplots(1, len(params), figsize=(3.6 * len(params), 3.0), layout="constrained", squeeze=False)
-        for p, ax in zip(params, axs[0]):
-            plot_axis_history(df, axis, p, ax=ax)
+        fig = plot_axis_histories(df, axis, params)
         parts.append(f"<h3>{html.escape(axis)}</h3><img alt='{html.escape(axis)}' "
                      f"src='data:image/png;base64,{_png(fig)}'>")
         plt.close(fig)

@@ -462,11 +462,14 @@ class ModelFile:
             for s in sites:
                 ax.plot(v, s.law.steady_state(v), lw=1.5, label=f"{s.name} ({law_entry(s.law).name})")
             ax.axhline(0.0, color="0.7", lw=0.8)
-            ax.set_xlabel("site velocity [m/s or rad/s]")
-            ax.set_ylabel("friction [N or N·m]")
+            units = {getattr(s, "unit", "N") for s in sites}  # each site's own (Machine.friction unit=)
+            F_u, v_u = ("N", "m/s") if units == {"N"} else ("N·m", "rad/s") if units == {"N·m"} else \
+                ("N or N·m", "m/s or rad/s")
+            ax.set_xlabel(f"site velocity [{v_u}]")
+            ax.set_ylabel(f"friction [{F_u}]")
             ax.set_title(f"{self.model.name}: friction sites, steady state")
-            if sites:
-                ax.legend(fontsize=8)
+            if sites:  # friction opposes motion: the v < 0, F > 0 quadrant holds no curve
+                ax.legend(fontsize=8, loc="upper left")
             return ax
         vmax = _speed_scale(self.model)
         v = np.linspace(-vmax, vmax, 801)

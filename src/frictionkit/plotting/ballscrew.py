@@ -36,12 +36,16 @@ def plot_compensation(table3_result, *, crossing: int = 0, span=(-0.02, 0.02), a
     ax = _ax(ax)
     rev = [c for c in table3_result.crossings if c.reverse]
     c = rev[crossing]
+    falls = True
     for law, res in table3_result.runs.items():
         sel = (res.t >= c.t0 + span[0]) & (res.t <= c.t0 + span[1])
         ax.plot((res.t[sel] - c.t0) * 1e3, res.u_f[sel], label=law)
+        if sel.any():
+            falls = bool(res.u_f[sel][0] >= res.u_f[sel][-1])
     ax.set_xlabel("time from reversal [ms]")
     ax.set_ylabel("u_f [N·m]")
-    ax.legend()
+    # the laws step from one level to the other: the corner they leave empty (upper right covered sinc's ramp)
+    ax.legend(loc="lower left" if falls else "upper left")
     ax.grid(True, alpha=0.3)
     return ax
 

@@ -65,7 +65,7 @@ def plot_parameter_distribution(results, parameter: str = "Fc_pos", *, period: s
     return ax
 
 
-def plot_axis_history(results, axis: str, parameter: str = "Fc_pos", *, ax=None):
+def plot_axis_history(results, axis: str, parameter: str = "Fc_pos", *, ax=None, legend: bool = True):
     """One axis's parameter over time: daily estimates with 95 % intervals, the fitted trend,
     the temperature-free trend, and the alarm.
 
@@ -78,6 +78,8 @@ def plot_axis_history(results, axis: str, parameter: str = "Fc_pos", *, ax=None)
     parameter : str
         Column to show.
     ax : matplotlib Axes, optional
+    legend : bool
+        Draw the legend in the axes (:func:`plot_axis_histories` puts one below its row instead).
 
     Returns
     -------
@@ -116,9 +118,25 @@ def plot_axis_history(results, axis: str, parameter: str = "Fc_pos", *, ax=None)
     unit = _unit(df, parameter)
     ax.set_ylabel(parameter + (f" [{unit}]" if unit else ""))
     ax.set_title(f"{axis}: {parameter}", fontsize=10)
-    ax.legend(fontsize=7)
+    if legend:
+        ax.legend(fontsize=7)
     ax.tick_params(axis="x", labelrotation=30, labelsize=8)
     return ax
 
 
-__all__ = ["plot_axis_history", "plot_parameter_distribution"]
+def plot_axis_histories(results, axis: str, parameters):
+    """:func:`plot_axis_history` of several parameters of one axis in a row, with ONE legend below the
+    row (in each 3.6-inch panel a four-entry legend covered daily estimates); returns the Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axs = plt.subplots(1, len(parameters), figsize=(3.6 * len(parameters), 3.4), layout="constrained",
+                            squeeze=False)
+    for p, ax in zip(parameters, axs[0]):
+        plot_axis_history(results, axis, p, ax=ax, legend=False)
+    handles, labels = axs[0, 0].get_legend_handles_labels()
+    if handles:
+        fig.legend(handles, labels, loc="outside lower center", ncols=len(handles), fontsize=8, frameon=False)
+    return fig
+
+
+__all__ = ["plot_axis_histories", "plot_axis_history", "plot_parameter_distribution"]

@@ -117,6 +117,8 @@ def plot_identification(result, ax=None):
         ax.set_title(title, fontsize="medium")
     if series:  # dense traces fill the axes (the EMPS fit's legend hid its peaks): legend outside, right
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
+    elif result.kind == "static_map":  # friction opposes motion: the v < 0, F > 0 quadrant holds no data
+        ax.legend(loc="upper left", fontsize="small")
     else:
         ax.legend(loc="best", fontsize="small")
     return ax

@@ -18,7 +18,7 @@ def _map_panel(ax, law, pts, title, vmax, screen=None):
     ax.set_xlabel("ω [rad/s]")
     ax.set_ylabel("T_f [N·m]")
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7)  # 'best': "upper left" (the empty quadrant) is too narrow on a symlog axis
 
 
 def _velocity_panel(ax, run, model, inertia, title):
@@ -30,10 +30,12 @@ def _velocity_panel(ax, run, model, inertia, title):
     ax.set_xlabel("t [s]")
     ax.set_ylabel("ω [arcsec/s]")
     ax2 = ax.twinx()
-    ax2.plot(t, run["F"] - run["load"], color="0.7", lw=0.8)
+    ax2.plot(t, run["F"] - run["load"], color="0.7", lw=0.8, label="input torque − G (right axis)")
     ax2.set_ylabel("input torque − G [N·m]", color="0.5", fontsize=7)
     ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, loc="upper left")
+    # no legend here: the runs fill their panels (an 'upper left' one hid the first peak); one figure
+    # legend above the grid names the three traces (reproduction_figure)
+    return [*ax.get_lines(), *ax2.get_lines()]
 
 
 def reproduction_figure(rep):
@@ -41,6 +43,7 @@ def reproduction_figure(rep):
     import matplotlib.pyplot as plt
 
     fig, axs = plt.subplots(3, 3, figsize=(15, 11))
+    traces = []
     az, alt, rot = rep.axes["azimuth"], rep.axes["altitude"], rep.axes["rotator"]
     if az.fit is not None and az.fit.model is not None:
         _map_panel(axs[0, 0], az.fit.model.static, az.steady, "Fig. 3 analogue: azimuth static map (eq. 10)",
@@ -49,13 +52,13 @@ def reproduction_figure(rep):
         for ax, k, ttl in ((axs[0, 1], "fig4a_triangle", "Fig. 4a: azimuth, triangle below breakaway"),
                            (axs[0, 2], "fig4b_sine", "Fig. 4b: azimuth, sine below breakaway"),
                            (axs[1, 0], "fig4c_above", "Fig. 4c: azimuth, slightly above breakaway")):
-            _velocity_panel(ax, az.runs[k], az.fit.model, az.fit.inertia,
-                            f"{ttl} (NRMSE {az.nrmse.get(k, float('nan')):.2f} %)")
+            traces = _velocity_panel(ax, az.runs[k], az.fit.model, az.fit.inertia,
+                                     f"{ttl} (NRMSE {az.nrmse.get(k, float('nan')):.2f} %)")
     if alt.fit is not None and alt.fit.model is not None:
         for ax, k, ttl in ((axs[1, 1], "fig6a_triangle", "Fig. 6a: altitude, triangle below breakaway"),
                            (axs[1, 2], "fig6b_above", "Fig. 6b: altitude, slightly above breakaway")):
-            _velocity_panel(ax, alt.runs[k], alt.fit.model, alt.fit.inertia,
-                            f"{ttl} (NRMSE {alt.nrmse.get(k, float('nan')):.2f} %)")
+            traces = _velocity_panel(ax, alt.runs[k], alt.fit.model, alt.fit.inertia,
+                                     f"{ttl} (NRMSE {alt.nrmse.get(k, float('nan')):.2f} %)")
         _map_panel(axs[2, 0], alt.fit.model.static, None, "Fig. 7: altitude static curve (computed)", 0.01)
     res = rot.extra.get("static_result")
     if res is not None and res.model is not None:
@@ -69,5 +72,9 @@ def reproduction_figure(rep):
     ax.set_ylabel("RMS tracking error [arcsec]")
     ax.set_title("Extension (ours): azimuth at sidereal rate", fontsize=9)
     fig.suptitle("Seed 002, SDSS 2.5 m telescope: simulated reproduction" + (" (quick)" if rep.quick else ""))
-    fig.tight_layout()
+    if traces:
+        fig.legend(traces, [ln.get_label() for ln in traces], loc="upper center", bbox_to_anchor=(0.5, 0.965),
+                   ncols=3, fontsize=9, frameon=False, title="Figs. 4 and 6:", title_fontsize=9,
+                   alignment="left")
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.94 if traces else 0.97))
     return fig, axs

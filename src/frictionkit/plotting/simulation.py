@@ -53,6 +53,48 @@ def _machine_groups(res) -> list[tuple[str, str, list[tuple[str, np.ndarray]]]]:
     return groups
 
 
+def trace_groups(columns) -> list[tuple[str, str, list[tuple[str, str]]]]:
+    """The panels of a machine's trace table (``simulate --out``): ``(quantity, unit, [(label, column)])``
+    for ``x.<dof> [u]``, ``v.<dof> [u]`` and ``force.<site> [u]`` (``F.<site>`` in older files), one
+    panel per quantity and unit, in the order of :func:`plot_machine`."""
+    import re
+
+    kinds = (("x.", "position"), ("v.", "velocity"), ("force.", "site force"), ("F.", "site force"))
+    groups: dict[tuple[str, str], list[tuple[str, str]]] = {}
+    for c in map(str, columns):
+        m = re.fullmatch(r"(x\.|v\.|force\.|F\.)(.+) \[([^\]]*)\]", c)
+        if m:
+            quantity = dict(kinds)[m.group(1)]
+            if quantity == "site force" and m.group(3) == "N·m":
+                quantity = "site torque"
+            groups.setdefault((quantity, m.group(3)), []).append((m.group(2), c))
+    order = {"position": 0, "velocity": 1, "site force": 2, "site torque": 2}
+    return [(q, u, lines) for (q, u), lines in sorted(groups.items(), key=lambda kv: order[kv[0][0]])]
+
+
+def plot_panels(t, groups, *, title: str, ax=None):
+    """Time histories, one panel per ``(quantity, unit, [(label, samples)])`` group, sharing the time
+    axis, legends outside on the right; on a given ``ax`` the first group only. Returns the Axes
+    (the array of them on a new figure)."""
+    import matplotlib.pyplot as plt
+
+    if ax is not None:
+        groups, axes = groups[:1], np.array([ax])
+    else:
+        _, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
+                               figsize=(8.0, 0.9 + MACHINE_PANEL_HEIGHT * len(groups)), layout="constrained")
+        axes = axes[:, 0]
+    for a, (quantity, unit, lines) in zip(axes, groups):
+        for k, (label, y) in enumerate(lines):
+            a.plot(t, y, lw=1.0, color=f"C{k % 10}", label=label)
+        a.set_ylabel(f"{quantity}\n[{unit}]")
+        a.grid(True, alpha=0.3)
+        a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
+    axes[-1].set_xlabel("time [s]")
+    axes[0].set_title(title, fontsize="medium")
+    return axes[0] if ax is not None else axes
+
+
 def plot_machine(res, ax=None):
     """A machine run over time: positions, velocities and site forces, one panel per quantity and unit.
 
@@ -69,23 +111,5 @@ def plot_machine(res, ax=None):
     velocities [m/s], [rad/s], site forces [N], torques [N·m] — sharing the time axis,
     legends outside on the right) or the given Axes.
     """
-    import matplotlib.pyplot as plt
-
-    groups = _machine_groups(res)
-    if ax is not None:
-        groups = groups[:1]
-        axes = np.array([ax])
-    else:
-        fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
-                                 figsize=(8.0, 0.9 + MACHINE_PANEL_HEIGHT * len(groups)), layout="constrained")
-        axes = axes[:, 0]
-    for a, (quantity, unit, lines) in zip(axes, groups):
-        for k, (label, y) in enumerate(lines):
-            a.plot(res.t, y, lw=1.0, color=f"C{k % 10}", label=label)
-        a.set_ylabel(f"{quantity}\n[{unit}]")
-        a.grid(True, alpha=0.3)
-        a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
-    axes[-1].set_xlabel("time [s]")
     status = "ok" if res.status == 0 else f"status {res.status}"
-    axes[0].set_title(f"{res.machine.name} ({status})", fontsize="medium")
-    return axes[0] if ax is not None else axes
+    return plot_panels(res.t, _machine_groups(res), title=f"{res.machine.name} ({status})", ax=ax)

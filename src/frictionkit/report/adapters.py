@@ -326,9 +326,12 @@ def _table_kind(df, where: str) -> tuple[str, list[Section]]:
         return "fleet", fleet_sections(df)
     if "t [s]" in cols and any(str(c).startswith(("friction [", "F [")) for c in cols):  # "F [": older files
         return "traces", traces_sections(df)
+    if "t [s]" in cols and any(str(c).startswith("x.") for c in cols):  # a machine's run (simulate MACHINE.json)
+        return "machine-traces", machine_traces_sections(df)
     shown = ", ".join(map(str, list(df.columns)[:8]))
     raise DataError(f"{where}: a table of no kind frictionkit report reads (columns: {shown}); expected the "
-                    "Parquet of 'fleet identify' or 'study', or the traces of 'simulate --out' (a 't [s]' column)")
+                    "Parquet of 'fleet identify' or 'study', or the traces of 'simulate --out' (a 't [s]' column "
+                    "beside 'friction [N]' or, of a machine, 'x.<dof> [m]')")
 
 
 # --------------------------------------------------------------------------- identification
@@ -498,6 +501,12 @@ def _hysteresis_run(law) -> tuple[np.ndarray, np.ndarray, float] | None:
 
 
 # --------------------------------------------------------------------------- reproductions
+def _legend_right(ax) -> None:
+    """The legend outside the axes, on the right: over no bar or line (bar charts' 'best' place
+    still covered the tallest bar when it stood at the right)."""
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+
+
 def zhu_fujimoto_findings(docs: Mapping[str, Mapping[str, Any]]) -> list[list[str]]:
     """The seed-001 findings table, one column per stage: ``{stage: reproduce zhu-fujimoto JSON}``.
 
@@ -589,7 +598,7 @@ def zhu_fujimoto_sections(d: Mapping[str, Any]) -> list[Section]:
     ax.bar(x + 0.2, [np.nan if v is None else v for v in pap], 0.4, label="paper")
     ax.set_xticks(x, laws)
     ax.set(ylabel="max error in the reverse motion [µm]", title="Table 3")
-    ax.legend(fontsize=8)
+    _legend_right(ax)
     ax.grid(alpha=0.3, axis="y")
     sec.figures.append(("zhu_fujimoto_table3.png", figure_png(fig)))
     return [sec]
@@ -694,7 +703,7 @@ def zhang2023_sections(d: Mapping[str, Any]) -> list[Section]:
         ax.set_yscale("log")
         ax.set_xticks(x, labels, fontsize=7)
         ax.set(ylabel="worktable error std [µm]", title=f"{key[:5].title()} {key[5:]}: {col}")
-        ax.legend(fontsize=8)
+    _legend_right(axs[-1])  # one legend for both panels, beside them
     sec.figures.append(("zhang2023_tables.png", figure_png(fig)))
     sec.text.append("The simulated errors are nm where the paper's are µm (the assumed 40 Hz loops; nothing tuned "
                     "toward µm): compare the orderings, not the levels.")
@@ -778,7 +787,7 @@ def compensation_sections(d: Mapping[str, Any]) -> list[Section]:
     ax.set_xticks(x, names)
     ax.set(ylabel=f"tracking error [{label}]", title=f"{short}: friction compensators")
     ax.grid(alpha=0.3, axis="y")
-    ax.legend(fontsize=8)
+    _legend_right(ax)
     sec.figures.append((f"compensate_{short}.png", figure_png(fig)))
     return [sec]
 
@@ -888,7 +897,7 @@ def fleet_sections(df) -> list[Section]:
     """The fleet in numbers, parameter distributions, flagged axes (drawn over time), failed files."""
     from ..fleet.drift import drift_summary
     from ..fleet.report import HISTORY
-    from ..plotting.fleet import plot_axis_history, plot_parameter_distribution
+    from ..plotting.fleet import plot_axis_histories, plot_parameter_distribution
 
     plt = _plt()
     ok = df["ok"].astype(bool)
@@ -918,10 +927,7 @@ def fleet_sections(df) -> list[Section]:
             [str(r["axis"]), str(r.get("drift_alarm_period", "")), str(r.get("drift_detail", ""))]
             for _, r in flagged.iterrows()]))
         for axis in flagged["axis"].head(5):
-            fig, axs = plt.subplots(1, len(params), figsize=(3.6 * len(params), 3.0), layout="constrained",
-                                    squeeze=False)
-            for p, ax in zip(params, axs[0]):
-                plot_axis_history(df, axis, p, ax=ax)
+            fig = plot_axis_histories(df, axis, params)
             sec.figures.append((f"fleet_{axis}.png", figure_png(fig, dpi=100)))
     bad = df[~ok]
     if len(bad):
@@ -969,11 +975,30 @@ def traces_sections(df) -> list[Section]:
     return [sec]
 
 
+def machine_traces_sections(df) -> list[Section]:
+    """A machine's ``simulate --out`` traces: the column ranges and positions, velocities and site forces
+    over time, one panel per quantity and unit (as ``MachineResult.plot``). Was: refused as "a table of no
+    kind", while the refusal of a machine model file told the user to report exactly these traces."""
+    from ..plotting.simulation import plot_panels, trace_groups
+
+    plt = _plt()
+    cols = list(map(str, df.columns))
+    tt = df["t [s]"].to_numpy(float)
+    groups = trace_groups(cols)
+    sec = Section(f"Simulated machine traces: {len(df)} samples over {fmt(tt[-1] - tt[0] if tt.size else 0)} s, "
+                  f"{sum(len(g[2]) for g in groups if g[0] == 'position')} degree(s) of freedom")
+    sec.table = [["column", "min", "max"]] + [[c, fmt(df[c].min()), fmt(df[c].max())] for c in cols]
+    axes = plot_panels(tt, [(q, u, [(lab, df[c].to_numpy(float)) for lab, c in lines]) for q, u, lines in groups],
+                       title="positions, velocities and site forces")
+    sec.figures.append(("machine_traces.png", figure_png(axes[0].figure)))
+    return [sec]
+
+
 #: Builders by kind, for code that has the parsed document (the demo).
 BUILDERS: dict[str, Callable[..., list[Section]]] = {
     "reproduce-zhu-fujimoto": zhu_fujimoto_sections, "reproduce-sdss": sdss_sections,
     "reproduce-zhang2023": zhang2023_sections, "robustness": robustness_sections,
     "compensation": compensation_sections, "study": study_sections, "study-summary": study_summary_sections,
-    "fleet": fleet_sections, "traces": traces_sections,
+    "fleet": fleet_sections, "traces": traces_sections, "machine-traces": machine_traces_sections,
 }
 

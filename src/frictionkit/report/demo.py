@@ -61,7 +61,7 @@ def section_laws(out: Path) -> _Section:
         ax.plot(v * 1e3, s.steady_state(v), label=name)
     ax.set(xlabel="velocity [mm/s]", ylabel="steady-state friction [N]", title="Static maps")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left")  # friction opposes motion: the v < 0, F > 0 quadrant is empty
     sec.figures.append(("static_maps.png", _png(fig)))
     plt.close(fig)
 
@@ -93,7 +93,11 @@ def section_laws(out: Path) -> _Section:
     axs[1, 1].set(xlabel="x [µm]", ylabel="friction [N]", title="Minor loop inside a major loop (memory)")
     for a in axs.flat:
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
+    # one legend for the laws above the panels (in the reversal panel it covered the GMS loops), the
+    # memory panel's own in its empty v < 0, F > 0 corner
+    fig.legend(*axs[0, 0].get_legend_handles_labels(), loc="outside upper center", ncols=len(laws), fontsize=9,
+               frameon=False)
+    axs[1, 1].legend(fontsize=8, loc="upper left")
     sec.figures.append(("simulations.png", _png(fig)))
     plt.close(fig)
     sec.table = rows

@@ -9,7 +9,7 @@ is the force unit's key, as in model files).
 Older files (before the 2026-11-23 rename, README conventions) named the friction column ``F [N]`` (GMS
 elements ``F_1 [N]`` ...) and a machine's site forces ``F.<site> [N|N·m]`` (now ``force.<site> [N]`` or
 ``[N·m]``, each site's own unit); ``frictionkit report``
-reads a single-axis trace file in either spelling (machine traces are not a report input).
+reads a single-axis trace file in either spelling, and a machine's (positions, velocities, site forces).
 """
 
 from __future__ import annotations

@@ -102,3 +102,20 @@ def test_presliding_json_has_the_fit_data(tmp_path):
     doc = json.loads(out.read_text(encoding="utf-8"))
     _check(doc, t, F, tol=1e-12)
     assert _report_fit_axes(out) == ("force [N]", "residual [N]")
+
+
+def test_report_names_the_measured_signal(tmp_path):
+    """The report's data overview says what was measured, with its unit (was 'fitted signal (measured)')."""
+    from frictionkit.report.adapters import identification_sections
+
+    t = np.arange(2001) * 1e-3
+    v = 0.05 * np.cos(2 * np.pi * t)
+    x = np.sin(2 * np.pi * t) * 0.05 / (2 * np.pi)
+    F = 2.0 * np.gradient(v, t) + 10.0 * v
+    out = tmp_path / "rb.json"
+    r = runner.invoke(app, ["identify", "rigid-body", str(_csv(tmp_path / "rb.csv", t=t, x=x, F=F)), "--time", "t",
+                            "--position", "x", "--force", "F", "--json", str(out)])
+    assert r.exit_code == 0, r.output
+    sec = identification_sections(IdentificationResult.load_json(out), name="rb.json")[0]
+    rows = dict((row[0], row[1]) for row in sec.tables[0][1][1:])
+    assert "measured force [N]" in rows and rows["measured force [N]"].endswith("samples)")

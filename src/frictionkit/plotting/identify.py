@@ -2,11 +2,23 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 #: Height of the fit panel over the residual panel in the two-panel time-series plot (a residual is
 #: read for its size and pattern, not its detail; 2:1 keeps the fit readable at the report's 8 x 5 in).
 RESIDUAL_PANEL_RATIO = 2.0
+
+
+def fitted_signal(result) -> tuple[str, str]:
+    """``(quantity, unit)`` of the signal a time-series fit compares: an output-error fit's velocity or
+    position (force drive, ``compare``), else the force or torque (rigid body, pre-sliding, motion drive)."""
+    prov = result.provenance
+    units = prov.get("units") if isinstance(prov.get("units"), Mapping) else {}
+    compare = prov.get("procedure", {}).get("compare") if result.kind == "output_error" else None
+    unit = units.get(compare if compare in ("v", "x") else "F", "N")
+    return {"v": "velocity", "x": "position"}.get(compare, "torque" if "·m" in unit else "force"), unit
 
 
 def plot_identification(result, ax=None):
@@ -103,10 +115,7 @@ def plot_identification(result, ax=None):
         if y_static is not None:
             ax.plot(t, y_static, "--", lw=0.8, color="C2", label="static map")
         (res_ax or ax).set_xlabel("time [s]")
-        # output-error fits compare a velocity or a position (force drive) or the force (motion drive)
-        compare = prov.get("procedure", {}).get("compare") if result.kind == "output_error" else None
-        unit = prov.get("units", {}).get(compare if compare in ("v", "x") else "F", "N")
-        quantity = {"v": "velocity", "x": "position"}.get(compare, "torque" if "·m" in unit else "force")
+        quantity, unit = fitted_signal(result)
         ax.set_ylabel(f"{quantity} [{unit}]")
         if res_ax is not None:
             res_ax.set_ylabel(f"residual [{unit}]")

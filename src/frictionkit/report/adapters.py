@@ -375,8 +375,11 @@ def identification_sections(res, *, name: str = "result", written: Mapping[str, 
         over.append(["records", str(len(prov["records"]))])
     if res.diagnostics.get("data_scale_text"):
         over.append(["data scale", str(res.diagnostics["data_scale_text"])])
+    from ..plotting.identify import fitted_signal
+
+    quantity, unit = fitted_signal(res)
     labels = {"v": f"velocity [{units.get('v', 'm/s')}]", "F": f"force [{units.get('F', 'N')}]",
-              "x": f"position [{units.get('x', 'm')}]", "t": "time [s]", "y": "fitted signal (measured)",
+              "x": f"position [{units.get('x', 'm')}]", "t": "time [s]", "y": f"measured {quantity} [{unit}]",
               "xi": f"displacement from reversal [{units.get('x', 'm')}]"}
     for key, arr in res.data.items():
         if key in labels and arr.size:

@@ -91,3 +91,23 @@ def test_fleet_axis_row_has_one_legend_below_the_panels():
                                                                        "daily fit, 95 % interval"]
     finally:
         plt.close(fig)
+
+
+def test_reversal_plot_in_micrometres():
+    """A reversal fit on a linear axis is drawn in µm (in m the axis read '1e-5' beside its ticks)."""
+    from frictionkit.control import RollingCompensator
+    from frictionkit.identify import IdentificationResult
+
+    res = IdentificationResult(kind="reversal", model_name="rolling", model=RollingCompensator(F0=2.0, xs=1e-5,
+                               sigma=2e-6), names=("F0",), values=[2.0], stderr=[0.01], ci95=[[1.98, 2.02]],
+                               units=("N",), correlation=[[1.0]], rms=0.01, relative_error_percent=1.0, n_obs=3,
+                               dof=2, data={"xi": [-2e-5, 1e-6, 2e-5], "F": [-2.0, 0.4, 2.0]},
+                               provenance={"units": {"x": "m", "F": "N"}})
+    ax = res.plot()
+    try:
+        assert ax.get_xlabel() == "displacement from the reversal point [µm]"
+        np.testing.assert_allclose(ax.lines[0].get_xdata(), [-20.0, 1.0, 20.0])
+        assert "xs = 10 µm" in [t.get_text() for t in ax.get_legend().get_texts()][1]
+        assert _points_under_legend(ax) == 0
+    finally:
+        plt.close(ax.figure)

@@ -84,19 +84,22 @@ def plot_identification(result, ax=None):
         ax.set_title(f"static map, RMS residual {result.rms:.3g}")
     elif result.kind == "reversal":  # friction in the new direction against the displacement (seed 001 Fig. 13)
         xu = prov.get("units", {}).get("x", "m")
+        # µm on a linear axis (the displacements are a few µm; in m the axis read '1e-5' beside the ticks)
+        k, xu_shown = (1e6, "µm") if xu == "m" else (1.0, xu)
         xi, F = d.get("xi", np.zeros(0)), d.get("F", np.zeros(0))
-        ax.plot(xi, F, ".", ms=2, color="C0", label="measured around the reversals")
+        ax.plot(k * xi, F, ".", ms=2, color="C0", label="measured around the reversals")
         if result.model is not None and xi.size:
             from ..models.rolling import sigmoid_compensation, sinc_compensation
 
             c = result.model
             xx = np.linspace(float(xi.min()), float(xi.max()), 800)
-            ax.plot(xx, sinc_compensation(xx, F0=c.F0, xs=c.xs), "-", color="C1", label=f"sinc, xs = {c.xs:.3g} {xu}")
+            ax.plot(k * xx, sinc_compensation(xx, F0=c.F0, xs=c.xs), "-", color="C1",
+                    label=f"sinc, xs = {k * c.xs:.3g} {xu_shown}")
             xp = xx[xx >= 0]
-            ax.plot(xp, sigmoid_compensation(xp, F0=c.F0, sigma=c.sigma), "--", color="C2",
-                    label=f"sigmoid, sigma = {c.sigma:.3g} {xu}")
+            ax.plot(k * xp, sigmoid_compensation(xp, F0=c.F0, sigma=c.sigma), "--", color="C2",
+                    label=f"sigmoid, sigma = {k * c.sigma:.3g} {xu_shown}")
         ax.axvline(0.0, color="0.8", lw=0.8)
-        ax.set_xlabel(f"displacement from the reversal point [{xu}]")
+        ax.set_xlabel(f"displacement from the reversal point [{xu_shown}]")
         ax.set_ylabel(f"friction in the new direction [{prov.get('units', {}).get('F', 'N')}]")
         ax.set_title(f"reversal fit: F0 = {result['F0']:.4g}, RMS residual {result.rms:.3g}", fontsize="medium")
     else:

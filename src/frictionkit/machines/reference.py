@@ -267,7 +267,8 @@ class ReferenceResult(TraceAccess):
                  f"{self.wall_s:.3g} s; status {self.status} ({self.message})"]
         return "\n".join(lines + self._dof_lines())
 
-    #: Positions of the DOFs over time, drawn as for a :class:`MachineResult`; returns the Axes.
+    #: Positions, velocities and site forces over time, drawn as for a :class:`MachineResult`; returns the
+    #: array of Axes (the given Axes with ``ax=``: positions only).
     plot = MachineResult.plot
 
 

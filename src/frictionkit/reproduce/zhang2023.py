@@ -95,6 +95,12 @@ CASES = (("same", 6), ("same", 0), ("different", 6), ("different", 0))
 STRUCTURES = ("screw", "nut", "worktable")
 
 
+def _headroom(ax, frac: float) -> None:
+    """Raise the top of ``ax``'s y range by ``frac`` of its span: room for a legend above the data."""
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi + frac * (hi - lo))
+
+
 # =========================================================================== design of the experiments
 @dataclass(frozen=True, kw_only=True)
 class Design:
@@ -868,6 +874,7 @@ class Zhang2023Result:
             ax[0].set_ylabel("screw-side friction, linear-equivalent [N]")
             ax[0].set_title("Fig. 16 analogue: differential, nut held")
             ax[0].legend(fontsize=7, loc="upper left", title="RMS recip. / unidir.", title_fontsize=7)
+            _headroom(ax[0], 0.5)  # the five-line legend sat on LuGre's loops
         labels = [f"{'same' if sp == 'same' else 'diff.'}\n{b} mm/s" for sp, b in CASES]
         for a_, tab, key, pair in ((ax[1], self.table7, "method", ("ACIM", "WSIM")),
                                    (ax[2], self.table8, "model", ("LuGre", "GMS"))):
@@ -901,6 +908,7 @@ class Zhang2023Result:
             sp, b, ffn = self.HISTORY_CASE
             ax[3].set_title(f"Figs. 17/19 analogue: {sp} speeds, base {b} mm/s, {ffn}", fontsize=10)
             ax[3].legend(fontsize=7, loc="upper right")
+            _headroom(ax[3], 0.3)  # it touched the screw error's peaks
             v1c, v2c = rec.reference.speeds()
             v1, v2 = R * rec.omega1 / MM, R * rec.omega2 / MM
             ax[4].plot(t, v1[k:], lw=0.8, label="screw Rθ1'")

@@ -624,7 +624,9 @@ def sdss_sections(d: Mapping[str, Any]) -> list[Section]:
             inside = tv is not None and lo is not None and hi is not None and lo <= tv <= hi
             rows.append([k, fmt(tv, 5), fmt(p["value"], 5), f"[{fmt(lo, 5)}, {fmt(hi, 5)}]",
                          "–" if err is None else f"{err:+.2f}", _holds(inside) if tv is not None else "–"])
-        sec.tables.append((f"{axis} (status {a.get('status', '?')}: {a.get('message', '')})", rows))
+        # the rotator (static map only, no output-error fit) carries no status: its title printed "(status ?: )"
+        state = f" (status {a['status']}: {a.get('message', '')})" if "status" in a else ""
+        sec.tables.append((f"{axis}{state}", rows))
         nr = a.get("nrmse_by_figure_percent") or {}
         if nr:
             tr = a.get("nrmse_true_model_percent") or {}
@@ -671,11 +673,26 @@ def _zh_numbers(v: Mapping[str, Any]) -> str:
     return "; ".join(parts)
 
 
+#: Longest status message shown in a reproduction's section [characters]; the rest is in its JSON. WSIM's
+#: identifiability flags run to ~3,000 characters on the quick run; 400 keeps the section readable.
+MESSAGE_CHARS = 400
+
+
+def _clip(message: str, limit: int = MESSAGE_CHARS) -> str:
+    """``message`` up to ``limit`` characters, cut after a whole ``;``-separated item (was cut mid-word:
+    '... delta not identifiable:'), saying how much is left out and where it is."""
+    if len(message) <= limit:
+        return message
+    cut = message.rfind("; ", 0, limit)
+    cut = cut if cut > 0 else limit
+    return f"{message[:cut]}; … ({len(message) - cut} more characters: the JSON's \"message\")"
+
+
 def zhang2023_sections(d: Mapping[str, Any]) -> list[Section]:
     """Findings (holds / does not hold), Tables 7 and 8 worktable rows beside the paper, a figure."""
     sec = Section(f"Reproduction: seed 000 TDMS, WSIM vs ACIM, GMS vs LuGre (seed {d.get('seed')}"
                   f"{', quick' if d.get('quick') else ''})")
-    sec.text.append(str(d["paper"]) + f". Status {d.get('status', '?')}: {str(d.get('message', ''))[:400]}")
+    sec.text.append(str(d["paper"]) + f". Status {d.get('status', '?')}: {_clip(str(d.get('message', '')))}")
     findings = d.get("findings")
     if findings is None:
         from ..reproduce.zhang2023 import findings as compute

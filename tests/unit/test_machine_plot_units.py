@@ -62,17 +62,25 @@ def test_traces_and_summary_carry_each_sites_unit(run):
     assert text.split("guide: max |F| = ")[1].split("\n")[0].endswith(" N")
 
 
+def _shown(y, unit):
+    """The display unit and factor of a length or speed: µ below 1e-3, m(illi) below 1 (the rule written out)."""
+    pk = np.max(np.abs(y))
+    return (f"µ{unit}", 1e6) if pk < 1e-3 else (f"m{unit}", 1e3) if pk < 1.0 else (unit, 1.0)
+
+
 def test_plot_has_positions_velocities_and_forces_on_one_time_axis(run):
     import matplotlib.pyplot as plt
 
+    (xu, _), (vu, vk) = _shown(run.position("table"), "m"), _shown(run.velocity("table"), "m/s")
+    assert (xu, vu) == ("mm", "mm/s")  # this run's table moves mm at mm/s: both panels rescaled
     axes = run.plot()
     try:
-        assert [a.get_ylabel() for a in axes] == ["position\n[rad]", "position\n[m]", "velocity\n[rad/s]",
-                                                  "velocity\n[m/s]", "site torque\n[N·m]", "site force\n[N]"]
+        assert [a.get_ylabel() for a in axes] == ["position\n[rad]", f"position\n[{xu}]", "velocity\n[rad/s]",
+                                                  f"velocity\n[{vu}]", "site torque\n[N·m]", "site force\n[N]"]
         assert all(a.get_shared_x_axes().joined(axes[0], a) for a in axes)
         assert axes[-1].get_xlabel() == "time [s]"
         # each panel draws the samples it names: the table's velocity, the nut's and guide's forces
-        np.testing.assert_array_equal(axes[3].lines[0].get_ydata(), run.velocity("table"))
+        np.testing.assert_allclose(axes[3].lines[0].get_ydata(), vk * run.velocity("table"), rtol=1e-15)
         assert [ln.get_label() for ln in axes[5].lines] == ["nut", "guide"]
         np.testing.assert_array_equal(axes[5].lines[1].get_ydata(), run.force("guide"))
         fig = axes[0].figure
@@ -102,8 +110,8 @@ def test_report_reads_machine_traces(run, tmp_path, monkeypatch):
     try:
         assert kind == "machine-traces" and "2 degree(s) of freedom" in sec.title
         axes = figs[0].axes
-        assert [a.get_ylabel() for a in axes] == ["position\n[rad]", "position\n[m]", "velocity\n[rad/s]",
-                                                  "velocity\n[m/s]", "site torque\n[N·m]", "site force\n[N]"]
+        assert [a.get_ylabel() for a in axes] == ["position\n[rad]", "position\n[mm]", "velocity\n[rad/s]",
+                                                  "velocity\n[mm/s]", "site torque\n[N·m]", "site force\n[N]"]
         np.testing.assert_allclose(axes[5].lines[0].get_ydata(), run.force("nut"), rtol=1e-15)
     finally:
         plt.close("all")

@@ -72,10 +72,27 @@ def trace_groups(columns) -> list[tuple[str, str, list[tuple[str, str]]]]:
     return [(q, u, lines) for (q, u), lines in sorted(groups.items(), key=lambda kv: order[kv[0][0]])]
 
 
+#: Display prefixes of a length (and speed) panel by its largest magnitude: a ball screw's table moves
+#: by µm in the zero-speed region, and in m its axis read '1e-7' above the ticks.
+_LENGTH_PREFIXES = ((1e-3, 1e6, "µ"), (1.0, 1e3, "m"))
+
+
+def _display(unit: str, lines) -> tuple[float, str]:
+    """``(factor, unit shown)`` of a panel: lengths and speeds in µm or mm when their peak is below 1 mm
+    or 1 m (µm/s, mm/s likewise); other units as they are."""
+    if unit not in ("m", "m/s"):
+        return 1.0, unit
+    peak = max((float(np.nanmax(np.abs(y), initial=0.0)) for _, y in lines), default=0.0)
+    for below, k, prefix in _LENGTH_PREFIXES:
+        if 0.0 < peak < below:
+            return k, prefix + unit
+    return 1.0, unit
+
+
 def plot_panels(t, groups, *, title: str, ax=None):
     """Time histories, one panel per ``(quantity, unit, [(label, samples)])`` group, sharing the time
-    axis, legends outside on the right; on a given ``ax`` the first group only. Returns the Axes
-    (the array of them on a new figure)."""
+    axis, legends outside on the right, lengths and speeds in µm or mm when small (:func:`_display`);
+    on a given ``ax`` the first group only. Returns the Axes (the array of them on a new figure)."""
     import matplotlib.pyplot as plt
 
     if ax is not None:
@@ -85,9 +102,10 @@ def plot_panels(t, groups, *, title: str, ax=None):
                                figsize=(8.0, 0.9 + MACHINE_PANEL_HEIGHT * len(groups)), layout="constrained")
         axes = axes[:, 0]
     for a, (quantity, unit, lines) in zip(axes, groups):
+        factor, shown = _display(unit, lines)
         for k, (label, y) in enumerate(lines):
-            a.plot(t, y, lw=1.0, color=f"C{k % 10}", label=label)
-        a.set_ylabel(f"{quantity}\n[{unit}]")
+            a.plot(t, factor * np.asarray(y, dtype=float), lw=1.0, color=f"C{k % 10}", label=label)
+        a.set_ylabel(f"{quantity}\n[{shown}]")
         a.grid(True, alpha=0.3)
         a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
     axes[-1].set_xlabel("time [s]")

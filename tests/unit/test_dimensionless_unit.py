@@ -28,3 +28,12 @@ def test_model_file_units_of_gms_and_tdmssc():
                         {"F": "N·m", "x": "rad", "v": "rad/s"})
     assert (t["Fc0"], t["Fs0"], t["Fc1"], t["Fs1"], t["eps"], t["delta"]) == \
         ("N·m", "N·m", "N·m·s/rad", "N·m·s/rad", "N·m·s²/rad²", "-")
+
+
+def test_fleet_plots_label_delta_dash():
+    import pandas as pd
+
+    from frictionkit.plotting.fleet import _unit
+
+    df = pd.DataFrame({"unit_F": ["N"], "unit_v": ["m/s"]})
+    assert (_unit(df, "delta_pos"), _unit(df, "Fc_neg"), _unit(df, "sigma2_pos")) == ("-", "N", "N·s/m")

@@ -17,6 +17,10 @@ def _unit(df, parameter: str) -> str:
         return v
     if name == "sigma2":
         return f"{F}·s/{v[:-2]}" if v.endswith("/s") else f"{F}/({v})"
+    if name == "delta":
+        from ..identify._advice import DIMENSIONLESS
+
+        return DIMENSIONLESS
     return ""
 
 

@@ -175,7 +175,7 @@ def simulate(
 
         write_traces(res, out, units=mf.units)
     if plot is not None:
-        _save_plot(res, plot)
+        _save_plot(res, plot, units=mf.units)  # a rotary law's plot in rad and N·m (read µm and N)
 
     def peak(a: np.ndarray) -> float | None:
         a = a[np.isfinite(a)]
@@ -326,14 +326,17 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
         raise typer.Exit(code=1)
 
 
-def _save_plot(res, path: Path) -> None:
-    """The result's two-panel plot (hysteresis, force over time), written atomically."""
+def _save_plot(res, path: Path, units=None) -> None:
+    """The result's plot (a law's run: hysteresis and force over time, labelled in the model file's
+    ``units``), written atomically."""
     import matplotlib
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    axes = res.plot()
+    from ..plotting.simulation import plot_result
+
+    axes = res.plot() if units is None else plot_result(res, units=units)
     fig = (axes[0] if hasattr(axes, "__len__") else axes).figure
     try:
         chk.save_figure(fig, path)

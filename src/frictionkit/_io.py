@@ -141,6 +141,8 @@ def atomic_open(path: str | os.PathLike, mode: str = "wb", *, encoding: str | No
         st = os.stat(target)
     except OSError:
         st = None
+    if st is not None and stat.S_ISDIR(st.st_mode):  # was reported as "a device, pipe or socket" (round 10)
+        raise IsADirectoryError(errno.EISDIR, f"cannot write '{target}': it is a folder; give a file name")
     if st is not None and not stat.S_ISREG(st.st_mode):
         raise OSError(errno.EINVAL, f"cannot write '{target}': not a regular file (a device, pipe or socket); "
                                     "refusing to replace it")
@@ -316,6 +318,8 @@ def check_output_file(path: str | os.PathLike, *, option: str, inputs: Iterable[
     out = Path(path)
     if str(path) == "" or out.name in ("", ".", ".."):
         raise DataError(f"{option} '{path}': not a file name")
+    if isinstance(path, str) and path.endswith(("/", os.sep)):  # Path('DIR/sub/') is 'DIR/sub': a file named 'sub'
+        raise DataError(f"{option} '{path}' ends in '{path[-1]}', the name of a folder; give a file name")
     real, q = out, f"'{out}'"
     if os.path.islink(out):  # the write goes to the link's target (see _through_link): check that one
         try:
@@ -377,6 +381,9 @@ def check_output_dir(path: str | os.PathLike, *, option: str, inputs: Iterable[s
     out = Path(path)
     if out.exists() and not out.is_dir():
         raise DataError(f"{option} '{out}' is an existing file, not a folder")
+    if os.path.islink(out) and not out.exists():  # mkdir failed with "File exists" (round 10)
+        raise DataError(f"{option} '{out}' is a link to '{os.readlink(out)}', which does not exist; create that "
+                        "folder or give another")
     base = _nearest_existing(out)
     if not base.is_dir():
         raise DataError(f"{option} '{out}': '{base}' is a file, not a folder")

@@ -114,8 +114,9 @@ def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.nda
         if x is None or isinstance(x, (str, bytes, np.str_, np.bytes_)):
             what = "null (None)" if x is None else "a string (write it without quotes)"
             raise ParameterError(f"{owner}.{name}[{i}] = {x!r}: must be a real number, not {what}")
-    if isinstance(value, np.ndarray) and value.dtype.kind in "US":
-        raise ParameterError(f"{owner}.{name} = {value!r}: entries must be real numbers, not strings")
+    if isinstance(value, np.ndarray) and value.dtype.kind in "USc":
+        what = "complex numbers" if value.dtype.kind == "c" else "strings"
+        raise ParameterError(f"{owner}.{name} = {value!r}: entries must be real numbers, not {what}")
     try:
         arr = np.array(value, dtype=float, ndmin=1)
     except OverflowError:
@@ -137,6 +138,24 @@ def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.nda
     return arr
 
 
+def real_array(name: str, value: Any, *, copy: bool = True) -> np.ndarray:
+    """``value`` as a float64 array (any shape); booleans, complex numbers and entries that are not numbers
+    are refused with a DataError naming ``name`` (numpy turns True into 1.0 and drops an imaginary part with
+    a warning only; a string raised its own ValueError, issue 13 round 10)."""
+    try:
+        dtype = value.dtype if isinstance(value, np.ndarray) else np.asarray(value).dtype
+    except (TypeError, ValueError):
+        raise DataError(f"{name}: cannot be read as an array of numbers") from None
+    if dtype == np.bool_:
+        raise DataError(f"{name}: holds booleans (True/False); a signal must be numbers")
+    if dtype.kind == "c":
+        raise DataError(f"{name}: holds complex numbers; a signal must be real numbers")
+    try:
+        return np.array(value, dtype=np.float64) if copy else np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        raise DataError(f"{name}: cannot be read as an array of numbers") from None
+
+
 def signal(name: str, value: Any, *, min_len: int = 2, copy: bool = True) -> np.ndarray:
     """A contiguous 1-D float64 copy of a sampled signal, checked for NaN/inf and length.
 
@@ -144,13 +163,7 @@ def signal(name: str, value: Any, *, min_len: int = 2, copy: bool = True) -> np.
     the caller only reads it and keeps nothing, so an array that already is contiguous float64 is
     used as it is (``simulate``'s force: the copy was ~0.1 ms of a ~1 ms 10 s run, issue 15).
     """
-    dtype = value.dtype if isinstance(value, np.ndarray) else np.asarray(value).dtype
-    if dtype == np.bool_:
-        raise DataError(f"{name}: holds booleans (True/False); a signal must be numbers")
-    try:
-        arr = np.array(value, dtype=np.float64) if copy else np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise DataError(f"{name}: cannot be read as an array of numbers") from None
+    arr = real_array(name, value, copy=copy)
     if arr.ndim != 1:
         raise DataError(f"{name} has shape {arr.shape}: must be 1-D (one sample per time step)")
     if arr.size < min_len:

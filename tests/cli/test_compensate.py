@@ -122,7 +122,7 @@ def test_table_and_plot(tmp_path):
     (["nope"], "PRESET 'nope': must be one of ballscrew, emps, sdss"),
     (["emps", "--compensator", "sinc"], "--compensator 'sinc': must be one of none, coulomb, model"),
     (["emps", "--compensator", "model"], "compensator 'model' needs a model (--model MODEL.json)"),
-    (["emps", "--model", "/nonexistent/fit.json"], "--model '/nonexistent/fit.json': no such file"),
+    (["emps", "--model", "/nonexistent/fit.json"], "--model '/nonexistent/fit.json': not found"),
 ])
 def test_bad_input_is_one_line(args, message):
     res = runner.invoke(app, ["compensate", *args])

@@ -88,7 +88,7 @@ def _spec(d, text, name="bad.toml"):
 @pytest.mark.parametrize("args, message", [
     (["{m}"], "carries no compensation test: give one with --test SPEC.toml"),
     (["emps", "--test", "{spec}"], "--test: for a machine model file; preset 'emps' has its own test motion"),
-    (["{m}", "--test", "{d}/missing.toml"], "--test '{d}/missing.toml': no such file"),
+    (["{m}", "--test", "{d}/missing.toml"], "--test '{d}/missing.toml': not found"),
     (["{m}", "--test", "{spec}", "--compensator", "sinc"], "compensator 'sinc': machine file '{m}' supports "
                                                             "none, coulomb, model"),
     (["{m}", "--test", "@" + SPEC.replace('position = "q"', 'position = "z"')],

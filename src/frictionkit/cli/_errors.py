@@ -47,6 +47,25 @@ _BAD_INPUT_OS = (FileNotFoundError, IsADirectoryError, NotADirectoryError, Permi
 _DEBUG_FLAG = "--debug"
 
 
+#: The command line's words as typed, for checks that the parsed values hide (a Path option drops a
+#: trailing '/': `--json DIR/sub/` arrived as 'DIR/sub' and became a file named 'sub', issue 13 round 10).
+TYPED_ARGS: tuple[str, ...] = ()
+
+
+def typed_value(option: str, value: Any) -> str:
+    """The text typed for ``option`` whose parsed value is ``value`` (``str(value)`` when not found)."""
+    for i, word in enumerate(TYPED_ARGS):
+        if word.startswith(option + "="):
+            text = word[len(option) + 1:]
+        elif word == option and i + 1 < len(TYPED_ARGS):
+            text = TYPED_ARGS[i + 1]
+        else:
+            continue
+        if text.rstrip("/") == str(value).rstrip("/") or os.path.normpath(text) == os.path.normpath(str(value)):
+            return text
+    return str(value)
+
+
 def debug_requested(ctx: Any = None) -> bool:
     """``--debug`` given (on the command line or as ``FRICTIONKIT_DEBUG=1``)."""
     if os.environ.get("FRICTIONKIT_DEBUG", "").strip().lower() in ("1", "true", "yes", "on"):
@@ -134,6 +153,8 @@ class FrictionKitGroup(TyperGroup):
     """The top-level click group: runs every verb inside the one error-handling path."""
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        global TYPED_ARGS
+        TYPED_ARGS = tuple(args)
         # accept --debug anywhere before "--" (users append it when asked to rerun)
         if _DEBUG_FLAG in args:
             end = args.index("--") if "--" in args else len(args)

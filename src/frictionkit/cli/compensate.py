@@ -67,19 +67,18 @@ def compensate(
 
         raise ParameterError(f"--test: for a machine model file; preset {preset!r} has its own test motion"
                              if preset in PRESETS else f"PRESET '{preset}': no such file")
-    if test is not None and not test.is_file():
-        from ..errors import DataError
-
-        raise DataError(f"--test '{test}': no such file")
+    # a folder was "no such file" (round 10): the one input check names folders, broken links, unreadable files
+    chk.input_files({"--test": test, "--model": model})
     if not is_file:
         chk.choice(preset, "PRESET", PRESETS)
         for c in compensator or []:
             chk.choice(c, "--compensator", COMPENSATORS[preset])
-    chk.integer(seed, "--seed", lo=0)
-    if model is not None and not model.is_file():
-        from ..errors import DataError
+    twice = sorted({c for c in compensator or [] if compensator.count(c) > 1})
+    if twice:  # ran each twice, one table row per run (round 10); the study refuses it too
+        from ..errors import ParameterError
 
-        raise DataError(f"--model '{model}': no such file")
+        raise ParameterError(f"--compensator {', '.join(twice)} given twice; each compensator runs once")
+    chk.integer(seed, "--seed", lo=0)
     chk.outputs([model, test, *([Path(preset)] if is_file else []), *_spec_files(test)], plots={"--plot": plot},
                 files={"--json": Path(json_out)} if json_out not in (None, "-") else {})
 

@@ -125,7 +125,7 @@ def simulate(
     if kind == "force":
         if mass is None:
             raise ParameterError("--force needs --mass KG (the moving mass the force accelerates)")
-        mass = chk.positive(mass, "--mass")
+        mass = chk.positive(mass, "--mass", sized=True)
     elif mass is not None:
         raise ParameterError(f"--mass is for a force-driven run; a --{kind} run has no plant")
     if out is not None:
@@ -210,7 +210,7 @@ def _input_spec(spec: str):
     except ValueError:
         pass
     else:
-        return name, None, chk._finite(value, f"--input {name}")
+        return name, None, chk.magnitude(value, f"--input {name}")  # an input file's samples have the bound too
     path, colon, col = rest.rpartition(":")
     if not colon or not path or not col:
         raise ParameterError(f"--input {spec!r}: expected NAME=FILE:COLUMN (the column of the input) or NAME=VALUE")

@@ -296,6 +296,37 @@ def _inertia_start(md: MotionData, static, off: float) -> float:
     return max(J, 1e-3 * F_scale / a_scale)
 
 
+def _free_names(free, owner: str) -> tuple:
+    """``free`` as a tuple of names (one string is one name)."""
+    if isinstance(free, str):
+        return (free,)
+    if not isinstance(free, Sequence) and not hasattr(free, "__iter__"):
+        raise ParameterError(f"{owner}: free = {free!r}: must be a sequence of parameter names")
+    return tuple(free)
+
+
+def _names_of_kind(kind: str, static, free, elements, initial, owner: str) -> None:
+    """Check ``free`` against a stand-in of the start model ``kind`` would give (same fields, both
+    directions equal, so only the names are judged); raises the ParameterError the fit would raise later."""
+    from .start_values import static_law
+
+    if kind not in ("lugre", "gms", "dahl"):
+        return  # motion_error_start names the bad kind
+    law = static_law(static, owner)
+    law = law.positive if isinstance(law, Directional) else law
+    if kind == "lugre":
+        stand_in = LuGre(law, sigma0=1.0, sigma1=0.0)
+    elif kind == "gms":
+        given_k = initial.get("k") if isinstance(initial, Mapping) else None
+        M = len(given_k) if isinstance(given_k, Sequence) and len(given_k) else elements
+        if isinstance(M, bool) or not isinstance(M, (int, np.integer)) or M < 1:
+            return  # motion_error_start names the bad count
+        stand_in = GMS(law, k=[1.0] * M, xi=[1.0 / M] * M, C=1.0)
+    else:
+        stand_in = Dahl(Fc=1.0, sigma0=1.0, sigma2=0.0)
+    LawTemplate.of(stand_in).expand(_free_names(free, owner), extra=MOTION_EXTRAS)
+
+
 def fit_motion_error(
     data: Any,
     model0: str | FrictionLaw,
@@ -428,13 +459,15 @@ def fit_motion_error(
 
         if not (initial == "auto" or isinstance(initial, Mapping)):
             raise ParameterError(f"{owner}: initial = {initial!r}: must be 'auto' or a mapping of start values")
+        if free is not None:  # names first: the start search below takes seconds to minutes
+            _names_of_kind(model0.lower(), static, free, elements, initial, owner)
         model0 = motion_error_start(model0.lower(), static, md, given=initial if isinstance(initial, Mapping) else None,
                                     elements=elements, max_presliding=max_presliding)
     elif static is not None or initial != "auto":
         raise ParameterError(f"{owner}: static= and initial= are for a model name (model0='lugre', 'gms' or "
                              f"'dahl'); the {type(model0).__name__} given carries its own map and start values")
     tmpl = LawTemplate.of(model0)
-    free = tuple(free) if free is not None else default_free(model0)
+    free = _free_names(free, owner) if free is not None else default_free(model0)
     names = tmpl.expand(free, extra=MOTION_EXTRAS)
     offset = float(offset)
     inertia = float(inertia)

@@ -373,8 +373,8 @@ def _as_points(v, F, sigma) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, 
         return v.v, v.F, sigma, v
     if F is None:
         raise DataError("fit_static_map: F (mean force/torque per segment) is required with a velocity array")
-    va = np.asarray(v, dtype=float).ravel()
-    Fa = np.asarray(F, dtype=float).ravel()
+    va = val.real_array("fit_static_map: v", v).ravel()
+    Fa = val.real_array("fit_static_map: F", F).ravel()
     if va.size != Fa.size:
         raise DataError(f"fit_static_map: v has {va.size} points, F has {Fa.size}")
     for nm, a in (("v", va), ("F", Fa)):

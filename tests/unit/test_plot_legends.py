@@ -111,3 +111,13 @@ def test_reversal_plot_in_micrometres():
         assert _points_under_legend(ax) == 0
     finally:
         plt.close(ax.figure)
+
+
+def test_static_map_title_carries_the_unit():
+    law = fk.Stribeck(Fc=1.0, Fs=1.5, vs=0.01, sigma2=4.0)
+    v = np.r_[np.linspace(1e-3, 0.3, 30), -np.linspace(1e-3, 0.3, 30)]
+    ax = fit_static_map(v, law.steady_state(v), model="exponential", units={"F": "N·m", "v": "rad/s"}).plot()
+    try:
+        assert ax.get_title().endswith(" N·m") and ax.get_ylabel() == "friction [N·m]"
+    finally:
+        plt.close(ax.figure)

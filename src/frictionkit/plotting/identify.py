@@ -81,7 +81,7 @@ def plot_identification(result, ax=None):
         ax.axvline(0.0, color="0.8", lw=0.8)
         ax.set_xlabel(f"velocity [{prov.get('units', {}).get('v', 'm/s')}]")
         ax.set_ylabel(f"friction [{prov.get('units', {}).get('F', 'N')}]")
-        ax.set_title(f"static map, RMS residual {result.rms:.3g}")
+        ax.set_title(f"static map, RMS residual {result.rms:.3g} {prov.get('units', {}).get('F', 'N')}")
     elif result.kind == "reversal":  # friction in the new direction against the displacement (seed 001 Fig. 13)
         xu = prov.get("units", {}).get("x", "m")
         # µm on a linear axis (the displacements are a few µm; in m the axis read '1e-5' beside the ticks)
@@ -101,7 +101,9 @@ def plot_identification(result, ax=None):
         ax.axvline(0.0, color="0.8", lw=0.8)
         ax.set_xlabel(f"displacement from the reversal point [{xu_shown}]")
         ax.set_ylabel(f"friction in the new direction [{prov.get('units', {}).get('F', 'N')}]")
-        ax.set_title(f"reversal fit: F0 = {result['F0']:.4g}, RMS residual {result.rms:.3g}", fontsize="medium")
+        Fu = prov.get("units", {}).get("F", "N")
+        ax.set_title(f"reversal fit: F0 = {result['F0']:.4g} {Fu}, RMS residual {result.rms:.3g} {Fu}",
+                     fontsize="medium")
     else:
         t = d.get("t", np.arange(d.get("y", np.zeros(0)).size))
         y, y_pred, y_static = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0)), d.get("y_static")

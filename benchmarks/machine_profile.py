@@ -126,10 +126,12 @@ def instrumented_source(src: str) -> str:
     src = src[:b] + ", cnt, 0 if coarse_now else 1" + src[b:]
     src = rep("                            kt[j] = ktj\n",
               "                            cnt[2 if coarse_now else 3] += 1\n                            kt[j] = ktj\n")
-    if "F0, z0e = _lugre_mean(" in src[a - 2000:a]:  # run's inline first step of a LuGre/Dahl solve
-        i = src.index("F0, z0e = _lugre_mean(", a - 2000)
-        i = src.rindex("\n", 0, i) + 1
-        src = src[:i] + _indent(src[i:i + 80]) + "cnt[0 if coarse_now else 1] += 1\n" + src[i:]
+    for first in ("F0, z0e = _lugre_mean(", "F0 = _gms_mean("):  # run's inline first step of a LuGre/Dahl, GMS solve
+        if first in src[a - 2500:a]:
+            i = src.index(first, a - 2500)
+            i = src.rindex("\n", 0, i) + 1
+            src = src[:i] + _indent(src[i:i + 80]) + "cnt[0 if coarse_now else 1] += 1\n" + src[i:]
+            a = src.index("= _solve_site(site_kind[j]")
     src = rep("                    for sweep in range(60):\n",
               "                    for sweep in range(60):\n                        cnt[4 if coarse_now else 5] += 1\n")
     src = rep("            for sub in range(nsa):\n",

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import frictionkit as fk
 from frictionkit.control.loop import Sensors
 from frictionkit.control.trajectories import cosine_reference
 from frictionkit.kernels import machine as km
@@ -16,10 +17,10 @@ from frictionkit.presets.ballscrew import simulate_stage
 from frictionkit.reproduce.zhu_fujimoto import paper_controller, paper_plant
 
 
-def _stage_runs(nut: str) -> dict:
-    """The ``nut`` stage at 640 sub-steps without coarse steps ("fine") and at 10 without/with
-    them ("off"/"on"), ideal sensors, a 0.6 s cosine reference; "one_step" holds the kernel's
-    (one-step samples, samples) per run."""
+def _stage_runs(nut: str, **laws) -> dict:
+    """The ``nut`` stage (``laws``: simulate_stage's nut_law/guide_law) at 640 sub-steps without
+    coarse steps ("fine") and at 10 without/with them ("off"/"on"), ideal sensors, a 0.6 s cosine
+    reference; "one_step" holds the kernel's (one-step samples, samples) per run."""
     plant, ctrl = paper_plant(nut), paper_controller()
     sens = Sensors(encoder_counts=0, scale_resolution=0.0)
     ref = cosine_reference(duration=0.6)
@@ -35,7 +36,7 @@ def _stage_runs(nut: str) -> dict:
 
         km.run = call
         try:
-            return simulate_stage(plant, ctrl, ref, sensors=sens, substeps=n).x_t
+            return simulate_stage(plant, ctrl, ref, sensors=sens, substeps=n, **laws).x_t
         finally:
             km.run = inner
 
@@ -81,15 +82,47 @@ def flank_runs():
     return _stage_runs("flank")
 
 
-def test_loaded_sites_take_coarse_steps_without_losing_accuracy(flank_runs):
-    e_off = np.abs(flank_runs["off"] - flank_runs["fine"]).max()
-    e_on = np.abs(flank_runs["on"] - flank_runs["fine"]).max()
-    assert 0.0 < e_off < 1e-9
+def _one_step_share(r, e_max):
+    """The share of samples kept from a coarse step in the "on" run of :func:`_stage_runs` ``r``,
+    after checking that they cost no accuracy: its error against "fine" is within 2 % of the
+    sub-steps' ("off", below ``e_max``)."""
+    e_off = np.abs(r["off"] - r["fine"]).max()
+    e_on = np.abs(r["on"] - r["fine"]).max()
+    assert 0.0 < e_off < e_max
     assert e_on <= 1.02 * e_off
-    n_on, N = flank_runs["one_step"][(10, True)]
+    n_on, N = r["one_step"][(10, True)]
+    return n_on / N
+
+
+def test_loaded_sites_take_coarse_steps_without_losing_accuracy(flank_runs):
     # measured 60 % on the 1 s benchmark run (the rest: ~0.2 s after each reversal, where the
     # flank force's curvature over a sample exceeds the bound)
-    assert n_on > 0.3 * N
+    assert _one_step_share(flank_runs, 1e-9) > 0.3
+
+
+@pytest.fixture(scope="module")
+def gms_runs():
+    """The sliding-nut stage with a GMS-4 at the nut and at the guide (the machine benchmark's
+    ``gms4``: elements breaking away at 1/30 ... 1 of a 10 um stroke), same reference and sensors
+    as :func:`runs`: its sites stick and accelerate at the start and at the reversal."""
+    plant = paper_plant("sliding")
+
+    def gms4(level, stroke=10e-6):
+        xi = np.array([0.1, 0.2, 0.3, 0.4])
+        return fk.GMS(fk.Stribeck(Fc=level, Fs=1.2 * level, vs=1e-3), k=list(xi * level / (stroke * np.array(
+            [1 / 30, 1 / 10, 1 / 3, 1.0]))), xi=list(xi), C=100.0 * level)
+
+    return _stage_runs("sliding", nut_law=gms4(plant.nut_friction), guide_law=gms4(plant.guide_friction))
+
+
+def test_gms_sites_take_coarse_steps_without_losing_accuracy(gms_runs):
+    # a GMS site's force changes over a sample wherever the motion accelerates (its viscous term,
+    # its slipping elements' Stribeck targets) or sticks (the pre-sliding stroke): held over a
+    # coarse step it failed the bound in the ~50 ms after each reversal; the law's own linear
+    # profile passes while no element breaks away or sticks inside the step
+    # (kernels.machine.run, "Coarse steps")
+    # measured (0.6 s): 96 % of the samples (before the GMS profile: 79 %); errors 0.92 nm either way
+    assert _one_step_share(gms_runs, 1e-8) > 0.9
 
 
 def _lugre_mean_reference(Fc, s0, z0, v, h, lam, dl, pieces=20000):

@@ -1,7 +1,8 @@
 """Runs that pass (status 0) must agree with the ``solve_ivp`` twin within the README's error contract
 (issue 13, "0 silent wrong answers"): reproducers of passed-WRONG runs found by the random campaigns.
 
-GMS cases: helper "gmsw" (2026-11-23/24). LuGre/Dahl cases: helper "lugw".
+GMS cases: helper "gmsw" (2026-11-23/24). LuGre/Dahl cases: helpers "lugw" and "lugw2" (2026-11-24;
+benchmarks/robustness_lugre.py is lugw2's campaign).
 """
 
 from __future__ import annotations
@@ -176,3 +177,79 @@ def test_simulate_batch_checks_a_lightly_damped_ringing_set_too():
     u = amp * np.sin(2 * np.pi * cycles * np.arange(n) / n)
     b = fk.simulate_batch([law], masses=[m], force=u, dt=dt, target=np.zeros(n))
     assert b.status[0] == 2 and np.isinf(b.sse[0]), b.message
+
+
+# Helper lugw2's campaign (2026-11-24, seed 40 of /tmp/lugw2_camp.py part a: random LuGre/Dahl sets with
+# steps, ramps to stick, staircases, random-phase multisines, a force held at breakaway). A single-sample
+# spanning step across a velocity peak: the remainder of dz/dt (~ (v - v0)^2) vanishes again at the
+# sample's end, so the step's end-only error estimate read < 1 tolerance where the sample was ~30 off
+# (4e-6 m/s at tol_v 1.3e-7); the velocity error then reached the next reversal, where the friction
+# turns by 0.11 N per sample.
+LUGRE_PEAK = fk.LuGre(fk.Stribeck(Fc=0.15547068824389326, Fs=0.20632574781031032, vs=0.00691856948193845,
+                                  sigma2=1.0866966098958122), sigma0=4115.43049678189, sigma1=8.517007046606572)
+LUGRE_PEAK_M, LUGRE_PEAK_DT = 0.06049088399503904, 0.001711839572895819
+
+
+def test_lugre_single_sample_step_across_a_velocity_peak_keeps_the_contract():
+    """Old code: x 1.9, v 3.7, friction 16.1 rtol of their ranges off the twin at status 0 (the same
+    at rtol 1e-6 and 1e-7: not a tolerance error); now the peak's sample is measured by its own
+    mid-sample remainder (kernels/lugre.py, _span) and the run is ~1 rtol off."""
+    n = 163
+    k = np.arange(n)
+    f = [7.6687239580392665, 4.770023694461076, 7.114068422013351, 0.992626156376153]
+    ph = [0.13208351305825458, 3.680271465012278, 2.601133315553272, 0.5918791004919921]
+    u = 0.14984838003677642 * sum(np.sin(2 * np.pi * fi * k / n + p) for fi, p in zip(f, ph))
+    res = fk.simulate(LUGRE_PEAK, dt=LUGRE_PEAK_DT, plant=fk.Mass(LUGRE_PEAK_M), force=u)
+    assert res.status == 0, res.message
+    period = 2 * np.pi / np.sqrt(LUGRE_PEAK.sigma0 / LUGRE_PEAK_M)
+    tw = reference_force_driven(LUGRE_PEAK, LUGRE_PEAK_M, u, LUGRE_PEAK_DT, rtol=1e-12, atol=1e-16,
+                                max_step=min(LUGRE_PEAK_DT / 4, period / 16))
+    errs = _errors(res, tw)
+    rtol = fk.SimOptions().rtol
+    assert errs["x"] <= 10 * rtol and errs["friction"] <= 10 * rtol and errs["v"] <= 10 * rtol, errs
+
+
+# Helper lugw2's campaign seed 49: an overdamped LuGre (sigma1 = 1.68x critical, omega dt 0.24) under a force
+# step to 2.9 Fs. While it slides, dz/dt is a small difference of v and sigma0 |v| z / g, each held to rtol
+# of itself, and sigma1 dz/dt is in the friction: the friction was 10 rtol of its range off the twin at the
+# default tolerances (x 0.005 rtol) and 16 rtol at rtol = atol_F = 1e-7. Fixed by bounding the friction's own
+# share of the local error (kernels/lugre.py, F_ERROR).
+LUGRE_OVERDAMPED = fk.LuGre(fk.Stribeck(Fc=4.9763908616224, Fs=6.59647814782858, vs=0.000757796844416329,
+                                        sigma2=0.6006642671596605), sigma0=24707.394388698078, sigma1=374.1876441128367)
+LUGRE_OVERDAMPED_M, LUGRE_OVERDAMPED_DT = 0.5019979613023899, 0.0010628703796107734
+
+
+@pytest.mark.parametrize("rtol", [1e-5, 1e-7])
+def test_overdamped_lugre_friction_keeps_the_contract_while_it_slides(rtol):
+    """Old code (these 120 samples): friction 9.99 rtol (rtol 1e-5: inside the contract by a hair) and 16.2
+    rtol (1e-7: outside) of its range off the twin at status 0; now 1.27 and 1.35 rtol (x <= 0.02 rtol)."""
+    u = np.where(np.arange(120) >= 68, -19.266368431066265, 0.0)
+    opts = fk.SimOptions(rtol=rtol, atol_F=rtol)
+    res = fk.simulate(LUGRE_OVERDAMPED, dt=LUGRE_OVERDAMPED_DT, plant=fk.Mass(LUGRE_OVERDAMPED_M), force=u,
+                      options=opts)
+    assert res.status == 0, res.message
+    tw = reference_force_driven(LUGRE_OVERDAMPED, LUGRE_OVERDAMPED_M, u, LUGRE_OVERDAMPED_DT, rtol=1e-12, atol=1e-16,
+                                max_step=LUGRE_OVERDAMPED_DT / 4)
+    errs = _errors(res, tw)
+    # the contract's 10 rtol, with the margin the fix gives (measured 1.3-1.4 rtol): 5 rtol
+    assert errs["x"] <= 5 * rtol and errs["friction"] <= 5 * rtol, errs
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason="atol_F does not follow a tightened rtol")
+def test_overdamped_lugre_at_tight_rtol_with_the_default_atol_F():
+    """Left open (campaign seeds 49 and 71: rtol 1.2e-8 and 1.8e-7, atol_F left at 1e-5): the friction's
+    absolute tolerance is atol_F max(Fc, Fs), 1e-5 of the level, far above 10 rtol of the friction's range,
+    so the friction is 15, 36 and 60 rtol of its range off at rtol 1e-6, 1e-7, 1e-8 (x within 0.06 rtol;
+    with atol_F = rtol: 1.3 rtol, above). Fix (not done: SimOptions is shared): let atol_F follow
+    min(atol_F, rtol) by default."""
+    u = np.where(np.arange(120) >= 68, -19.266368431066265, 0.0)
+    rtol = 1e-8
+    res = fk.simulate(LUGRE_OVERDAMPED, dt=LUGRE_OVERDAMPED_DT, plant=fk.Mass(LUGRE_OVERDAMPED_M), force=u,
+                      options=fk.SimOptions(rtol=rtol))
+    assert res.status == 0, res.message
+    tw = reference_force_driven(LUGRE_OVERDAMPED, LUGRE_OVERDAMPED_M, u, LUGRE_OVERDAMPED_DT, rtol=1e-12, atol=1e-16,
+                                max_step=LUGRE_OVERDAMPED_DT / 4)
+    errs = _errors(res, tw)
+    # measured 2026-11-24: x 0.057, friction 59.9 rtol of their ranges
+    assert errs["x"] <= rtol and 40 * rtol < errs["friction"] < 80 * rtol, errs
+    assert errs["friction"] <= 10 * rtol, errs

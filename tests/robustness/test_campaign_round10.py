@@ -212,3 +212,50 @@ def test_compensate_names_a_folder_and_a_repeated_compensator(runner, tmp_path, 
     res = runner.invoke(app, ["compensate", "emps", "--quick", *[a.format(d=tmp_path) for a in extra]])
     assert res.exit_code == 2
     assert one_error_line(res) == want.format(d=tmp_path)
+
+
+def test_a_usage_error_before_the_verb_is_one_line(runner):
+    """Was (campaign round 10): `frictionkit --bogus` printed click's usage block and 'Error: No such option'
+    (three lines, capitalised) while every verb's usage error is one 'error:' line."""
+    from frictionkit.cli import app
+
+    res = runner.invoke(app, ["--bogus"])
+    assert res.exit_code == 2
+    assert one_error_line(res) == "error: No such option: --bogus (see 'frictionkit --help')"
+    assert runner.invoke(app, ["--version"]).exit_code == 0
+
+
+@pytest.mark.parametrize("argv,want", [
+    (["reversal", "--position", "x_m", "--min-travel", "1e-320"],
+     "error: --min-travel 1e-320: below 1e-150, a unit slip (its reciprocal overflows)"),
+    (["rigid-body", "--position", "x_m", "--cutoff", "1e308"],
+     "error: --cutoff 1e+308: beyond 1e+150, a unit slip (its square overflows)"),
+])
+def test_an_identify_option_of_no_physical_size_is_named(runner, gms_csv, argv, want):
+    """Was (campaign round 10): `identify reversal --min-travel 1e-320` failed as "window = None; need at
+    least 3 after and 1 before" (a reversal at every sample); `--cutoff 1e308` was named 'lowpass.cutoff'."""
+    from frictionkit.cli import app
+
+    res = runner.invoke(app, ["identify", argv[0], str(gms_csv), "--time", "t_s", "--force", "F_N", *argv[1:]])
+    assert res.exit_code == 2
+    assert one_error_line(res) == want
+
+
+@pytest.mark.parametrize("argv,want", [
+    (["export", "{model}", "--format", "csv", "--out", "{d}/t.csv", "--v-max", "1e308"],
+     "error: --v-max 1e+308: must be in 1e-12 ... 1e+12 ([m/s or rad/s]; outside it the grid's steps lose "
+     "precision or the map overflows)"),
+    (["identify", "static", "{csv}", "--time", "t_s", "--velocity", "v_ms", "--force", "F_N", "--model", "exponential",
+      "--delta", "1000"],
+     "error: --delta 1000.0: must be in 0 ... 50 (a fixed Stribeck exponent; above the top (|v|/vs)**delta "
+     "overflows within the fit's vs range)"),
+])
+def test_a_library_bound_on_an_option_is_reported_with_the_option(runner, tmp_path, staircase_csv, static_json,
+                                                                   argv, want):
+    """Was (campaign round 10): `export --v-max 1e308` failed as "export: v_max = 1e+308 ...", `identify static
+    --delta 1000` as "fit_static_map.delta = 1000.0 ..." — the library's names, not the options typed."""
+    from frictionkit.cli import app
+
+    res = runner.invoke(app, [a.format(model=static_json, d=tmp_path, csv=staircase_csv) for a in argv])
+    assert res.exit_code == 2
+    assert one_error_line(res) == want

@@ -84,9 +84,18 @@ def magnitude(value: Any, option: str) -> float:
     return out
 
 
-def optional(check, value: Any, option: str) -> Any:
-    """``check(value, option)`` unless ``value`` is None."""
-    return None if value is None else check(value, option)
+def between(value: Any, option: str, lo: float, hi: float, why: str) -> float:
+    """A finite number in ``[lo, hi]``, checked here so the error names the option (the library's bound
+    named its own parameter: ``--v-max 1e308`` was "export: v_max = 1e+308", round 10)."""
+    out = _finite(value, option)
+    if not lo <= out <= hi:
+        raise ParameterError(f"{option} {value!r}: must be in {lo:g} ... {hi:g} ({why})")
+    return out
+
+
+def optional(check, value: Any, option: str, **how: Any) -> Any:
+    """``check(value, option, **how)`` unless ``value`` is None."""
+    return None if value is None else check(value, option, **how)
 
 
 def integer(value: int, option: str, *, lo: int, hi: int | None = None, why: str = "") -> int:

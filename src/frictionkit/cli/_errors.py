@@ -149,6 +149,14 @@ def jit_disabled_note() -> str | None:
             "much slower (unset it for compiled speed)")
 
 
+def _click_exceptions() -> Any:
+    try:  # typer >= 0.20 vendors click
+        from typer._click import exceptions as cx
+    except ImportError:  # pragma: no cover - older typer on click
+        from click import exceptions as cx
+    return cx
+
+
 class FrictionKitGroup(TyperGroup):
     """The top-level click group: runs every verb inside the one error-handling path."""
 
@@ -160,14 +168,17 @@ class FrictionKitGroup(TyperGroup):
             end = args.index("--") if "--" in args else len(args)
             if _DEBUG_FLAG in args[:end]:
                 args = [_DEBUG_FLAG] + [a for a in args[:end] if a != _DEBUG_FLAG] + args[end:]
-        return super().parse_args(ctx, args)
+        cx = _click_exceptions()
+        try:
+            return super().parse_args(ctx, args)
+        except cx.NoArgsIsHelpError:
+            raise
+        except cx.UsageError as exc:  # `frictionkit --bogus` printed click's three-line usage block (round 10)
+            typer.echo(f"error: {_usage_line(exc)}", err=True)
+            raise typer.Exit(code=exc.exit_code) from None
 
     def invoke(self, ctx: Any) -> Any:
-        try:  # typer >= 0.20 vendors click
-            from typer._click import exceptions as cx
-        except ImportError:  # pragma: no cover - older typer on click
-            from click import exceptions as cx
-
+        cx = _click_exceptions()
         try:
             with _one_line_warnings(debug_requested(ctx)):
                 note = jit_disabled_note()

@@ -53,7 +53,10 @@ def export(
         raise ParameterError(f"{given}: only --format csv has a grid; --format {fmt} does not use it "
                              "(leave it out)")
     if v_max is not None:
-        chk.positive(v_max, "--v-max")
+        from ..export import V_MAX_RANGE
+
+        chk.between(chk.positive(v_max, "--v-max"), "--v-max", *V_MAX_RANGE, "[m/s or rad/s]; outside it the grid's steps lose precision "
+                    "or the map overflows")
     if points is not None:
         chk.integer(points, "--points", lo=3, hi=1_000_001)
     if points is not None and points % 2 == 0:

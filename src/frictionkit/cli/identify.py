@@ -136,13 +136,13 @@ def rigid_body(
     from ..errors import ParameterError
 
     law_name = chk.choice(law.replace("_", "-"), "--law", ("coulomb-viscous", "stribeck", "lorentzian")).replace("-", "_")
-    delta = chk.optional(chk.positive, delta, "--delta")
+    delta = chk.optional(chk.positive, delta, "--delta", sized=True)
     if delta is not None and law_name != "stribeck":
         raise ParameterError(f"--delta applies to --law stribeck only (got --law {law})")
     if no_profile and law_name == "coulomb_viscous":
         raise ParameterError("--no-profile applies to --law stribeck or lorentzian only")
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
-    cutoff = chk.positive(cutoff, "--cutoff")
+    cutoff = chk.positive(cutoff, "--cutoff", sized=True)
     decimation = chk.integer(decimation, "--decimate", lo=1)
     skip = chk.integer(skip, "--skip", lo=0)
     units = chk.units(rotary, force_unit, velocity_unit)
@@ -219,8 +219,13 @@ def static(
     scales = {"force": chk.scale(force_scale, "--force-scale"), "velocity": chk.scale(velocity_scale, "--velocity-scale"),
               "position": chk.scale(position_scale, "--position-scale")}
     trim = chk.optional(chk.fraction, trim, "--trim")
-    min_speed = chk.optional(chk.nonnegative, min_speed, "--min-speed")
-    delta = chk.optional(chk.positive, delta, "--delta")
+    min_speed = chk.optional(chk.nonnegative, min_speed, "--min-speed", sized=True)
+    if delta is not None:
+        from ..identify.static_map import MAX_FIXED_DELTA
+
+        delta = chk.between(chk.positive(delta, "--delta", sized=True), "--delta", 0.0, MAX_FIXED_DELTA,
+                            "a fixed Stribeck exponent; above the top (|v|/vs)**delta overflows within the fit's "
+                            "vs range")
     chk.choice(direction, "--direction", ("both", "positive", "negative"))
     chk.choice(criterion, "--criterion", ("aic", "bic"))
     units = chk.units(rotary, force_unit, velocity_unit)
@@ -276,7 +281,7 @@ def _static_law(static_json: Optional[Path], Fc: Optional[float], Fs: Optional[f
                                  "(or give --static-json)")
         return None
     # named at the boundary: --Fs 1e308 was reported as "GMS.C = inf", --Fc -1 as "Stribeck.Fc" (round 10)
-    Fc, Fs, sigma2, vs, delta = (None if x is None else check(x, opt, sized=True) for x, opt, check in (
+    Fc, Fs, sigma2, vs, delta = (chk.optional(check, x, opt, sized=True) for x, opt, check in (
         (Fc, "--Fc", chk.nonnegative), (Fs, "--Fs", chk.nonnegative), (sigma2, "--sigma2", chk.nonnegative),
         (vs, "--vs", chk.positive), (delta, "--delta", chk.positive)))
     return Stribeck(Fc=Fc, Fs=Fs if Fs is not None else Fc, vs=1e-3 if vs is None else vs,
@@ -596,8 +601,8 @@ def reversal(
 ) -> None:
     """Compensator parameters from a reversal record: F0 and the sinc xs, the sigmoid sigma (seed 001 eqs. 5-6)."""
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
-    window = chk.optional(chk.positive, window, "--window")
-    min_travel = chk.optional(chk.positive, min_travel, "--min-travel")
+    window = chk.optional(chk.positive, window, "--window", sized=True)
+    min_travel = chk.optional(chk.positive, min_travel, "--min-travel", sized=True)
     inertia = chk.nonnegative(inertia, "--inertia")
     offset = chk._finite(offset, "--offset")
     units = chk.units(rotary, force_unit, velocity_unit)

@@ -398,6 +398,12 @@ def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, w
 FAST_LIMIT = 1.0
 #: See :data:`FAST_LIMIT` (assumption: a run whose fast motion is spanned, not followed, takes
 #: < 1 sub-step per sample on the README runs and the accuracy contract's sets).
+#: Not for GMS: a fast GMS contact (``sqrt(sum k / m) dt > FAST_LIMIT``) is checked whatever its sub-steps
+#: per sample (issue 13, helpers gmsw/gmsw2): its sticking springs are solved exactly, so a run takes few
+#: sub-steps although a breakaway that barely reaches its threshold is decided by tolerance-level velocity
+#: errors -- gmsw's seed 1068 (omega dt 23, 1.5 sub-steps per sample) passed unchecked 3.1e-3 of its
+#: position and 4.5e-3 of its friction range off the twin. The README's GMS runs (omega dt 0.28) and the
+#: contract's sets (<= 0.9) never reach it; simulate_batch checks every fast set already.
 SUBSTEP_RISK = 2.0
 #: See :data:`FAST_LIMIT`: the check run's ``rtol``, ``atol_F`` (and an explicit ``atol_v``) are
 #: this many times tighter.
@@ -422,6 +428,16 @@ CHECK_FACTOR_RETRY = 3.0
 CHECK_BOUND = 5.0
 #: See :data:`CHECK_BOUND`.
 CHECK_BOUND_RATE = 1000.0
+#: A checked GMS run whose check run (rtol / CHECK_FACTOR) agrees with it within this many rtol of the ranges
+#: of x and the friction is checked once more, CHECK_FACTOR times tighter still (rtol / 100), and judged by
+#: that run. Why (issue 13, gmsw's seed 1013, tests/robustness/test_passed_wrong.py): a run whose error does
+#: not fall with the tolerance until a decade further down agrees with its check run and passed 38 rtol of its
+#: friction range off the twin -- a stiff GMS (sum k 2.9e8 N/m, above the contract's 1e8) whose slow slip
+#: leaves a velocity error that the re-sticking 1.2e8 N/m element turns into force: 0.05 rtol between rtol
+#: 1e-5 and 1e-6, 28 rtol between 1e-5 and 1e-7. Assumption: a tolerance-proportional error moves by ~0.9 of
+#: itself at rtol / 10, so an agreement within 0.5 rtol means a run within ~0.6 rtol or one the check cannot
+#: see. Costs a third run only on checked GMS runs (fast contacts) that agree that closely.
+CHECK_SAME = 0.5
 
 
 #: When both check runs fail (the default velocity tolerance follows the speed so far down to
@@ -468,7 +484,8 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
     zeta = c / (2.0 * math.sqrt(K * m))
     ringing = (kind == "lugre" and math.sqrt(K / m) * dt > _lugre.RING_FAST
                and zeta < _lugre.RING_ZETA)
-    if not ((fast > FAST_LIMIT or ringing) and per_sample > SUBSTEP_RISK):
+    # a fast GMS contact is checked whatever its sub-steps per sample (see SUBSTEP_RISK)
+    if not ((fast > FAST_LIMIT or ringing) and (per_sample > SUBSTEP_RISK or (kind == "gms" and fast > FAST_LIMIT))):
         return res
     for f in (CHECK_FACTOR, CHECK_FACTOR_RETRY):
         tight = SimOptions(rtol=options.rtol / f, atol_v=None if options.atol_v is None else options.atol_v / f,
@@ -489,9 +506,20 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
                                         atol_v=CHECK_ATOL_V * _atol_v(SimOptions(rtol=options.rtol / CHECK_FACTOR),
                                                                       F_scale, K, m, c))
             fine = rerun(tight)
+    if kind == "gms" and fine.status == 0 and all(
+            float(np.max(np.abs(a - b))) <= CHECK_SAME * options.rtol * float(np.ptp(b))
+            for a, b in ((res.x, fine.x), (res.friction, fine.friction))):
+        # the check run agrees too closely to have checked anything (CHECK_SAME): once more, tighter still
+        f = CHECK_FACTOR * CHECK_FACTOR
+        deeper = dataclasses.replace(tight, rtol=options.rtol / f, atol_F=options.atol_F / f,
+                                     atol_v=None if options.atol_v is None else options.atol_v / f)
+        again = rerun(deeper)
+        if again.status == 0:
+            tight, fine = deeper, again
     osc = oscillator_detail(K, c, m, dt, kind)
     why = (f"the contact is {'faster than' if fast > FAST_LIMIT else 'a lightly damped ringing against'} the samples "
-           f"and the run followed it ({per_sample:.3g} sub-steps per sample): {osc}")
+           f"{'and the run followed it' if per_sample > SUBSTEP_RISK else 'and its switches fall between them'} "
+           f"({per_sample:.3g} sub-steps per sample): {osc}")
     if zeta < 1.0:
         how = ("the error control is local, so the phase error of that lightly damped ringing adds up over its "
                "periods")

@@ -23,6 +23,17 @@ Measured 2026-11-24 (load 7-11, ~0.41 ns a tick; ``--repeat 30``): the Dahl slid
 step of a LuGre/Dahl solve inline, 10 % after; the end check 6 %), the 3 % of samples in 10
 sub-steps 18-20 %; ~2 law evaluations per sample. The flank and Hertz stages spend ~75 % in the
 sub-steps' solves (60-85 site solves, 18-19 sweeps and 80-115 law evaluations per sample).
+
+Measured 2026-11-24 (mspeed; load 1-2): the GMS-4 stage ~2.25 us per sample, 47 % of it in the
+sub-steps of the 12 % of samples whose coarse step failed (the ~50 ms after each reversal: a held
+GMS force fails the bound while the motion accelerates or sticks), coarse solves 19 %; the
+two-shaft drive 5.3 us per sample (its user run; the hunting check reruns it at 4x the sub-steps),
+coarse solves 51 % (12.7 law evaluations, 9 site solves, 2.7 sweeps per sample over its 4 GMS-3
+sites), the 7 % sub-stepped samples (start, table reversals) 36 %. With the GMS coarse-step
+profile (kernels/machine.py run, "Coarse steps") 97 % / 99 % of the samples are one step; the
+two-shaft drive's coarse solves are then ~90 % of its kernel (13.7 law evaluations, 9.7 solves,
+2.9 sweeps per sample; its ball pair and guide sit on the same coordinate, so the Gauss-Seidel
+between them is the likely next target: not measured).
 """
 
 from __future__ import annotations

@@ -24,7 +24,9 @@ discretisation, result checks):
   Its closed loop is linearly stable (``loop_stability`` radius 0.965); the fraction of
   samples with an actuator at its limit is printed, and the kernel CPU of the user's run beside
   that of the loop screen's hunting-check rerun (the loop can hunt: Stribeck radius 1.0117, so
-  ``simulate_machine`` reruns it at 4x the sub-steps; 2026-11-23 under load: 40 vs 75 ms).
+  ``simulate_machine`` reruns it at 4x the sub-steps; 2026-11-23 under load: 40 vs 75 ms; 2026-11-24,
+  load ~12, kernel CPU: 36 vs 67 ms, then 27 vs 31 ms with the GMS sites' coarse-step profile:
+  99 % of the samples in one step in both runs, so the rerun no longer costs 4x the sub-steps).
 * ``emps``: ``presets/emps.py`` (published rigid model, CoulombViscous + offset, gain 35.15,
   ±10 V, one-sample delay) on the recorded EMPS reference at 1 ms: as a user runs it (the
   core's one-DOF fast path ``kernels/machine_axis.py``, exact step per sample; this is

@@ -230,10 +230,13 @@ def test_a_usage_error_before_the_verb_is_one_line(runner):
      "error: --min-travel 1e-320: below 1e-150, a unit slip (its reciprocal overflows)"),
     (["rigid-body", "--position", "x_m", "--cutoff", "1e308"],
      "error: --cutoff 1e+308: beyond 1e+150, a unit slip (its square overflows)"),
+    (["presliding", "--position", "x_m", "--elements", "2", "--Fc", "1", "--C", "1e-320"],
+     "error: --C 1e-320: below 1e-150, a unit slip (its reciprocal overflows)"),
 ])
 def test_an_identify_option_of_no_physical_size_is_named(runner, gms_csv, argv, want):
     """Was (campaign round 10): `identify reversal --min-travel 1e-320` failed as "window = None; need at
-    least 3 after and 1 before" (a reversal at every sample); `--cutoff 1e308` was named 'lowpass.cutoff'."""
+    least 3 after and 1 before" (a reversal at every sample); `--cutoff 1e308` was named 'lowpass.cutoff';
+    `identify presliding --C 1e-320` (a time constant beyond any record) fitted with exit status 0."""
     from frictionkit.cli import app
 
     res = runner.invoke(app, ["identify", argv[0], str(gms_csv), "--time", "t_s", "--force", "F_N", *argv[1:]])

@@ -398,9 +398,9 @@ def output_error(
     chk.where_items(where)
     if mass is not None:
         mass = chk.positive(mass, "--mass", sized=True)
-    offset = chk._finite(offset, "--offset")
-    inertia = chk.optional(chk.nonnegative, inertia, "--inertia")
-    max_presliding = chk.optional(chk.positive, max_presliding, "--max-presliding")
+    offset = chk.magnitude(offset, "--offset")
+    inertia = chk.optional(chk.nonnegative, inertia, "--inertia", sized=True)
+    max_presliding = chk.optional(chk.positive, max_presliding, "--max-presliding", sized=True)
     chk.choice(model, "--model", ("lugre", "gms", "dahl"))
     if compare is not None:
         chk.choice(compare, "--compare", ("v", "x"))
@@ -409,7 +409,7 @@ def output_error(
                              why="the screening simulates every start over the whole record, 1-2 ms each per "
                                  "8,000 samples")
     if C is not None:
-        C = chk.positive(C, "--C")
+        C = chk.positive(C, "--C", sized=True)
     chk.choice(rests, "--rests", ("auto", "none"))
     chk.choice(jacobian, "--jacobian", ("auto", "fd", "sensitivity"))
     chk.choice(velocity_integration, "--velocity-integration", ("held", "trapezoidal"))
@@ -603,8 +603,8 @@ def reversal(
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
     window = chk.optional(chk.positive, window, "--window", sized=True)
     min_travel = chk.optional(chk.positive, min_travel, "--min-travel", sized=True)
-    inertia = chk.nonnegative(inertia, "--inertia")
-    offset = chk._finite(offset, "--offset")
+    inertia = chk.nonnegative(inertia, "--inertia", sized=True)
+    offset = chk.magnitude(offset, "--offset")
     units = chk.units(rotary, force_unit, velocity_unit)
     chk.where_items(where)
     chk.outputs({"RECORDING": recording, "--validate": validate}, files={"--json": json_out}, plots={"--plot": plot})
@@ -678,7 +678,7 @@ def presliding(
                                "take about 20 s")
     scales = {"force": chk.scale(force_scale, "--force-scale"), "position": chk.scale(position_scale, "--position-scale")}
     chk.choice(branch, "--branch", ("auto", "virgin", "reversal"))
-    C = chk.optional(chk.positive, C, "--C")
+    C = chk.optional(chk.positive, C, "--C", sized=True)
     chk.choice(rests, "--rests", ("auto", "none"))
     min_rest = chk.integer(min_rest, "--min-rest", lo=1)
     units = chk.units(rotary, force_unit, velocity_unit)

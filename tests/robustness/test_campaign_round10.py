@@ -262,3 +262,20 @@ def test_a_library_bound_on_an_option_is_reported_with_the_option(runner, tmp_pa
     res = runner.invoke(app, [a.format(model=static_json, d=tmp_path, csv=staircase_csv) for a in argv])
     assert res.exit_code == 2
     assert one_error_line(res) == want
+
+
+def test_ctrl_c_while_the_command_line_is_parsed_is_one_line(runner, monkeypatch):
+    """Was (campaign round 10): Ctrl-C 2.3-2.4 s into `frictionkit identify static ...` (typer importing
+    pydantic to convert the options) exited 130 without a word in 2 of 10 tries: typer turns an interrupt
+    during parsing into a silent exit 130. Now it prints 'error: interrupted' as everywhere else."""
+    from typer.core import TyperGroup
+
+    from frictionkit.cli import app
+
+    def interrupted(self, ctx, args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(TyperGroup, "parse_args", interrupted)
+    res = runner.invoke(app, ["models"])
+    assert res.exit_code == 130
+    assert one_error_line(res) == "error: interrupted"

@@ -176,6 +176,8 @@ class FrictionKitGroup(TyperGroup):
         except cx.UsageError as exc:  # `frictionkit --bogus` printed click's three-line usage block (round 10)
             typer.echo(f"error: {_usage_line(exc)}", err=True)
             raise typer.Exit(code=exc.exit_code) from None
+        except KeyboardInterrupt as exc:  # typer turned it into a silent exit 130 (Ctrl-C while parsing, round 10)
+            raise typer.Exit(code=report(exc, debug=debug_requested(ctx))) from None
 
     def invoke(self, ctx: Any) -> Any:
         cx = _click_exceptions()

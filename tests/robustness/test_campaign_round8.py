@@ -209,8 +209,10 @@ def test_a_flag_reported_as_false_is_right_against_the_twin():
                           warn=False)
     err = {k: float(np.max(np.abs(a - ref[k])) / np.ptp(ref[k])) for k, a in
            (("x", raw.x), ("v", raw.v), ("friction", raw.friction))}
-    # measured first: x and v right, the friction wrong beyond the check's bound (1e-2 of its range)
-    assert raw.status == 0 and err["x"] < 1e-6 and err["v"] < 1e-6 and err["friction"] > 5e-2, err
+    # measured first: x and v right, the friction wrong beyond the error contract (10 rtol = 1e-4 of its range);
+    # it was > 5e-2 before the kernel bounded the friction's share of the local error (kernels/lugre.py
+    # F_ERROR, 2026-11-24): 1.8e-3 since, still 18x the contract
+    assert raw.status == 0 and err["x"] < 1e-6 and err["v"] < 1e-6 and err["friction"] > 1e-3, err
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         res = fk.simulate(law, plant=fk.Mass(1.7), force=u, dt=1e-3)

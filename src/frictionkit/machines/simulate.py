@@ -553,6 +553,32 @@ def site_coupling(machine: Machine, dt: float, substeps: int) -> np.ndarray:
     return kc[:, 0] * G + kc[:, 1] * H
 
 
+def site_force_spans(machine: Machine, fine) -> list:
+    """The range each site force of a run is judged against by the convergence checks (the sub-step
+    check here, the loop check in :mod:`.stability`), from the finer run ``fine``; ``None`` for a static
+    friction site, whose force is the mean over the last sub-step (no state): at a stick/slip switch it
+    legitimately depends on the sub-step, so only its motion is compared. A force is judged against the
+    largest force range acting on the same degrees of freedom (its own, or a neighbour's): a 0.04 N error of
+    a 0.26 N ball-load friction beside a 100 N screw support (seed 000's TDMS at 2 sub-steps) moves nothing,
+    a light slider's only force does."""
+    dofs_of = {}
+    for st in machine.sites:
+        try:
+            dofs_of[st.name] = set(np.flatnonzero(machine.row(st.at)[0]).tolist())
+        except Exception:  # a site without a coordinate row: judged on its own range
+            pass
+    spans = {name: float(np.ptp(fine.site_forces[:, i])) for i, name in enumerate(fine.site_names)}
+    out = []
+    for st, name in zip(machine.sites, fine.site_names):
+        if st.role == "friction" and law_family(st.law) == "static":
+            out.append(None)
+            continue
+        mine = dofs_of.get(name)
+        own = spans[name]
+        out.append(own if not mine else max([own] + [spans[o] for o, od in dofs_of.items() if o in spans and od & mine]))
+    return out
+
+
 def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure, *,
                    atol_given: bool = False) -> MachineResult:
     """Flag a run whose sub-step is too coarse for a site (status 2), by a run at
@@ -579,36 +605,15 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
         worst, est = f"the check run at {fine_n} sub-steps failed ({fine.message})", math.inf
     else:
         est, worst = 0.0, ""
-        # a static site's force is the mean over the last sub-step (no state): at a stick/slip
-        # switch it legitimately depends on the sub-step, so only its motion is compared
-        static = {s.name for s in machine.sites if s.role == "friction" and law_family(s.law) == "static"}
-        # a force is judged against the largest force range acting on the same degrees of freedom
-        # (its own, or a neighbour's): a 0.04 N error of a 0.26 N ball-load friction beside a 100 N
-        # screw support (seed 000's TDMS at 2 sub-steps) moves nothing, a light slider's only force does
-        dofs_of = {}
-        for st in machine.sites:
-            try:
-                dofs_of[st.name] = set(np.flatnonzero(machine.row(st.at)[0]).tolist())
-            except Exception:  # a site without a coordinate row: judged on its own range
-                pass
-        spans = {name: float(np.ptp(fine.site_forces[:, i])) for i, name in enumerate(res.site_names)}
-
-        def force_span(name: str, own: float) -> float:
-            mine = dofs_of.get(name)
-            if not mine:
-                return own
-            return max([own] + [spans[o] for o, od in dofs_of.items() if o in spans and od & mine])
-
+        fspan = site_force_spans(machine, fine)
         for arr, ref, names, what, tol in ((res.q, fine.q, res.dof_names, "position", CHECK_TOL_POSITION),
                                            (res.v, fine.v, res.dof_names, "velocity", CHECK_TOL_RATE),
                                            (res.site_forces, fine.site_forces, res.site_names, "force", CHECK_TOL_RATE)):
             for i, name in enumerate(names):
-                if what == "force" and name in static:
+                if what == "force" and fspan[i] is None:
                     continue
                 d = float(np.max(np.abs(arr[:, i] - ref[:, i])))
-                span = float(np.ptp(ref[:, i]))
-                if what == "force":
-                    span = force_span(name, span)
+                span = fspan[i] if what == "force" else float(np.ptp(ref[:, i]))
                 floor = 1e-9 * float(np.max(np.abs(ref[:, i]))) + 1e-15
                 frac = d / (tol * span + floor)  # > 1: beyond the bound
                 if frac > est:

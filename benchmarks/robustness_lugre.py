@@ -1,6 +1,6 @@
 """Issue 13 ("0 silent wrong answers"): random LuGre/Dahl runs, batches and machines against their twins.
 
-Run:  .venv/bin/python benchmarks/robustness_lugre.py --part a|b|c --seeds FIRST STOP --out cases.jsonl
+Run:  .venv/bin/python benchmarks/robustness_lugre.py --part a|b|c|d --seeds FIRST STOP --out cases.jsonl
       .venv/bin/python benchmarks/robustness_lugre.py --summary cases.jsonl [more.jsonl ...]
 
 Every case is classified against its twin and written as one JSON line (appended, so runs can be split
@@ -27,8 +27,9 @@ false alarm) / ``error`` (an exception: a bug too, with its traceback) / ``twin-
   open-loop elastic ball screw (masses, stiffnesses and friction levels x0.3-3; Dahl/LuGre/GMS nut;
   against ``reference_machine``). Bound: the sub-step check's (``machines/simulate.py``), 1 % of each
   position's range and 10 % of each velocity's and site force's.
+* ``d`` -- zhang2023's two-shaft drive with perturbed assumptions (:func:`case_d`), bound as ``c``.
 
-First campaign (helper lugw2, 2026-11-24; a 0-190, b 0-32, c 0-100): 409 cases. a: 187 runs, 4 passed-WRONG
+First campaign (helper lugw2, 2026-11-24; a 0-190, b 0-32, c 0-100, d 0-24): a: 187 runs, 4 passed-WRONG
 -- seed 40 (a single-sample step across a velocity peak, 16 rtol of the friction range at every rtol) and
 seeds 49, 71 (overdamped LuGre, friction 10-15 rtol) fixed in ``kernels/lugre.py`` (reproducers in
 ``tests/robustness/test_passed_wrong.py``); seed 163 (LuGre, omega dt 0.30, damping ratio 0.31, rtol 9.6e-7
@@ -40,7 +41,11 @@ kernel), adaptive all right; fixed method: one set over the 0.25 % -- seed 26 se
 (sigma0 1e8 N/m, 13.8 kg, omega h = 0.20 at 2 sub-steps, below FIXED_STEP_LIMIT = 0.5): RMS 0.34 % of its
 position and 4.3 % of its friction range at status 0 (that limit's 0.25 % was measured on damped LuGre
 sets); seeds 11 and 20: 0.05 % and 0.19 % of the position range, friction 0.47 % and 0.33 %. c: 102
-machines (7 ball-screw cases rerun after a script error), none passed-WRONG.
+machines (7 ball-screw cases rerun after a script error), none passed-WRONG. d: 24 two-shaft drives, 1
+passed-WRONG -- seed 15, a hunting limit cycle whose support and ball-load frictions stay 13-20 % of their
+range apart at every sub-step count while the loop check said "the run converges" (it compared positions,
+velocities and commands only): now status 2 (``machines/stability.py``,
+``tests/robustness/test_passed_wrong_machines.py``); 433 cases in all.
 """
 from __future__ import annotations
 
@@ -462,6 +467,41 @@ def case_c(seed):
                 err=e, path=res.path[:80], substeps=res.substeps, **{"class": machine_class(res, e)})
 
 
+def case_d(seed):
+    """zhang2023's two-shaft drive (``tdms_machine``, closed loop at 250 us) with its named assumptions perturbed
+    (table mass x0.3-3, axial stiffness x0.2-5 and damping x0.3-3, guide and ball-preload levels x0.5-2; noise
+    off), the differential-mode reference of ``benchmarks/machines.py`` (nut at 4 mm/s, table 0.2-2 mm out and
+    back in 0.6 s), against the general loop at 160 sub-steps."""
+    import dataclasses as dc
+
+    from frictionkit.presets.zhang2023.plant import tdms_machine
+    from frictionkit.presets.zhang2023.truth import Assumptions
+
+    rng = np.random.default_rng(40_000 + seed)
+    base = Assumptions()
+    kw = dict(table_mass=base.table_mass * 10 ** rng.uniform(-0.5, 0.5),
+              k_axial=base.k_axial * 10 ** rng.uniform(-0.7, 0.7), c_axial=base.c_axial * 10 ** rng.uniform(-0.5, 0.5),
+              guide_level=base.guide_level * 10 ** rng.uniform(-0.3, 0.3),
+              ball_preload_level=base.ball_preload_level * 10 ** rng.uniform(-0.3, 0.3))
+    mach = tdms_machine(dc.replace(base, torque_noise=0.0, scale_noise=0.0, **kw))
+    dt, R0 = 250e-6, 5e-3 / (2 * np.pi)
+    t = np.arange(int(0.6 / dt) + 1) * dt
+    ramp = np.minimum(t / 0.2, 1.0)
+    th_base = 4e-3 / R0 * np.cumsum(ramp * ramp * (3 - 2 * ramp)) * dt
+    x_ref = 1e-3 * rng.uniform(0.2, 2) * (1 - np.cos(2 * np.pi * t / 0.6))
+    z = np.zeros_like(t)
+    inputs = {"th1_ref": th_base + x_ref / R0, "th2_ref": -th_base, "ff1": z, "ff2": z, "w1": z, "w2": z}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        t0 = time.process_time()
+        res = fk.simulate_machine(mach, dt=dt, inputs=inputs)
+        cpu = time.process_time() - t0
+        ref = fk.simulate_machine(mach, dt=dt, inputs=inputs, substeps=160, fast_path=False)
+    e = mach_errs(res, ref, mach)
+    return dict(part="d", seed=seed, params={k: float(v) for k, v in kw.items()}, twin="general loop, 160 sub-steps",
+                status=res.status, msg=res.message[:200], cpu=cpu, err=e, **{"class": machine_class(res, e)})
+
+
 def summary(paths):
     import collections
 
@@ -476,7 +516,7 @@ def summary(paths):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--part", choices=("a", "b", "c"))
+    ap.add_argument("--part", choices=("a", "b", "c", "d"))
     ap.add_argument("--seeds", nargs=2, type=int)
     ap.add_argument("--out")
     ap.add_argument("--summary", nargs="+", help="print the classes of these JSON-lines files and stop")
@@ -485,7 +525,7 @@ def main():
         return summary(a.summary)
     if not (a.part and a.seeds and a.out):
         ap.error("--part, --seeds and --out are required (or --summary FILES)")
-    fn = {"a": case_a, "b": case_b, "c": case_c}[a.part]
+    fn = {"a": case_a, "b": case_b, "c": case_c, "d": case_d}[a.part]
     with open(a.out, "a") as fh:
         for seed in range(*a.seeds):
             t0 = time.time()

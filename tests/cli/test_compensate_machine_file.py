@@ -175,7 +175,8 @@ def test_study_json_carries_its_format(tmp_path):
     assert doc["format"] == "frictionkit.study/1"
     (tmp_path / "s.json").write_text(json.dumps(doc))
     kind, (sec,) = sections_from_file(tmp_path / "s.json")
-    assert kind == "study-summary" and [r[0] for r in sec.table[1:]] == ["none", "coulomb"]
+    # best first by the median max tracking error (study.RANK_BY): coulomb 1.5 um before none 3.5 um
+    assert kind == "study-summary" and [r[0] for r in sec.table[1:]] == ["coulomb", "none"]
 
 
 def test_a_row_whose_error_statistics_overflow_is_not_ok(emps, tmp_path):

@@ -127,8 +127,12 @@ def test_gms_stiffness_round_trip():
     gms = fk.GMS(LAW, k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
     t = np.arange(4001) * DT
     u = 2.0 * np.sin(np.pi * t)
-    sim = fk.simulate(gms, plant=fk.Mass(1.0), force=u, dt=DT)
-    v = sim.v + 1e-6 * np.random.default_rng(5).standard_normal(t.size)
+    # the record from the solve_ivp twin: fk.simulate flags this undamped contact (omega dt 1.05) at its
+    # default tolerance (its unchecked run is 5.3e-4 of the friction range off the twin, issue 13)
+    from frictionkit.simulation.reference import reference_force_driven
+
+    truth = reference_force_driven(gms, 1.0, u, DT, rtol=1e-9, atol=1e-14, max_step=DT / 2)
+    v = truth["v"] + 1e-6 * np.random.default_rng(5).standard_normal(t.size)
     start = fk.GMS(LAW, k=[1.4e4, 0.7e5, 1.3e6], xi=[0.5, 0.3, 0.2], C=20.0)
     res = fit_output_error({"t": t, "F": u, "v": v}, start, inertia=1.0, compare="v", free=("k",))
     assert res.names == ("k1", "k2", "k3")

@@ -92,7 +92,13 @@ __all__ = ["evaluate_output_error", "fit_output_error", "initial_guess_lugre", "
 #: 25,000-sample stick-slip run of ``benchmarks/identify.py``: max velocity error
 #: 2.4e-6 m/s against a rtol = 1e-9 run (0.0006 % of the 0.39 m/s peak; the default
 #: SimOptions give 4.5e-7) at 5 ms instead of 11.5 ms per simulation.
-OUTPUT_ERROR_OPTIONS = SimOptions(rtol=1e-5, atol_v=1e-7, atol_F=1e-5)
+#: The accuracy check is off (``check=False``) in the fit's inner loop: the fit's error budget is
+#: the data's noise, not the README's contract, and the check's reruns flag a lightly damped GMS
+#: contact at every rtol (the error of such ringing falls more slowly than rtol): on the record of
+#: tests/unit/test_identify_output_error.py::test_gms_stiffness_round_trip (sum k 1.1e6 N/m on
+#: 1 kg, omega dt 1.05) an unchecked run is 5.3e-4 of the friction range off the twin at rtol 1e-5,
+#: well below the fit's needs, but flagged runs (NaN after failed_at) drove the fit to sum k 8e7.
+OUTPUT_ERROR_OPTIONS = SimOptions(rtol=1e-5, atol_v=1e-7, atol_F=1e-5, check=False)
 
 #: Why ``jacobian="auto"`` differences a GMS force-drive fit (measured decision, issue 11; the
 #: numbers: ``benchmarks/identify.py``'s GMS force section, README): the sensitivities along the

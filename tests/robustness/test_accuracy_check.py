@@ -247,3 +247,22 @@ def test_check_runs_failing_from_rest_get_a_fixed_velocity_tolerance(name):
         # (with the LuGre kernel of 13:50 UTC its plain run itself stops at sample 1: status 3, flagged too)
         assert res.status in (2, 3), res.message
         assert res.status == 3 or "also with a fixed velocity tolerance" in res.message, res.message
+
+
+def test_check_false_returns_the_unchecked_run_and_check_must_be_a_bool():
+    """SimOptions(check=False) skips the accuracy check (the output-error fit's inner loop): an undamped
+    GMS on 1 kg at omega dt 1.05 is flagged with the check and returned whole (status 0) without it,
+    the same samples as the checked run kept; check must be a bool (not 1 or 'no')."""
+    law = fk.GMS(fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-3, sigma2=0.4), k=[1e4, 1e5, 1e6], xi=[0.5, 0.3, 0.2], C=20.0)
+    u = 2.0 * np.sin(np.pi * np.arange(801) * 1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        checked = fk.simulate(law, plant=fk.Mass(1.0), force=u, dt=1e-3)
+    plain = fk.simulate(law, plant=fk.Mass(1.0), force=u, dt=1e-3, options=fk.SimOptions(check=False))
+    assert checked.status == 2 and "accuracy check" in checked.message, checked.message
+    assert plain.status == 0 and np.all(np.isfinite(plain.x)) and "accuracy check" not in plain.message
+    k = checked.failed_at
+    np.testing.assert_array_equal(plain.x[:k + 1], checked.x[:k + 1])
+    for bad in (1, "no", None):
+        with pytest.raises(fk.ParameterError, match="SimOptions.check"):
+            fk.SimOptions(check=bad)

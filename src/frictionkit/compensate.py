@@ -262,7 +262,7 @@ def _emps(names, law, quick, seed, each):
         if name != "none":
             m.add(FrictionFeedforward("ff", "vref", law=true if name == "coulomb" else law))
             m.actuator("ff_drive", m.sites[0].at, gain=1.0, command="ff")
-        res = fk.simulate_machine(m, dt=dt, inputs={"qg": r, "vref": vr}, seed=seed)
+        res = fk.simulate_machine(m, dt=dt, inputs=m.read_inputs({"qg": r, "vref": vr}), seed=seed)
         each(name, t, vr, r - res.q[:, 0], res.status, res.message)
 
 
@@ -354,7 +354,7 @@ class CompensationTest:
         p = Path(path)
         w = f"compensation test '{p}'"
         try:
-            text = p.read_text(encoding="utf-8")
+            text = p.read_text(encoding="utf-8-sig")  # a BOM is read as the JSON loaders read it
         except OSError as exc:
             raise DataError(f"{w}: cannot be read ({exc.strerror or exc})") from None
         except UnicodeDecodeError:
@@ -469,7 +469,8 @@ def _machine_test(machine, test: CompensationTest, names, law, quick, seed, each
             ff = law if name == "model" else test.compensators[name]
             m.add(FrictionFeedforward("compensation_ff", test.velocity, law=ff))
             m.actuator("compensation_drive", _site(m, test.site).at, gain=1.0, command="compensation_ff")
-        res = simulate_machine(m, dt=test.dt, inputs=inputs, seed=seed)
+        # the run without compensation does not read test.velocity; the others read every input
+        res = simulate_machine(m, dt=test.dt, inputs=m.read_inputs(inputs) if name == "none" else inputs, seed=seed)
         each(name, t, inputs[test.velocity], inputs[test.reference] - res.position(test.position), res.status,
              res.message)
 
@@ -501,7 +502,7 @@ def _sdss(names, law, quick, seed, each):
             blocks.append(FrictionFeedforward("T_ff", "w_ref", law=ff, scale=1.0 / axis.torque_constant))
             terms["T_ff"] = 1.0
         m.add(*blocks, Sum("i", terms))
-        res = simulate_machine(m, dt=dt, inputs={"r": r, "w_ref": w}, seed=seed)
+        res = simulate_machine(m, dt=dt, inputs=m.read_inputs({"r": r, "w_ref": w}), seed=seed)
         each(name, t, w, r - res.position("theta"), res.status, res.message)
 
 

@@ -344,7 +344,7 @@ def load_study(path: str | Path) -> StudySpec:
     if not p.is_file():
         raise DataError(f"study '{p}': not found")
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8"))
+        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))  # a BOM is read as the JSON loaders read it
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise DataError(f"study '{p}': not valid TOML ({exc})") from None
     if not doc:  # an empty (or truncated to nothing) file ran a 20-run default study (campaign round 5)
@@ -442,7 +442,8 @@ def _axis_run(spec: StudySpec, run: dict) -> dict[str, float]:
     emps = spec.machine["preset"] == "emps"
     inputs = {"qg": r, "vref": vr} if emps else {"r": r, "vref": vr}
     machine = _machine(spec, run)
-    res = fk.simulate_machine(machine, dt=dt, inputs=inputs, seed=int(run["noise_seed"]))
+    # vref is read only by the compensators that use it
+    res = fk.simulate_machine(machine, dt=dt, inputs=machine.read_inputs(inputs), seed=int(run["noise_seed"]))
     if res.status != 0:
         raise fk.SimulationError(res.message)
     # a drawn plant (mass) can turn the loop unstable: a failed row even when the run converged (to a limit

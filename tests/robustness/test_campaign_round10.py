@@ -279,3 +279,50 @@ def test_ctrl_c_while_the_command_line_is_parsed_is_one_line(runner, monkeypatch
     res = runner.invoke(app, ["models"])
     assert res.exit_code == 130
     assert one_error_line(res) == "error: interrupted"
+
+
+# --------------------------------------------------------------------------- lead, after round 10
+def test_a_machine_input_nothing_reads_is_refused():
+    """Was: simulate_machine(inputs={"zz": ...}) ran as if the input were not given (a misspelt reference or
+    command went unnoticed)."""
+    m = fk.Machine("slider")
+    x = m.dof("x", inertia=1.0)
+    m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0))
+    m.actuator("u", x)
+    good = fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(11, 0.5)})
+    assert good.status == 0
+    with pytest.raises(DataError, match=r"\['zz'\] are read by nothing.*it reads \['u'\]"):
+        fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(11, 0.5), "zz": np.zeros(11)})
+
+
+def test_simulate_refuses_options_that_are_not_simoptions_and_an_overflowing_time_axis():
+    """Were: options="fast" ran at the defaults; dt = 1e308 gave a time axis of inf at status 0."""
+    u = np.full(5, 0.5)
+    law = fk.LuGre(LAW, sigma0=1e5, sigma1=300.0)
+    with pytest.raises(ParameterError, match="simulate: options = 'fast'"):
+        fk.simulate(law, plant=fk.Mass(1.0), force=u, dt=1e-3, options="fast")
+    with pytest.raises(ParameterError, match="simulate_batch: options = 'fast'"):
+        fk.simulate_batch([law], masses=1.0, force=u, dt=1e-3, target=np.zeros(5), options="fast")
+    for kw in ({"force": u, "plant": fk.Mass(1.0)}, {"velocity": u}):
+        with pytest.raises(ParameterError, match="dt = 1e.308 s: 5 samples of it pass the largest float"):
+            fk.simulate(law, dt=1e308, **kw)
+
+
+def test_toml_files_with_a_byte_order_mark_are_read_as_the_json_loaders_read_them(tmp_path):
+    """Was: a study/fleet TOML saved with a BOM (Windows editors) was refused as 'Invalid statement (line 1,
+    column 1)' while the JSON loaders accept a BOM."""
+    from frictionkit.fleet.config import load_config
+    from frictionkit.study import load_study
+
+    p = tmp_path / "s.toml"
+    p.write_bytes(b"\xef\xbb\xbf" + b"[machine]\nlimit = 20.0\n[reference]\nduration = 0.2\n[study]\ndraws = 1\n"
+                  b"seeds = 1\ncompensators = ['none']\n")
+    assert load_study(p).machine["limit"] == 20.0
+    from pathlib import Path
+
+    src = Path(__file__).parents[2] / "examples" / "fleet" / "tro2021_steady_state.toml"
+    q = tmp_path / "f.toml"
+    q.write_bytes(b"\xef\xbb\xbf" + src.read_bytes())
+    import dataclasses
+
+    assert dataclasses.replace(load_config(q), source=load_config(src).source) == load_config(src)

@@ -116,7 +116,7 @@ def _spec_files(test: Optional[Path]) -> list[Path]:
 
     try:
         raw = test.read_bytes()
-        doc = json.loads(raw) if test.suffix.lower() == ".json" else tomllib.loads(raw.decode("utf-8"))
+        doc = json.loads(raw) if test.suffix.lower() == ".json" else tomllib.loads(raw.decode("utf-8-sig"))
     except (OSError, ValueError):
         return []
     out = []

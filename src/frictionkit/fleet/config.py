@@ -356,7 +356,7 @@ def load_config(path: str | Path) -> FleetConfig:
     if not p.is_file():
         raise DataError(f"fleet config '{p}': not found")
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8"))
+        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))  # a BOM is read as the JSON loaders read it
     except UnicodeDecodeError as exc:
         raise DataError(f"fleet config '{p}': not UTF-8 text (byte {exc.start})") from None
     except tomllib.TOMLDecodeError as exc:

@@ -374,6 +374,14 @@ class Machine:
         names += [s for b in self.blocks for s in b.inputs if s not in produced]
         return list(dict.fromkeys(names))
 
+    def read_inputs(self, inputs: dict) -> dict:
+        """The entries of ``inputs`` this machine reads (:meth:`input_names`): for a caller that feeds
+        variants of one machine the same signals (a run without a compensator does not read the
+        reference speed the compensated runs feed forward), as :func:`simulate_machine` refuses an
+        input nothing reads."""
+        need = set(self.input_names())
+        return {k: a for k, a in inputs.items() if k in need}
+
     def to_dict(self) -> dict:
         """The machine as JSON-ready data: every part in the order it was added, friction laws
         in the law registry's JSON form, other parts by :func:`~frictionkit.machines.elements.element_to_dict`.

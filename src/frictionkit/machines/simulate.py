@@ -723,6 +723,13 @@ def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
     N = _length(inputs, None if n_samples is None else int(n_samples))
     if N < 2:
         raise DataError(f"simulate_machine: {N} samples; need at least 2")
+    # an input nothing reads is refused (issue 13, round 10: inputs={"zz": ...} ran as if not given,
+    # so a misspelt reference or command went unnoticed)
+    needed = machine.input_names()
+    unread = [k for k in inputs if k not in needed]
+    if unread:
+        raise DataError(f"simulate_machine: input(s) {unread} are read by nothing in machine {machine.name!r} "
+                        f"(a misspelt name?); it reads {needed or 'no inputs'}")
     # a delay line as long as the run only ever outputs its initial value, and its memory and the
     # loop screen's matrix grow with it (issue 13 round 5: delay 10000 spent 648 s in the screen,
     # 10**9 grew to 7.6 GB): refused, naming the part

@@ -269,7 +269,8 @@ def sidereal_tracking(axis=None, model: LuGre | None = None, *, duration: float 
             terms["T_ff"] = 1.0
         blocks.append(Sum("i", terms))
         m.add(*blocks)
-        res = simulate_machine(m, dt=dt, inputs={"r": r, "w_ref": np.full(n, w)}, seed=seed, raise_on_failure=True)
+        res = simulate_machine(m, dt=dt, inputs=m.read_inputs({"r": r, "w_ref": np.full(n, w)}), seed=seed,
+                               raise_on_failure=True)
         e = r - res.position("theta")
         out[label] = float(np.sqrt(np.mean(e**2)) / sdss.ARCSEC)
     return out

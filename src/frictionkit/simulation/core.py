@@ -288,8 +288,26 @@ def _ramp(N: int) -> np.ndarray:
     return r
 
 
+def _options(owner: str, options) -> SimOptions:
+    """``options`` or the defaults; anything but a SimOptions is refused (issue 13, round 10:
+    ``options="fast"`` ran at the defaults without a word)."""
+    if options is None:
+        return SimOptions()
+    if not isinstance(options, SimOptions):
+        raise ParameterError(f"{owner}: options = {options!r}: must be a frictionkit.SimOptions (or None: the defaults)")
+    return options
+
+
+def _time_span(N: int, dt: float) -> None:
+    """Refuse a time axis that overflows (issue 13, round 10: dt = 1e308 gave t = inf silently)."""
+    if N > 1 and not math.isfinite((N - 1) * dt):
+        raise ParameterError(f"simulate: dt = {dt!r} s: {N} samples of it pass the largest float "
+                             "(the time axis overflows); give dt in seconds")
+
+
 def _times(N: int, dt: float) -> np.ndarray:
     """``t_k = k dt`` in one allocation (``np.arange(N) * dt`` makes an int array first)."""
+    _time_span(N, dt)
     t = np.arange(N, dtype=float)
     t *= dt
     return t
@@ -341,6 +359,7 @@ def _finish(t, x, v, F, states, status, at, substeps, model, detail: str = "", *
 def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, warn=True) -> SimulationResult:
     """One force-driven run of the adaptive kernels (LuGre/Dahl or GMS) with ``options``."""
     N = u.size
+    _time_span(N, dt)
     # t, x, v, F (and z) as rows of ONE allocation (issue 15, measured): as five arrays of
     # 8 N bytes they sat at the top of the heap, and glibc returns a free top larger than its
     # trim threshold (twice the largest mmapped block freed so far, here ~one trace) to the OS
@@ -669,7 +688,7 @@ def simulate(
         raise ParameterError(
             f"simulate: give exactly one of force=, position=, velocity= (got {given or 'none'})"
         )
-    options = options or SimOptions()
+    options = _options("simulate", options)
     kind, pk = _pack(model)
     F_scale = _f_scale(pk.static)
 
@@ -696,6 +715,7 @@ def simulate(
         _resolved_position(xpos)
     else:
         vel = val.signal("velocity", velocity)
+        _time_span(vel.size, dt)
         if velocity_integration == "held":
             xpos = np.concatenate([[0.0], np.cumsum(vel[1:] * dt)])
         else:
@@ -940,7 +960,7 @@ def simulate_batch(
             f"simulate_batch: masses has {mv.size} entries for {P} models: give one mass or one per model"
         )
     m = np.broadcast_to(mv, (P,)).copy()
-    options = options or SimOptions()
+    options = _options("simulate_batch", options)
     kinds = set()
     for i, mdl in enumerate(models):
         try:

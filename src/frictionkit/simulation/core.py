@@ -45,6 +45,10 @@ _MESSAGES = {
 FIXED_STEP_LIMIT = 0.5
 
 
+#: The default ``SimOptions.atol_F`` at rtol >= 1e-5 (below it the default follows rtol).
+ATOL_F = 1e-5
+
+
 @dataclass(frozen=True, kw_only=True)
 class SimOptions:
     """Accuracy and budget of the force-driven integrator.
@@ -69,9 +73,14 @@ class SimOptions:
         (down to ``V_FLOOR`` times the default; see ``V_FLOOR``), so a run that never
         moves that fast keeps its error relative to its own range (issue 15). An
         explicit value is used as given.
-    atol_F : float
+    atol_F : float, optional
         Absolute friction-state tolerance as a fraction of the largest static
         level ``max(Fc, Fs)`` [-], > 0 (for LuGre it applies to ``sigma0 z``).
+        Default: ``min(ATOL_F, rtol)`` (1e-5 at the default ``rtol``), so a tighter
+        ``rtol`` tightens it too: left at 1e-5 it bounded the friction's absolute
+        error far above ``rtol`` of its range (an overdamped LuGre at rtol 1e-8 was
+        60·rtol of its friction range off the twin; issue 13). An explicit value is
+        used as given.
     max_substeps : int
         Most sub-steps within one sample interval before the run stops with
         status 2.
@@ -96,7 +105,7 @@ class SimOptions:
 
     rtol: float = 1e-5
     atol_v: float | None = None
-    atol_F: float = 1e-5
+    atol_F: float | None = None
     max_substeps: int = 100_000
     batch_substeps: int = 2
     check: bool = True
@@ -108,6 +117,8 @@ class SimOptions:
         val.positive(o, "rtol", self.rtol)
         if self.atol_v is not None:
             val.positive(o, "atol_v", self.atol_v)
+        if self.atol_F is None:
+            object.__setattr__(self, "atol_F", min(ATOL_F, float(self.rtol)))
         val.positive(o, "atol_F", self.atol_F)
         val.integer(o, "max_substeps", self.max_substeps, minimum=1)
         if (

@@ -356,9 +356,17 @@ class Machine:
             if not isinstance(b, BLOCK_TYPES):
                 raise ParameterError(f"Machine.add: {type(b).__name__} is not a controller block; "
                                      f"use one of {[t.__name__ for t in BLOCK_TYPES]}")
+            written = {o: type(w).__name__ for w in self.blocks for o in w.outputs}
             for out in b.outputs:
                 if out in self._dof_names or out in self._motion_names:
                     raise ParameterError(f"Machine.add: block output {out!r} clashes with a dof/motion name")
+                # issue 13, round 10: a second writer silently overrode the first every sample
+                if out in written:
+                    raise ParameterError(f"Machine.add: {type(b).__name__} writes signal {out!r}, which a "
+                                         f"{written[out]} block already writes; the later would override the "
+                                         "earlier every sample: give each its own name and add them with a Sum")
+                if out in {s.name for s in self.sensors}:
+                    raise ParameterError(f"Machine.add: block output {out!r} clashes with a sensor's name")
             self.blocks.append(b)
 
     # ------------------------------------------------------------------ JSON form (machine files)
@@ -441,6 +449,7 @@ class Machine:
 
         top = obj(data, "machine", ("name", "dofs"), ("motions", "inertias", "masses", "springs", "sites",
                                                        "actuators", "sensors", "blocks"))
+        _no_huge_number(top, "machine")
         m = cls(top["name"])
 
         def coord(d, where: str) -> Coord:
@@ -670,3 +679,19 @@ def _watch_machine(machine: Machine, out: list) -> bool:
 
 #: Fingerprints remembered per machine object (:func:`memo_fingerprint`); dropped with the machine.
 _MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _no_huge_number(d, where: str) -> None:
+    """Refuse a number beyond ``HUGE`` anywhere in a machine file (issue 13, round 10: v0, gains and
+    noise of 1e200-1e308 loaded while the CLI and data files refuse them as a unit slip)."""
+    from .._validate import HUGE
+    from ..errors import DataError
+
+    if isinstance(d, dict):
+        for k, v in d.items():
+            _no_huge_number(v, f"{where}.{k}")
+    elif isinstance(d, list):
+        for i, v in enumerate(d):
+            _no_huge_number(v, f"{where}[{i}]")
+    elif isinstance(d, (int, float)) and not isinstance(d, bool) and math.isfinite(d) and abs(d) > HUGE:
+        raise DataError(f"{where} = {d!r}: beyond {HUGE:.0e}, a unit slip (its square overflows)")

@@ -449,7 +449,6 @@ class Machine:
 
         top = obj(data, "machine", ("name", "dofs"), ("motions", "inertias", "masses", "springs", "sites",
                                                        "actuators", "sensors", "blocks"))
-        _no_huge_number(top, "machine")
         m = cls(top["name"])
 
         def coord(d, where: str) -> Coord:
@@ -679,19 +678,3 @@ def _watch_machine(machine: Machine, out: list) -> bool:
 
 #: Fingerprints remembered per machine object (:func:`memo_fingerprint`); dropped with the machine.
 _MEMO: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
-
-
-def _no_huge_number(d, where: str) -> None:
-    """Refuse a number beyond ``HUGE`` anywhere in a machine file (issue 13, round 10: v0, gains and
-    noise of 1e200-1e308 loaded while the CLI and data files refuse them as a unit slip)."""
-    from .._validate import HUGE
-    from ..errors import DataError
-
-    if isinstance(d, dict):
-        for k, v in d.items():
-            _no_huge_number(v, f"{where}.{k}")
-    elif isinstance(d, list):
-        for i, v in enumerate(d):
-            _no_huge_number(v, f"{where}[{i}]")
-    elif isinstance(d, (int, float)) and not isinstance(d, bool) and math.isfinite(d) and abs(d) > HUGE:
-        raise DataError(f"{where} = {d!r}: beyond {HUGE:.0e}, a unit slip (its square overflows)")

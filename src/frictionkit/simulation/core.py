@@ -318,7 +318,6 @@ def _time_span(N: int, dt: float) -> None:
 
 def _times(N: int, dt: float) -> np.ndarray:
     """``t_k = k dt`` in one allocation (``np.arange(N) * dt`` makes an int array first)."""
-    _time_span(N, dt)
     t = np.arange(N, dtype=float)
     t *= dt
     return t
@@ -723,6 +722,7 @@ def simulate(
         raise ParameterError("simulate: plant= is only used with force= (a motion-driven run has no plant)")
     if position is not None:
         xpos = val.signal("position", position)
+        _time_span(xpos.size, dt)
         _resolved_position(xpos)
     else:
         vel = val.signal("velocity", velocity)

@@ -293,6 +293,9 @@ def test_a_machine_input_nothing_reads_is_refused():
     assert good.status == 0
     with pytest.raises(DataError, match=r"\['zz'\] are read by nothing.*it reads \['u'\]"):
         fk.simulate_machine(m, dt=1e-3, inputs={"u": np.full(11, 0.5), "zz": np.zeros(11)})
+    assert list(m.read_inputs({"u": np.full(11, 0.5), "zz": np.zeros(11)})) == ["u"]
+    with pytest.raises(ParameterError, match="Machine.read_inputs: inputs = NoneType"):
+        m.read_inputs(None)
 
 
 def test_simulate_refuses_options_that_are_not_simoptions_and_an_overflowing_time_axis():

@@ -387,6 +387,8 @@ class Machine:
         variants of one machine the same signals (a run without a compensator does not read the
         reference speed the compensated runs feed forward), as :func:`simulate_machine` refuses an
         input nothing reads."""
+        if not isinstance(inputs, dict):
+            raise ParameterError(f"Machine.read_inputs: inputs = {type(inputs).__name__}: must be a dict name -> array")
         need = set(self.input_names())
         return {k: a for k, a in inputs.items() if k in need}
 

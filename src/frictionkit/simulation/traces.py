@@ -73,8 +73,8 @@ def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
     for i, d in enumerate(result.machine.dofs):
         out[f"x.{d.name} [{d.unit}]"] = result.q[:, i]
         out[f"v.{d.name} [{d.unit}/s]"] = result.v[:, i]
-    for j, name in enumerate(result.site_names):
-        out[f"force.{name} [{site_units(result.machine)[j]}]"] = result.site_forces[:, j]
+    for j, (name, unit) in enumerate(zip(result.site_names, site_units(result.machine))):
+        out[f"force.{name} [{unit}]"] = result.site_forces[:, j]
     for j, name in enumerate(result.actuator_names):
         out[f"u.{name}"] = result.u[:, j]
     for j, name in enumerate(result.signal_names):

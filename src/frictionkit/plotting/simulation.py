@@ -5,6 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 
+#: Largest travel [m] of a hysteresis axis drawn in µm; beyond it, mm (tick labels in m ran together).
+MICRON_AXIS_SPAN = 2e-3
+
+
+def length_display(x) -> tuple[float, str]:
+    """``(factor, unit)`` of a length axis [m]: µm up to :data:`MICRON_AXIS_SPAN` of ``|x|``, else mm."""
+    span = float(np.nanmax(np.abs(x), initial=0.0))
+    return (1e6, "µm") if span <= MICRON_AXIS_SPAN else (1e3, "mm")
+
+
 def plot_result(res, ax=None, *, units=None):
     """Hysteresis (F over x) and F over time. Returns the two axes.
 
@@ -19,17 +29,17 @@ def plot_result(res, ax=None, *, units=None):
         _, ax = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     ax = np.atleast_1d(ax)
     dx = res.x - res.x[0]
-    span = float(np.nanmax(np.abs(dx), initial=0.0))
     # a gross-sliding run (the README's 0.23 m) read "200000" on a µm axis
-    scale, unit = ((1e6, "µm") if span <= 2e-3 else (1e3, "mm")) if u["x"] == "m" else (1.0, u["x"])
+    scale, unit = length_display(dx) if u["x"] == "m" else (1.0, u["x"])
+    friction = f"friction {'torque' if u['F'] == 'N·m' else 'force'} [{u['F']}]"
     ax[0].plot(dx * scale, res.friction, lw=1.0)
     ax[0].set_xlabel(f"displacement [{unit}]")
-    ax[0].set_ylabel(f"friction {'torque' if u['F'] == 'N·m' else 'force'} [{u['F']}]")
+    ax[0].set_ylabel(friction)
     ax[0].set_title("force–displacement")
     if ax.size > 1:
         ax[1].plot(res.t, res.friction, lw=1.0)
         ax[1].set_xlabel("time [s]")
-        ax[1].set_ylabel(f"friction {'torque' if u['F'] == 'N·m' else 'force'} [{u['F']}]")
+        ax[1].set_ylabel(friction)
         ax[1].set_title("force over time")
     for a in ax:
         a.grid(True, alpha=0.3)

@@ -983,8 +983,9 @@ def traces_sections(df) -> list[Section]:
     if x is not None:
         xs, xl = df[x].to_numpy(float), x
         if x == "x [m]":  # µm up to 2 mm, else mm: '-0.00100' ... '0.00100' in m ran together
-            span = float(np.nanmax(np.abs(xs), initial=0.0))
-            scale, unit = (1e6, "µm") if span <= 2e-3 else (1e3, "mm")
+            from ..plotting.simulation import length_display
+
+            scale, unit = length_display(xs)
             xs, xl = xs * scale, f"x [{unit}]"
         axs[-1].plot(xs, df[F].to_numpy(float), lw=0.9, color="C1")
         axs[-1].set(xlabel=xl, ylabel=F, title="hysteresis loop F(x)")

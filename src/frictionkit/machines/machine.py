@@ -352,6 +352,7 @@ class Machine:
     def add(self, *blocks: Any) -> None:
         """Append controller blocks (:class:`Sum`, :class:`PID`, :class:`StateSpace`,
         :class:`Saturation`, :class:`FrictionFeedforward`); they run in this order each sample."""
+        sensors = {s.name for s in self.sensors}
         for b in blocks:
             if not isinstance(b, BLOCK_TYPES):
                 raise ParameterError(f"Machine.add: {type(b).__name__} is not a controller block; "
@@ -365,7 +366,7 @@ class Machine:
                     raise ParameterError(f"Machine.add: {type(b).__name__} writes signal {out!r}, which a "
                                          f"{written[out]} block already writes; the later would override the "
                                          "earlier every sample: give each its own name and add them with a Sum")
-                if out in {s.name for s in self.sensors}:
+                if out in sensors:
                     raise ParameterError(f"Machine.add: block output {out!r} clashes with a sensor's name")
             self.blocks.append(b)
 

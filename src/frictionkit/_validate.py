@@ -156,6 +156,26 @@ def real_array(name: str, value: Any, *, copy: bool = True) -> np.ndarray:
         raise DataError(f"{name}: cannot be read as an array of numbers") from None
 
 
+def velocities(owner: str, value: Any) -> np.ndarray:
+    """The velocities ``v`` [m/s or rad/s] a law's ``steady_state(v)`` evaluates, as a float array of any
+    shape (a scalar too). ``None``, booleans, text, complex numbers and objects are refused with a
+    :class:`ParameterError` naming ``owner``'s argument ``v`` (``LuGre.steady_state("abc")`` raised numpy's
+    "could not convert string to float", ``steady_state(None)`` returned NaN and ``steady_state(True)`` the
+    force at 1 m/s, issue 13 round 11). NaN entries stay NaN (numpy's rule for an array evaluation)."""
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fiu":  # the common case, no copy
+        return np.asarray(value, dtype=float)
+    arr = None
+    if not (value is None or is_bool(value) or isinstance(value, (str, bytes, np.str_, np.bytes_))):
+        try:
+            arr = np.asarray(value)
+        except (TypeError, ValueError):  # ragged nesting
+            arr = None
+    if arr is None or arr.dtype.kind not in "fiu":  # text, booleans, complex numbers, None entries (object)
+        raise ParameterError(f"{owner}: v = {_short(value)}: must be velocities [m/s or rad/s], a real number "
+                             "or an array of real numbers")
+    return arr.astype(float, copy=False)
+
+
 def signal(name: str, value: Any, *, min_len: int = 2, copy: bool = True) -> np.ndarray:
     """A contiguous 1-D float64 copy of a sampled signal, checked for NaN/inf and length.
 

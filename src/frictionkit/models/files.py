@@ -129,6 +129,8 @@ def _version() -> str:
 def _axis_units(units: Mapping[str, str] | None) -> dict[str, str]:
     """``{"F", "x", "v"}`` unit labels; ``x`` follows ``v`` (``rad/s`` -> ``rad``)."""
     out = dict(LINEAR_UNITS)
+    if units is not None and not isinstance(units, Mapping):  # units=5 was "'int' object has no attribute 'items'"
+        raise ParameterError(f"units = {units!r}: must be a mapping of axis labels {{'F': ..., 'v': ...}}")
     for key, label in (units or {}).items():
         if key not in ("F", "x", "v"):
             raise ParameterError(f"units: key {key!r} unknown; give labels for 'F', 'v' (and 'x')")
@@ -259,8 +261,13 @@ class ModelFile:
         """Write the file atomically (UTF-8, indented); returns the path."""
         from .._io import atomic_write_text
 
-        text = json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n"
-        return atomic_write_text(Path(path), text)
+        target = _file_path("ModelFile.save", "path", path)
+        try:
+            text = json.dumps(self.to_dict(), indent=2, ensure_ascii=False) + "\n"
+        except (TypeError, ValueError) as exc:  # provenance={"a": object()} raised json's TypeError (round 11)
+            raise ParameterError(f"provenance: {_one_line(exc)}; entries must be JSON data (numbers, text, lists, "
+                                 "mappings)") from None
+        return atomic_write_text(target, text)
 
     @classmethod
     def load(cls, path: str | Path, *, kind: str | None = "law") -> ModelFile:
@@ -271,7 +278,7 @@ class ModelFile:
         """
         if kind is not None and kind not in KINDS:
             raise ParameterError(f"ModelFile.load kind = {kind!r}: must be one of {KINDS} or None")
-        p = Path(path)
+        p = _file_path("load_model", "path", path)
         where = f"model file '{p}'"
         out = cls._load(p, where)
         if kind is not None and out.kind != kind:
@@ -507,6 +514,17 @@ def _flatten(node: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
+def _file_path(owner: str, name: str, value: Any) -> Path:
+    """``value`` as a Path, or a ParameterError naming the argument (``load_model(5)`` raised pathlib's
+    TypeError, issue 13 rounds 10-11)."""
+    if isinstance(value, bytes) or not isinstance(value, (str, Path)) and not hasattr(value, "__fspath__"):
+        raise ParameterError(f"{owner}: {name} = {value!r}: must be a file path (str or os.PathLike)")
+    try:
+        return Path(value)
+    except TypeError:  # an __fspath__ that returns bytes
+        raise ParameterError(f"{owner}: {name} = {value!r}: must be a file path (str or os.PathLike)") from None
+
+
 def _fmt(val: Any) -> str:
     if isinstance(val, list):
         return "[" + ", ".join(f"{x:.6g}" for x in val) + "]"
@@ -555,18 +573,22 @@ def save_model(model: Any, path: str | Path, *, units: Mapping[str, str] | None 
     >>> fk.save_model(fk.Dahl(Fc=1.0, sigma0=1e5), "dahl.json", method="catalogue values")  # doctest: +SKIP
     PosixPath('dahl.json')
     """
+    if provenance is not None and not isinstance(provenance, Mapping):  # was "'int' object is not iterable"
+        raise ParameterError(f"save_model: provenance = {provenance!r}: must be a mapping (name -> JSON data)")
+    if method is not None and not isinstance(method, str):  # method=object() was written as "<object object at ...>"
+        raise ParameterError(f"save_model: method = {method!r}: must be a string (how the parameters were obtained)")
     prov: dict[str, Any] = dict(provenance or {})
     prov.setdefault("frictionkit_version", _version())
     prov.setdefault("created", datetime.now(timezone.utc).isoformat(timespec="seconds"))
     if method is not None:
-        prov["method"] = str(method)
+        prov["method"] = method
     if data is not None:
-        d = Path(data)
+        d = _file_path("save_model", "data", data)
         if not d.is_file():
             raise DataError(f"save_model: data = '{d}': no such file (the file the parameters came from)")
         prov["data_file"] = str(d)
         prov["data_sha256"] = _sha256(d)
-    return ModelFile(model=model, units=units or {}, provenance=prov).save(path)
+    return ModelFile(model=model, units=units or {}, provenance=prov).save(_file_path("save_model", "path", path))
 
 
 def load_model(path: str | Path) -> Any:

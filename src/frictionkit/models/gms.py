@@ -108,7 +108,7 @@ class GMS:
         return float(self.k.sum())
 
     def steady_state(self, v: ArrayLike) -> np.ndarray:
-        v = np.asarray(v, dtype=float)
+        v = val.velocities("GMS.steady_state", v)
         s = self.static.stribeck(v)
         return float(self.xi.sum()) * s + (self.static.steady_state(v) - s)
 

@@ -61,7 +61,7 @@ class LuGre:
         object.__setattr__(self, "sigma1", val.nonnegative(o, "sigma1", self.sigma1))
 
     def steady_state(self, v: ArrayLike) -> np.ndarray:
-        return self.static.steady_state(v)
+        return self.static.steady_state(val.velocities(f"{type(self).__name__}.steady_state", v))
 
     def dynamic_rows(self) -> np.ndarray:
         row = [self.sigma0, self.sigma1]
@@ -101,7 +101,7 @@ class Dahl:
         return 0.0
 
     def steady_state(self, v: ArrayLike) -> np.ndarray:
-        return self.static.steady_state(v)
+        return self.static.steady_state(val.velocities(f"{type(self).__name__}.steady_state", v))
 
     def dynamic_rows(self) -> np.ndarray:
         return np.array([[self.sigma0, 0.0], [self.sigma0, 0.0]], dtype=float)

@@ -118,7 +118,7 @@ class Stribeck:
 
     def steady_state(self, v: ArrayLike) -> np.ndarray:
         """``Fss(v) = s(v) + sigma2 v`` for an array of velocities."""
-        return _stribeck_eval(self.static_rows(), v, viscous=True)
+        return _stribeck_eval(self.static_rows(), val.velocities("Stribeck.steady_state", v), viscous=True)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -150,7 +150,7 @@ class CoulombViscous:
         return _stribeck_eval(self.static_rows(), v, viscous=False)
 
     def steady_state(self, v: ArrayLike) -> np.ndarray:
-        return _stribeck_eval(self.static_rows(), v, viscous=True)
+        return _stribeck_eval(self.static_rows(), val.velocities("CoulombViscous.steady_state", v), viscous=True)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -206,7 +206,7 @@ class Directional:
 
     def steady_state(self, v: ArrayLike, **kw: Any) -> np.ndarray:
         """Each side's ``steady_state``; keywords (``schedule=`` of a ``TDMSSC``) go to both."""
-        v = np.asarray(v, dtype=float)
+        v = val.velocities("Directional.steady_state", v)
         return np.where(v < 0.0, self.negative.steady_state(v, **kw), self.positive.steady_state(v, **kw))
 
 

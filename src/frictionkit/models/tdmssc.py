@@ -150,7 +150,7 @@ class TDMSSC:
 
 def _schedule_eval(rows: np.ndarray, v, schedule, owner: str) -> np.ndarray:
     """NumPy reference evaluation of :data:`SCHEDULE_COLUMNS` rows (row 0: v >= 0, row 1: v < 0)."""
-    v = np.asarray(v, dtype=float)
+    v = val.velocities(f"{owner}.steady_state", v)
     try:
         s = np.asarray(schedule, dtype=float)
     except (TypeError, ValueError):

@@ -1,0 +1,62 @@
+"""Issue 13, round 10's leftovers and campaign round 11 (helper r11): one test per pattern fixed, each built
+from the case that exposed it (``benchmarks/robustness_campaign.py``, families K-R)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from _robustness_helpers import LAW
+
+import frictionkit as fk
+from frictionkit.errors import ParameterError
+
+LUGRE = fk.LuGre(LAW, sigma0=1e5, sigma1=30.0)
+
+
+# ---------------------------------------------------------------- round 10's leftovers (c)
+@pytest.mark.parametrize("v", ["abc", None, True, 1 + 2j, [1.0, "a"], [1.0, None], {"a": 1}, [[1.0], [1.0, 2.0]]])
+@pytest.mark.parametrize("law", [LAW, LUGRE, fk.Dahl(Fc=1.0, sigma0=1e5), fk.CoulombViscous(Fc=1.0, sigma2=0.4),
+                                 fk.GMS(LAW, k=[1e4, 1e5], xi=[0.5, 0.5], C=20.0),
+                                 fk.Directional(positive=LAW, negative=LAW)], ids=lambda m: type(m).__name__)
+def test_steady_state_refuses_what_is_no_velocity_naming_v(law, v):
+    """Was: ``LuGre.steady_state("abc")`` raised numpy's "could not convert string to float"; ``None`` returned
+    NaN, ``True`` the force at 1 m/s, ``1+2j`` a TypeError. Now one ParameterError naming the law and ``v``."""
+    with pytest.raises(ParameterError, match=rf"{type(law).__name__}\.steady_state: v = .*must be velocities"):
+        law.steady_state(v)
+
+
+def test_steady_state_still_takes_numbers_lists_and_arrays():
+    # LAW: Fc 1, Fs 1.5, vs 1e-3, delta 2, sigma2 0.4 -> Fss(0.01) = 1 + 0.5 exp(-100) + 0.004
+    assert float(LUGRE.steady_state(0.01)) == pytest.approx(1.004, rel=1e-12)
+    assert np.allclose(LUGRE.steady_state([0.01, -0.01]), [1.004, -1.004], rtol=1e-12)
+    assert float(LUGRE.steady_state(np.array([1]))[0]) == pytest.approx(1.4, rel=1e-12)  # int array: 1 m/s
+    tdmssc = fk.TDMSSC(Fc0=1.0, Fs0=1.5, vs=1e-3)
+    with pytest.raises(ParameterError, match=r"TDMSSC\.steady_state: v = 'abc'"):
+        tdmssc.steady_state("abc", schedule=0.0)
+
+
+@pytest.mark.parametrize("kw, match", [
+    ({"method": object()}, r"save_model: method = <object object .*must be a string"),
+    ({"method": 5}, r"save_model: method = 5: must be a string"),
+    ({"provenance": 5}, r"save_model: provenance = 5: must be a mapping"),
+    ({"provenance": {"a": object()}}, r"provenance: .*not JSON serializable"),
+    ({"units": 5}, r"units = 5: must be a mapping"),
+    ({"data": 5}, r"save_model: data = 5: must be a file path"),
+])
+def test_save_model_refuses_wrong_types_naming_the_argument(tmp_path, kw, match):
+    """Was: ``save_model(method=object())`` wrote "<object object at 0x...>" as the method; ``provenance=5``,
+    ``units=5`` and ``data=5`` raised Python's TypeError/AttributeError, ``provenance={"a": object()}`` json's."""
+    out = tmp_path / "m.json"
+    with pytest.raises(ParameterError, match=match):
+        fk.save_model(LUGRE, out, **kw)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("path", [5, None, b"m.json", ["m.json"]])
+def test_model_file_paths_of_the_wrong_type_are_refused_naming_path(path):
+    """Was: ``load_model(5)`` / ``save_model(law, None)`` raised pathlib's TypeError (round 10's residual)."""
+    with pytest.raises(ParameterError, match=r"load_model: path = .*must be a file path"):
+        fk.load_model(path)
+    with pytest.raises(ParameterError, match=r"save_model: path = .*must be a file path"):
+        fk.save_model(LUGRE, path)

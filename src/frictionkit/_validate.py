@@ -206,6 +206,34 @@ OUTLIER_FACTOR = 1e6
 HUGE = 1e150
 
 
+def no_huge_number(node: Any, where: str, *, skip: Any = None) -> None:
+    """Refuse a number beyond :data:`HUGE` anywhere in a parsed JSON document, naming its path
+    (``machine.dofs[0].v0 = 1e+200``) — the bound the command line's options and the data files
+    keep (a unit slip: its square overflows). Issue 13 round 10 found a machine file's v0, gains and
+    noise of 1e200-1e308 loaded while ``--input u=1e200`` and a data file's sample were refused.
+
+    ``skip(path, parent)``: True for a field left to its own rule — where a huge value means "no
+    limit" (JSON has no infinity: a saturation written as lo = -1e300), or where a stricter check
+    names the cause better (a start position: float spacing, :func:`position`).
+    """
+    if isinstance(node, dict):
+        for k, v in node.items():
+            path = f"{where}.{k}"
+            if skip is None or not skip(path, node):
+                no_huge_number(v, path, skip=skip)
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            no_huge_number(v, f"{where}[{i}]", skip=skip)
+    elif isinstance(node, (int, float)) and not is_bool(node):
+        try:
+            big = abs(float(node)) > HUGE
+        except OverflowError:  # an integer beyond the float range
+            big = True
+        if big and (not isinstance(node, float) or math.isfinite(node)):  # NaN/inf: the field's own check
+            raise DataError(f"{where} = {_short(node)}: beyond {HUGE:.0e}, no physical size in SI (its square "
+                            "overflows): a unit slip or a corrupt number")
+
+
 #: Longest run of samples :func:`outlier` still reads as a spike (corrupt samples) rather
 #: than a short real motion: assumption — a recording sampled fast enough for its motion
 #: does not jump by OUTLIER_FACTOR and back within 4 samples; 40 samples of motion in a

@@ -3,6 +3,8 @@ from the case that exposed it (``benchmarks/robustness_campaign.py``, families K
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -60,3 +62,64 @@ def test_model_file_paths_of_the_wrong_type_are_refused_naming_path(path):
         fk.load_model(path)
     with pytest.raises(ParameterError, match=r"save_model: path = .*must be a file path"):
         fk.save_model(LUGRE, path)
+
+
+# ---------------------------------------------------------------- round 10's leftovers (a)
+def _slider_doc() -> dict:
+    from frictionkit.machines import Saturation, Sum
+
+    m = fk.Machine("slider")
+    x = m.dof("x", inertia=1.0)
+    m.friction("contact", x, law=fk.CoulombViscous(Fc=1.0))
+    m.sensor("xm", x)
+    m.add(Sum("u_c", {"xm": -100.0}), Saturation("u", "u_c", -5.0, 5.0))
+    m.actuator("motor", x, command="u", limit=5.0)
+    doc = m.to_dict()
+    assert fk.Machine.from_dict(doc).to_dict() == doc
+    return doc
+
+
+@pytest.mark.parametrize("where, value", [
+    (("dofs", 0, "v0"), 1e200), (("actuators", 0, "gain"), 1e308), (("sensors", 0, "noise"), 1e200),
+    (("blocks", 0, "terms", "xm"), -1e300), (("sites", 0, "law", "Fc"), 1e300), (("dofs", 0, "inertia"), 10**400),
+], ids=["v0", "gain", "noise", "sum-term", "law-Fc", "400-digit-inertia"])
+def test_a_machine_file_number_beyond_any_physical_size_is_refused_naming_its_path(where, value):
+    """Was (round 10): a machine file's v0, gains and noise of 1e200-1e308 loaded, while the command line's
+    options and data files refuse beyond 1e150 as a unit slip."""
+    from frictionkit.errors import DataError
+
+    doc = _slider_doc()
+    node = doc
+    for k in where[:-1]:
+        node = node[k]
+    node[where[-1]] = value
+    path = "machine" + "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in where)
+    with pytest.raises(DataError, match=re.escape(path) + r" = .*beyond 1e\+150"):
+        fk.Machine.from_dict(doc)
+
+
+def test_a_machine_files_unbounded_limits_and_start_position_keep_their_own_rules():
+    """The bound's exemptions (why 399636c's blanket bound was reverted): a saturation or actuator limit of
+    ±1e300 means no limit (JSON has no infinity); x0 = 1e300 keeps its float-spacing message."""
+    doc = _slider_doc()
+    doc["blocks"][1]["lo"], doc["blocks"][1]["hi"] = -1e300, 1e300
+    doc["actuators"][0]["limit"] = 1e300
+    m = fk.Machine.from_dict(doc)
+    assert m.actuators[0].limit == 1e300
+    doc["dofs"][0]["x0"] = 1e300
+    with pytest.raises(ParameterError, match=r"x0 = 1e\+300: .*float spacing"):
+        fk.Machine.from_dict(doc)
+
+
+def test_a_law_files_number_beyond_any_physical_size_is_refused(tmp_path):
+    """Was: a law file with ``"sigma0": 1e200`` or ``"Fc": 1e300`` loaded (the same unit slip as above)."""
+    import json
+
+    from frictionkit.errors import DataError
+
+    p = fk.save_model(LUGRE, tmp_path / "lugre.json")
+    doc = json.loads(p.read_text())
+    doc["model"]["static"]["Fs"] = 1e300
+    p.write_text(json.dumps(doc))
+    with pytest.raises(DataError, match=r"lugre\.json': model\.static\.Fs = 1e\+300: beyond 1e\+150"):
+        fk.load_model(p)

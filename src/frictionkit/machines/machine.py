@@ -9,6 +9,7 @@ EMPS axis, ...) are functions that build a ``Machine``.
 from __future__ import annotations
 
 import math
+import re
 import weakref
 from dataclasses import dataclass
 
@@ -452,6 +453,7 @@ class Machine:
 
         top = obj(data, "machine", ("name", "dofs"), ("motions", "inertias", "masses", "springs", "sites",
                                                        "actuators", "sensors", "blocks"))
+        val.no_huge_number(top, "machine", skip=_own_rule_field)
         m = cls(top["name"])
 
         def coord(d, where: str) -> Coord:
@@ -677,6 +679,19 @@ def _watch_machine(machine: Machine, out: list) -> bool:
     out.append((machine, _snap_vars, _snap_vars(machine)))
     seen = {id(machine)}
     return all(_watch(v, out, seen, 1) for v in vars(machine).values())
+
+
+#: Machine-file fields exempt from the file-wide magnitude bound (``_validate.no_huge_number``): an actuator's
+#: ``limit`` (a huge value means no limit: JSON has no infinity) and a dof's start position ``x0``, whose own,
+#: stricter bound names the cause (``_validate.position``: float spacing beyond 1e6 m).
+_OWN_RULE_PATH = re.compile(r"machine\.actuators\[\d+\]\.limit|machine\.dofs\[\d+\]\.x0")
+
+
+def _own_rule_field(path: str, parent: dict) -> bool:
+    """True for a field the magnitude bound leaves alone: :data:`_OWN_RULE_PATH`, and a Saturation block's
+    ``lo``/``hi`` (an unbounded side written as -1e300 / 1e300, as tests/robustness/test_loop_stability does)."""
+    return bool(_OWN_RULE_PATH.fullmatch(path)) or (parent.get("type") == "Saturation"
+                                                     and path.rsplit(".", 1)[-1] in ("lo", "hi"))
 
 
 #: Fingerprints remembered per machine object (:func:`memo_fingerprint`); dropped with the machine.

@@ -68,6 +68,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
+from .._validate import no_huge_number
 from ..errors import DataError, FrictionKitError, ParameterError
 from .base import is_law_dict, law_entry, law_from_dict, law_to_dict
 from typing import TYPE_CHECKING
@@ -332,6 +333,7 @@ class ModelFile:
             if "law" in doc or "type" in doc:  # a bare law, before model files existed
                 from ..identify.result import model_from_dict
 
+                no_huge_number(doc, "law")
                 return cls(model=model_from_dict(doc), provenance={"source_format": "law JSON without envelope"},
                            format="law")
             raise DataError(f"not a frictionkit model: no \"format\" key and no \"law\" key (keys: {sorted(doc)[:8]})")
@@ -369,6 +371,7 @@ class ModelFile:
                             "'units'] (notes go under \"provenance\")")
         units = _optional(doc, "units", Mapping, "an object", {})
         prov = _optional(doc, "provenance", Mapping, "an object", {})
+        no_huge_number(doc["model"], "model")  # as a machine file's numbers (Machine.from_dict), round 11
         return cls(model=law_from_dict(doc["model"]), units={k: v for k, v in units.items() if k != "parameters"},
                    provenance=prov, format=fmt)
 

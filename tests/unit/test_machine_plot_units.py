@@ -76,7 +76,8 @@ def test_plot_has_positions_velocities_and_forces_on_one_time_axis(run):
     axes = run.plot()
     try:
         assert [a.get_ylabel() for a in axes] == ["position\n[rad]", f"position\n[{xu}]", "velocity\n[rad/s]",
-                                                  f"velocity\n[{vu}]", "site torque\n[N·m]", "site force\n[N]"]
+                                                  f"velocity\n[{vu}]", "site torque\n[N·m]", "site force\n[N]",
+                                                  "actuator torque\n[N·m]"]
         assert all(a.get_shared_x_axes().joined(axes[0], a) for a in axes)
         assert axes[-1].get_xlabel() == "time [s]"
         # each panel draws the samples it names: the table's velocity, the nut's and guide's forces

@@ -18,13 +18,13 @@ def length_display(x) -> tuple[float, str]:
 def plot_result(res, ax=None, *, units=None):
     """Hysteresis (F over x) and F over time. Returns the two axes.
 
-    ``units`` (``{"x": ..., "F": ...}``, a model file's) labels a rotary law's run in rad and N·m (it read
-    'displacement [µm]' and 'friction force [N]' for radians and newton-metres); a length is shown in µm up
-    to 2 mm of travel, else mm.
+    ``units`` (``{"x": ..., "F": ...}``, a model file's; default the run's own, ``simulate(units=)``) labels a
+    rotary law's run in rad and N·m (it read 'displacement [µm]' and 'friction force [N]' for radians and
+    newton-metres); a length is shown in µm up to 2 mm of travel, else mm.
     """
     import matplotlib.pyplot as plt
 
-    u = {"x": "m", "F": "N", **dict(units or {})}
+    u = {"x": "m", "F": "N", **dict((units if units is not None else getattr(res, "units", None)) or {})}
     if ax is None:
         _, ax = plt.subplots(1, 2, figsize=(10, 3.8), layout="constrained")
     ax = np.atleast_1d(ax)
@@ -66,7 +66,27 @@ def _machine_groups(res) -> list[tuple[str, str, list[tuple[str, np.ndarray]]]]:
     for unit in dict.fromkeys(units):
         lines = [(name, res.site_forces[:, j]) for j, name in enumerate(res.site_names) if units[j] == unit]
         groups.append(("site torque" if unit == "N·m" else "site force", unit, lines))
-    return groups
+    return groups + _actuator_groups(res)
+
+
+def _actuator_groups(res) -> list[tuple[str, str, list]]:
+    """The actuators' panels, one per unit: each actuator's commanded force or torque ``gain * command``
+    (dashed) and the applied one ``gain * u`` (after saturation and delay), so a saturated drive shows."""
+    from ..machines.machine import site_unit
+
+    acts = {a.name: a for a in getattr(res.machine, "actuators", ())}
+    per_unit: dict[str, list] = {}
+    for j, name in enumerate(res.actuator_names):
+        act = acts.get(name)
+        if act is None:
+            continue
+        unit = site_unit(f"actuator {name!r}", act.at, res.machine.dofs, None)
+        lines = per_unit.setdefault(unit, [])
+        if act.command in res.signal_names:
+            lines.append((f"{name} commanded", act.gain * res.signal(act.command), "--"))
+        lines.append((f"{name} applied" + (f" (limit ±{abs(act.gain) * act.limit:.3g})" if np.isfinite(act.limit)
+                                            else ""), act.gain * res.u[:, j], "-"))
+    return [("actuator torque" if unit == "N·m" else "actuator force", unit, lines) for unit, lines in per_unit.items()]
 
 
 def trace_groups(columns) -> list[tuple[str, str, list[tuple[str, str]]]]:
@@ -119,8 +139,8 @@ def plot_panels(t, groups, *, title: str, ax=None):
         axes = axes[:, 0]
     for a, (quantity, unit, lines) in zip(axes, groups):
         factor, shown = _display(unit, lines)
-        for k, (label, y) in enumerate(lines):
-            a.plot(t, factor * np.asarray(y, dtype=float), lw=1.0, color=f"C{k % 10}", label=label)
+        for k, (label, y, *style) in enumerate(lines):  # (label, samples[, line style])
+            a.plot(t, factor * np.asarray(y, dtype=float), *style, lw=1.0, color=f"C{k % 10}", label=label)
         a.set_ylabel(f"{quantity}\n[{shown}]")
         a.grid(True, alpha=0.3)
         a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
@@ -130,7 +150,8 @@ def plot_panels(t, groups, *, title: str, ax=None):
 
 
 def plot_machine(res, ax=None):
-    """A machine run over time: positions, velocities and site forces, one panel per quantity and unit.
+    """A machine run over time: positions, velocities, site forces and actuator forces, one panel per
+    quantity and unit.
 
     Parameters
     ----------
@@ -142,8 +163,9 @@ def plot_machine(res, ax=None):
     Returns
     -------
     ndarray of Axes (a new figure: one panel per quantity and unit — positions [m], [rad],
-    velocities [m/s], [rad/s], site forces [N], torques [N·m] — sharing the time axis,
-    legends outside on the right) or the given Axes.
+    velocities [m/s], [rad/s], site forces [N], torques [N·m], then, when the machine has actuators,
+    each actuator's commanded (dashed) and applied force or torque, after saturation and delay —
+    sharing the time axis, legends outside on the right) or the given Axes.
     """
     status = "ok" if res.status == 0 else f"status {res.status}"
     return plot_panels(res.t, _machine_groups(res), title=f"{res.machine.name} ({status})", ax=ax)

@@ -6,7 +6,7 @@ import math
 import warnings
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -162,6 +162,9 @@ class SimulationResult:
     substeps: int = 0
     failed_at: int | None = None
     model: Any = field(default=None, repr=False)
+    #: Axis unit labels ``{"F", "x", "v"}`` of the run (``simulate(units=)``; None: N, m, m/s): the labels of
+    #: :meth:`plot`, :meth:`summary` and the trace columns — the numbers are SI either way.
+    units: Any = field(default=None, repr=False)
 
     @property
     def success(self) -> bool:
@@ -183,14 +186,16 @@ class SimulationResult:
         if not ok.any():
             return head
         x, v, F = self.x[ok], self.v[ok], self.friction[ok]
-        body = (f"travel {float(x.max() - x.min()):.4g} m, peak |v| {float(np.abs(v).max()):.4g} m/s, "
-                f"friction {float(F.min()):.4g} … {float(F.max()):.4g} N")
+        u = {"x": "m", "v": "m/s", "F": "N", **dict(self.units or {})}
+        body = (f"travel {float(x.max() - x.min()):.4g} {u['x']}, peak |v| {float(np.abs(v).max()):.4g} {u['v']}, "
+                f"friction {float(F.min()):.4g} … {float(F.max()):.4g} {u['F']}")
         if self.substeps:
             body += f", {self.substeps} sub-steps ({self.substeps / max(n - 1, 1):.2f} per sample)"
         return head + "\n  " + body
 
     def plot(self, ax: Axes | None=None) -> Axes | np.ndarray:
-        """Friction force over displacement (hysteresis) and over time.
+        """Friction force over displacement (hysteresis) and over time, labelled in the run's
+        :attr:`units` (a rotary law's in rad and N·m).
 
         Returns the array of two matplotlib axes.
         """
@@ -645,6 +650,7 @@ def simulate(
     state0: float | ArrayLike | None=None,
     options: SimOptions | None = None,
     velocity_integration: str = "trapezoidal",
+    units: Mapping[str, str] | None = None,
 ) -> SimulationResult:
     """Simulate a dynamic friction law, force-driven on a plant or motion-driven.
 
@@ -677,6 +683,10 @@ def simulate(
         velocity over the interval ending there, ``x_k = x_{k-1} + v_k dt`` — what
         drives log (an encoder difference over one period, an "averaged velocity");
         the trapezoidal rule would lag such a log by half a sample.
+    units : mapping, optional
+        Axis unit labels ``{"F": ..., "v": ...}`` (and ``"x"``; default N, m/s, m) the result
+        carries for its plot, summary and traces — ``{"F": "N·m", "v": "rad/s"}`` for a rotary
+        law (a model file's ``ModelFile.units``). Labels only: the numbers are SI.
 
     Returns
     -------
@@ -692,6 +702,15 @@ def simulate(
     >>> res.success, res.x.shape
     (True, (4001,))
     """
+    if units is not None:  # labels checked before the run, carried by its result
+        from types import MappingProxyType
+
+        from ..models.files import _axis_units
+
+        labels = MappingProxyType(_axis_units(units))
+        res = simulate(model, dt=dt, plant=plant, force=force, position=position, velocity=velocity, x0=x0, v0=v0,
+                       state0=state0, options=options, velocity_integration=velocity_integration)
+        return dataclasses.replace(res, units=labels)
     dt = val.positive("simulate", "dt", dt)
     given = [name for name, a in (("force", force), ("position", position), ("velocity", velocity)) if a is not None]
     if len(given) != 1:

@@ -32,7 +32,8 @@ RUN_FORMAT = "frictionkit.simulation/1"
 
 
 def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[str, np.ndarray]:
-    """``{column name with unit: samples}`` of a :class:`~frictionkit.SimulationResult`.
+    """``{column name with unit: samples}`` of a :class:`~frictionkit.SimulationResult`, labelled in
+    ``units`` (default the run's own, ``simulate(units=)``).
 
     Examples
     --------
@@ -47,7 +48,7 @@ def trace_table(result: Any, *, units: Mapping[str, str] | None = None) -> dict[
 
     if hasattr(result, "dof_names"):  # a MachineResult
         return machine_trace_table(result)
-    u = _axis_units(units)
+    u = _axis_units(units if units is not None else getattr(result, "units", None))
     out = {"t [s]": result.t, f"x [{u['x']}]": result.x, f"v [{u['v']}]": result.v, f"friction [{u['F']}]": result.friction}
     states = result.states or {}
     if "z" in states:

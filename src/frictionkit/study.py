@@ -111,7 +111,7 @@ import time
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Mapping
 
 import numpy as np
 
@@ -504,13 +504,27 @@ def run_one(spec: StudySpec, run: dict, parts: str | None = None) -> dict[str, A
 RANK_BY = "max_error_median_m"
 
 
+def _merit(value: Any) -> tuple[bool, float]:
+    """Sort key of one compensator's :data:`RANK_BY` value: lowest first, a missing or non-finite one last."""
+    ok = isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool) \
+        and bool(np.isfinite(value))
+    return (not ok, float(value) if ok else 0.0)
+
+
 def rank_compensators(table: Any) -> list[str]:
     """The compensators of a study table (one row per run), best first by the median of ``max_error`` over
     the successful runs; ties and compensators whose every run failed keep the table's order, last."""
     comps = list(dict.fromkeys(table["compensator"].dropna().astype(str))) if len(table) else []
     ok = table[table["ok"].astype(bool)] if len(table) else table
     med = {c: float(ok.loc[ok["compensator"].astype(str) == c, "max_error"].median()) for c in comps}
-    return sorted(comps, key=lambda c: (not np.isfinite(med[c]), med[c] if np.isfinite(med[c]) else 0.0))
+    return sorted(comps, key=lambda c: _merit(med[c]))
+
+
+def rank_summaries(compensators: Mapping[str, Mapping[str, Any]]) -> list[str]:
+    """The compensators of a study summary (``{name: {RANK_BY: value, ...}}``, the ``"compensators"`` of
+    :meth:`StudyResult.to_dict`), best first by :data:`RANK_BY` with the rule of :func:`rank_compensators`
+    (files written before the ranking listed them in the table's order)."""
+    return sorted(compensators, key=lambda c: _merit(compensators[c].get(RANK_BY)))
 
 
 #: ``format`` of :meth:`StudyResult.to_dict` (``frictionkit study --json``).

@@ -42,15 +42,16 @@ def _check(doc, t_true, y_true, tol, q=100):
     assert np.sqrt(np.mean((y - y_pred) ** 2)) == pytest.approx(doc["rms"], rel=1e-2)
 
 
-def _report_fit_axes(path):
-    """The fit's figure as the report draws it: fit panel over the residual panel."""
+def _report_fit_axes(path, n_axes=2):
+    """The fit's figure as the report draws it: fit panel over the residual panel (and, for a pre-sliding
+    fit, its force–displacement loop beside them: ``n_axes`` 3)."""
     import matplotlib.pyplot as plt
 
     res = IdentificationResult.load_json(path)
     ax = res.plot()
     axes = ax.figure.axes
     try:
-        assert len(axes) == 2 and axes[1].get_shared_x_axes().joined(axes[0], axes[1])
+        assert len(axes) == n_axes and axes[1].get_shared_x_axes().joined(axes[0], axes[1])
         assert axes[1].get_ylabel().startswith("residual [") and axes[1].get_xlabel() == "time [s]"
         assert [ln.get_label() for ln in ax.get_legend().get_lines()][:2] == ["measured", "predicted"]
         # the legend sits right of the axes, over no data
@@ -103,7 +104,8 @@ def test_presliding_json_has_the_fit_data(tmp_path):
     assert r.exit_code == 0, r.output
     doc = json.loads(out.read_text(encoding="utf-8"))
     _check(doc, t, F, tol=1e-12)
-    assert _report_fit_axes(out) == ("force [N]", "residual [N]")
+    np.testing.assert_array_equal(doc["data"]["x"], x)  # every sample fitted: the loop's positions
+    assert _report_fit_axes(out, n_axes=3) == ("force [N]", "residual [N]")
 
 
 def test_report_names_the_measured_signal(tmp_path):

@@ -294,7 +294,9 @@ def fit_presliding(
         ``diagnostics`` holds ``breakpoints`` [m], ``slopes`` [N/m],
         ``total_stiffness`` [N/m], ``s_level`` [N], ``factor``, ``C``,
         ``C_grid_rms``, ``initial_k``, ``initial_xi`` (eq. 19 before refinement);
-        ``data`` holds ``t``, ``y`` (measured force) and ``y_pred`` (simulated).
+        ``data`` holds ``t``, ``x`` (the fitted samples' positions), ``y`` (measured
+        force) and ``y_pred`` (simulated); ``.plot()`` draws the fit over time and as
+        the force–displacement loop.
         ``success`` is False, with the reason in ``message``, when the branch is not
         concave (a slope rises at a breakpoint: ``M`` too large or not pre-sliding
         data; ``model`` is then None and the values NaN), when the polish does not
@@ -447,6 +449,7 @@ def fit_presliding(
         C_grid = np.array([C])
 
     F_all = np.concatenate([sg.F[sg.fit] for sg in segs])  # every fitted sample of every segment
+    x_all = np.concatenate([sg.x[sg.fit] for sg in segs])  # their positions: the plot's F(x) loop
     t_all = _times(md)
 
     def sim_F(k, xi, Cv):
@@ -539,5 +542,5 @@ def fit_presliding(
                      "factor": factor, "C": C_sel, "C_grid": C_grid.tolist(), "C_grid_rms": grid_rms.tolist(),
                      "branch": branch, "segments": md.summary, "polish": polish_state},
         provenance=prov,
-        data={"t": t_all, "y": F_all, "y_pred": F_pred},
+        data={"t": t_all, "x": x_all, "y": F_all, "y_pred": F_pred},
     )

@@ -383,7 +383,7 @@ class IdentificationResult:
         Where the data came from (file, columns, scales, hash) and the settings used.
     data : mapping of str to ndarray
         What the fit saw, for plots: static maps ``v``, ``F``, ``F_pred``; rigid body
-        ``t``, ``y``, ``y_pred``.
+        ``t``, ``y``, ``y_pred``; pre-sliding also ``x``.
     parts : mapping of str to IdentificationResult
         Per-direction results (``"positive"``, ``"negative"``) of a static-map fit.
 

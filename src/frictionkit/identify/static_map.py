@@ -195,12 +195,12 @@ def _hc3(J: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, float]:
 UNSEEN_COMPONENT = 1e-4
 
 
-def _unseen(J: np.ndarray) -> np.ndarray:
-    """Parameters (boolean mask) that move along a direction the data do not determine."""
-    p = J.shape[1]
-    if J.shape[0] == 0 or not np.all(np.isfinite(J)):
+def _unseen(sv: np.ndarray, vt: np.ndarray) -> np.ndarray:
+    """Parameters (boolean mask) that move along a direction the data do not determine, from the
+    singular values ``sv`` and the full right singular vectors ``vt`` (p x p) of the Jacobian."""
+    p = vt.shape[1]
+    if sv.size == 0 or not (np.all(np.isfinite(sv)) and np.all(np.isfinite(vt))):
         return np.zeros(p, dtype=bool)
-    _, sv, vt = np.linalg.svd(J, full_matrices=True)
     sv = np.r_[sv, np.zeros(p - sv.size)] if sv.size < p else sv
     if sv[0] <= 0:
         return np.ones(p, dtype=bool)
@@ -242,7 +242,8 @@ def _fit_direction(
         s2 = float(np.sum(best.fun**2)) / dof
     else:
         s2 = 2.0 * float(best.cost) / dof
-    sv = np.linalg.svd(J, compute_uv=False)
+    # one decomposition for the rank ratio and the unseen directions (was two SVDs of J)
+    _, sv, vt = np.linalg.svd(J, full_matrices=True)
     rank_ratio = float(sv[-1] / sv[0]) if sv[0] > 0 else 0.0
     cov_s = s2 * np.linalg.pinv(J.T @ J)
     max_leverage = None
@@ -264,7 +265,7 @@ def _fit_direction(
     # variance: a rank-deficient negative staircase (one plateau inside the Stribeck range) printed
     # delta 4.008 with a 95 % interval 4e-5 wide around a true 2 (issue 13, round 9). A parameter
     # that moves along such a direction has an unbounded variance instead.
-    unseen = _unseen(J)
+    unseen = _unseen(sv, vt)
     if unseen.any():
         cov_s = cov_s.copy()
         cov_s[unseen, :] = np.inf

@@ -21,6 +21,24 @@ def fitted_signal(result) -> tuple[str, str]:
     return {"v": "velocity", "x": "position"}.get(compare, "torque" if "·m" in unit else "force"), unit
 
 
+def _plot_loop(ax, result, x, y, y_pred) -> None:
+    """A pre-sliding fit as the force–displacement (hysteresis) loop: measured and predicted against the
+    position (µm up to 2 mm of travel, else mm; a rotary record's as it is)."""
+    from .simulation import length_display
+
+    _, unit = fitted_signal(result)
+    xu = result.provenance.get("units", {}).get("x", "m") if isinstance(result.provenance.get("units"),
+                                                                          Mapping) else "m"
+    k, xu_shown = length_display(x[np.isfinite(x)]) if xu == "m" else (1.0, xu)
+    ax.plot(k * x, y, "-", lw=0.8, color="C0", label="measured")
+    ax.plot(k * x, y_pred, "-", lw=0.8, color="C1", label="predicted")
+    ax.set_xlabel(f"position [{xu_shown}]")
+    ax.set_ylabel(f"{'torque' if '·m' in unit else 'force'} [{unit}]")
+    ax.set_title("force–displacement loop", fontsize="medium")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", fontsize="small")
+
+
 def plot_identification(result, ax=None):
     """Draw an :class:`~frictionkit.identify.IdentificationResult`.
 
@@ -29,7 +47,9 @@ def plot_identification(result, ax=None):
     time. Output error: measured and simulated velocity (or position; the force in the
     motion drive) against time. Drawn on a new figure, a time-series fit gets a second
     panel below, sharing the time axis: the residual ``measured − predicted``
-    (``ax.figure.axes[1]``); on a given ``ax`` only the fit is drawn.
+    (``ax.figure.axes[1]``); a pre-sliding fit that saved its positions (``data["x"]``)
+    also the force–displacement loop beside them (``ax.figure.axes[2]``). On a given
+    ``ax`` only the fit over time is drawn.
 
     Parameters
     ----------
@@ -54,9 +74,17 @@ def plot_identification(result, ax=None):
     d = result.data
     series = result.kind not in ("static_map", "reversal")
     y, y_pred = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0))
-    res_ax = None
+    res_ax = loop_ax = None
     if ax is None:
-        if series and y.size and y.size == y_pred.size:  # the fit over its residual, one time axis
+        loop = result.kind == "presliding" and y.size and d.get("x", np.zeros(0)).size == y.size
+        if series and y.size and y.size == y_pred.size and loop:  # beside it, the F(x) hysteresis loop
+            fig = plt.figure(figsize=(11.5, 5.2), layout="constrained")
+            grid = fig.add_gridspec(2, 2, height_ratios=[RESIDUAL_PANEL_RATIO, 1], width_ratios=[1.45, 1])
+            ax = fig.add_subplot(grid[0, 0])
+            res_ax = fig.add_subplot(grid[1, 0], sharex=ax)
+            ax.tick_params(labelbottom=False)
+            loop_ax = fig.add_subplot(grid[:, 1])
+        elif series and y.size and y.size == y_pred.size:  # the fit over its residual, one time axis
             fig, (ax, res_ax) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True,
                                              gridspec_kw={"height_ratios": [RESIDUAL_PANEL_RATIO, 1]})
         else:
@@ -107,11 +135,16 @@ def plot_identification(result, ax=None):
     else:
         t = d.get("t", np.arange(d.get("y", np.zeros(0)).size))
         y, y_pred, y_static = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0)), d.get("y_static")
+        x = d.get("x", np.zeros(0))
         if t.size > 2:  # break the lines across rests and between records (gaps in time)
             gap = np.flatnonzero(np.diff(t) > 1.5 * np.median(np.diff(t))) + 1
             t, y, y_pred = (np.insert(np.asarray(a, float), gap, np.nan) for a in (t[:], y, y_pred))
             if y_static is not None:
                 y_static = np.insert(np.asarray(y_static, float), gap, np.nan)
+            if loop_ax is not None:
+                x = np.insert(np.asarray(x, float), gap, np.nan)
+        if loop_ax is not None:
+            _plot_loop(loop_ax, result, x, y, y_pred)
         ax.plot(t, y, "-", lw=0.8, color="C0", label="measured")
         if res_ax is not None:
             res_ax.plot(t, y - y_pred, "-", lw=0.6, color="C3")

@@ -411,8 +411,10 @@ def identification_sections(res, *, name: str = "result", written: Mapping[str, 
     try:
         ax = res.plot()
         fig = ax.figure
-        fig.set_size_inches(8, 4.2 if len(fig.axes) == 1 else 5.6)  # fit over its residual: two panels
-        fig.tight_layout()
+        # fit over its residual: two panels; a pre-sliding fit's force–displacement loop beside them
+        fig.set_size_inches(*{1: (8, 4.2), 2: (8, 5.6)}.get(len(fig.axes), (11, 5.2)))
+        if fig.get_layout_engine() is None:
+            fig.tight_layout()
         sec.figures.append((f"{Path(name).stem}.png", figure_png(fig)))
     except Exception as exc:  # noqa: BLE001 - a plot must not hide the numbers
         plt.close("all")
@@ -897,14 +899,11 @@ def study_summary_sections(d: Mapping[str, Any]) -> list[Section]:
     sec = Section(f"Monte-Carlo study summary ({d.get('runs', '?')} runs)")
     sec.table = [["compensator", "runs", "failed", "max error median [µm]", "max error 95th pct [µm]",
                   "RMS error median [µm]"]]
-    from ..study import RANK_BY
-
-    def merit(item):  # files written before the ranking listed them in the table's order
-        x = item[1].get(RANK_BY)
-        return (not isinstance(x, (int, float)) or isinstance(x, bool), x if isinstance(x, (int, float)) else 0.0)
+    from ..study import rank_summaries
 
     sec.text.append("Compensators best first, by the median of the runs' max tracking error.")
-    for comp, s in sorted(d["compensators"].items(), key=merit):
+    for comp in rank_summaries(d["compensators"]):
+        s = d["compensators"][comp]
         sec.table.append([comp, str(s.get("runs")), str(s.get("failed")), _um(s.get("max_error_median_m")),
                           _um(s.get("max_error_p95_m")), _um(s.get("rms_error_median_m"))])
     if d.get("out"):

@@ -123,3 +123,42 @@ def test_a_law_files_number_beyond_any_physical_size_is_refused(tmp_path):
     p.write_text(json.dumps(doc))
     with pytest.raises(DataError, match=r"lugre\.json': model\.static\.Fs = 1e\+300: beyond 1e\+150"):
         fk.load_model(p)
+
+
+# ---------------------------------------------------------------- round 10's review leftovers (d)
+def test_the_words_as_typed_do_not_outlive_their_invocation(runner, tmp_path, staircase_csv):
+    """Was: ``cli._errors.TYPED_ARGS`` was module state set by each parse: after one invocation a library
+    caller of a verb's check (or the next in-process call) read the previous command line — a path typed
+    once as 'DIR/sub/' still counted as typed with its slash. Now the words live on the invocation's context."""
+    from frictionkit.cli import app
+    from frictionkit.cli._errors import typed_value
+
+    target = f"{tmp_path}/sub/"
+    res = runner.invoke(app, ["identify", "static", str(staircase_csv), "--time", "t_s", "--velocity", "v_ms",
+                              "--force", "F_N", "--model", "coulomb_viscous", "--json", target])
+    assert res.exit_code == 2 and "ends in '/'" in res.stderr
+    assert typed_value("--json", tmp_path / "sub") == f"{tmp_path}/sub"
+
+
+def test_site_force_spans_does_not_hide_a_failing_coordinate_row(monkeypatch):
+    """Was: ``site_force_spans`` wrapped ``machine.row`` in ``except Exception`` — a bug there made the
+    convergence checks judge a site on its own force range without a word. Every site's coordinate belongs to
+    its machine, so the row exists; a failure now surfaces. The spans themselves: a site's own range, or the
+    largest range on a shared degree of freedom."""
+    from types import SimpleNamespace
+
+    from frictionkit.machines.simulate import site_force_spans
+
+    m = fk.Machine("two")
+    x = m.dof("x", inertia=1.0)
+    m.compliance("spring", x, law=fk.machines.HertzContact(preload=1.0, stiffness=1e6))
+    m.friction("contact", x, law=LUGRE)
+    fine = SimpleNamespace(site_names=("spring", "contact"), site_forces=np.array([[0.0, -1.0], [10.0, 1.0]]))
+    assert site_force_spans(m, fine) == [10.0, 10.0]  # both on x: the larger range (10 N) judges both
+
+    def broken(at):
+        raise RuntimeError("row failed")
+
+    monkeypatch.setattr(m, "row", broken)
+    with pytest.raises(RuntimeError, match="row failed"):
+        site_force_spans(m, fine)

@@ -47,18 +47,29 @@ _BAD_INPUT_OS = (FileNotFoundError, IsADirectoryError, NotADirectoryError, Permi
 _DEBUG_FLAG = "--debug"
 
 
-#: The command line's words as typed, for checks that the parsed values hide (a Path option drops a
-#: trailing '/': `--json DIR/sub/` arrived as 'DIR/sub' and became a file named 'sub', issue 13 round 10).
-TYPED_ARGS: tuple[str, ...] = ()
+#: Key of the command line's words as typed in the click context's ``meta`` (shared by the whole context
+#: tree of one invocation), for checks that the parsed values hide: a Path option drops a trailing '/'
+#: (`--json DIR/sub/` arrived as 'DIR/sub' and became a file named 'sub', issue 13 round 10). Kept on the
+#: context, not in a module global: a global outlived its invocation (a second `app` call in one process, as
+#: the tests and the campaign make, or a library caller of a verb's function, read the previous words).
+TYPED_ARGS_KEY = "frictionkit.typed_args"
+
+
+def _typed_args() -> tuple[str, ...]:
+    """The words of the invocation running now (empty outside one)."""
+    cx = _click_module("globals")
+    ctx = cx.get_current_context(silent=True)
+    return ctx.meta.get(TYPED_ARGS_KEY, ()) if ctx is not None else ()
 
 
 def typed_value(option: str, value: Any) -> str:
     """The text typed for ``option`` whose parsed value is ``value`` (``str(value)`` when not found)."""
-    for i, word in enumerate(TYPED_ARGS):
+    typed = _typed_args()
+    for i, word in enumerate(typed):
         if word.startswith(option + "="):
             text = word[len(option) + 1:]
-        elif word == option and i + 1 < len(TYPED_ARGS):
-            text = TYPED_ARGS[i + 1]
+        elif word == option and i + 1 < len(typed):
+            text = typed[i + 1]
         else:
             continue
         if text.rstrip("/") == str(value).rstrip("/") or os.path.normpath(text) == os.path.normpath(str(value)):
@@ -149,20 +160,25 @@ def jit_disabled_note() -> str | None:
             "much slower (unset it for compiled speed)")
 
 
-def _click_exceptions() -> Any:
+def _click_module(name: str) -> Any:
+    """``click.<name>`` (``exceptions``, ``globals``) of the click typer runs on."""
+    import importlib
+
     try:  # typer >= 0.20 vendors click
-        from typer._click import exceptions as cx
+        return importlib.import_module(f"typer._click.{name}")
     except ImportError:  # pragma: no cover - older typer on click
-        from click import exceptions as cx
-    return cx
+        return importlib.import_module(f"click.{name}")
+
+
+def _click_exceptions() -> Any:
+    return _click_module("exceptions")
 
 
 class FrictionKitGroup(TyperGroup):
     """The top-level click group: runs every verb inside the one error-handling path."""
 
     def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
-        global TYPED_ARGS
-        TYPED_ARGS = tuple(args)
+        ctx.meta[TYPED_ARGS_KEY] = tuple(args)
         # accept --debug anywhere before "--" (users append it when asked to rerun)
         if _DEBUG_FLAG in args:
             end = args.index("--") if "--" in args else len(args)

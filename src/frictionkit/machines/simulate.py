@@ -561,12 +561,9 @@ def site_force_spans(machine: Machine, fine) -> list:
     largest force range acting on the same degrees of freedom (its own, or a neighbour's): a 0.04 N error of
     a 0.26 N ball-load friction beside a 100 N screw support (seed 000's TDMS at 2 sub-steps) moves nothing,
     a light slider's only force does."""
-    dofs_of = {}
-    for st in machine.sites:
-        try:
-            dofs_of[st.name] = set(np.flatnonzero(machine.row(st.at)[0]).tolist())
-        except Exception:  # a site without a coordinate row: judged on its own range
-            pass
+    # every site's coordinate is one of this machine's (Machine._coord checks its owner), so its row exists;
+    # a site on motions only acts on no degree of freedom and is judged on its own range
+    dofs_of = {st.name: set(np.flatnonzero(machine.row(st.at)[0]).tolist()) for st in machine.sites}
     spans = {name: float(np.ptp(fine.site_forces[:, i])) for i, name in enumerate(fine.site_names)}
     out = []
     for st, name in zip(machine.sites, fine.site_names):

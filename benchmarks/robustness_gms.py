@@ -35,6 +35,18 @@ flagged-right   17                  27
 flagged-wrong   3                   2 (x 9.0e-5, friction 9.5e-5 of the ranges: just inside 10 rtol)
 ==============  ==================  =====
 
+Measured again 2026-11-24 (helper gms13) on the same 188 sets, f22475c -> now (breakaways leave stick at
+their threshold; a breakaway at a reversal below the step end's speed is landed on):
+
+==============  ==================  =====
+class           f22475c             now
+==============  ==================  =====
+passed-right    157                 160
+passed-WRONG    1 (2092)            0 (2092: friction 1.1e-6 of its range)
+flagged-right   27                  25
+flagged-wrong   2 (2046, 2070)      2 (2070; 3132: x 8.1e-5 unchecked, was over 1e-4); 2046 now passes (x 4.8e-6)
+==============  ==================  =====
+
 Compare kernel versions with ``PYTHONPATH=<worktree>/src`` on the same cache (the twins do not depend on
 the kernel).
 """

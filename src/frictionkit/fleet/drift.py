@@ -424,7 +424,8 @@ def _detail(res: dict, periods: np.ndarray) -> str | None:
         txt = f"{p} wear {rel:+.2f} ± {rel_se:.2f} %/day"
         for j, u in enumerate(ser["sched"]):
             c, cse = ser["beta"][1 + j], ser["se"][1 + j]
-            txt += f", {u} {100 * c / base:+.2f} ± {100 * cse / abs(base):.2f} %/unit"
+            # the table keeps no unit of a scheduling column ('%/unit' read as a unit called 'unit')
+            txt += f", {u} {100 * c / base:+.2f} ± {100 * cse / abs(base):.2f} % per unit of {u}"
         parts.append(txt)
     how = f"CUSUM >= {thr:.2f}" if res["method"] == "cusum" else f"p <= {thr:.2g}"
     return f"drift from {periods[a]} ({how}): " + "; ".join(parts)

@@ -162,3 +162,58 @@ def test_site_force_spans_does_not_hide_a_failing_coordinate_row(monkeypatch):
     monkeypatch.setattr(m, "row", broken)
     with pytest.raises(RuntimeError, match="row failed"):
         site_force_spans(m, fine)
+
+
+# ---------------------------------------------------------------- round 10's leftovers (b)
+def test_an_interrupted_fleet_simulation_says_what_is_there_and_the_same_call_resumes_it(tmp_path):
+    """Was (round 10): Ctrl-C in `fleet simulate --axes 1000` left 139 axes' logs behind "error: interrupted",
+    without saying what they were or whether to start over. Now the interrupt names the complete logs and how
+    to go on; the same call keeps them and writes the rest; the folder equals an uninterrupted run's.
+    (The SIGINT to the command line: tests/robustness/test_interrupts.py.)"""
+    import hashlib
+
+    from frictionkit.fleet import simulate_fleet
+    from frictionkit.fleet.simulate import UNFINISHED
+
+    def stop_after_3(done, total):
+        if done == 3:
+            raise KeyboardInterrupt
+
+    folder = tmp_path / "fleet"
+    with pytest.raises(KeyboardInterrupt, match=rf"3 of 4 log files are in '{re.escape(str(folder))}', each "
+                                                 r"complete; no fleet.toml yet .*same arguments to resume"):
+        simulate_fleet(folder, axes=2, days=2, seed=3, progress=stop_after_3)
+    assert not (folder / "fleet.toml").exists() and (folder / UNFINISHED).exists()
+    seen = []
+    fleet = simulate_fleet(folder, axes=2, days=2, seed=3, progress=lambda d, n: seen.append(d))
+    assert fleet.resumed == 3 and seen == [1, 2, 3, 4] and "3 of them kept" in fleet.summary()
+    assert (folder / "fleet.toml").exists() and not (folder / UNFINISHED).exists()
+    fresh = simulate_fleet(tmp_path / "fresh", axes=2, days=2, seed=3)
+    assert fresh.resumed == 0
+
+    def digest(root):
+        return {p.relative_to(root).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+                for p in sorted(root.rglob("*")) if p.is_file()}
+
+    assert digest(folder) == digest(tmp_path / "fresh")
+
+
+def test_a_resumed_fleet_run_does_not_keep_an_earlier_fleets_logs(tmp_path):
+    """A folder holding a finished fleet of other arguments, then an interrupted run of new ones: resuming keeps
+    only what the interrupted run wrote (an old log of the same name is rewritten), and the old fleet.toml is
+    gone as soon as the new run starts (a half-rewritten folder is no fleet)."""
+    from frictionkit.fleet import simulate_fleet
+
+    folder = tmp_path / "fleet"
+    old = simulate_fleet(folder, axes=1, days=2, seed=1, broken=0)
+    old_log = (folder / old.files[1]).read_bytes()
+
+    def stop_after_1(done, total):
+        if done == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt, match="1 of 2 log files"):
+        simulate_fleet(folder, axes=1, days=2, seed=2, broken=0, progress=stop_after_1)
+    assert not (folder / "fleet.toml").exists()
+    new = simulate_fleet(folder, axes=1, days=2, seed=2, broken=0)
+    assert new.resumed == 1 and (folder / new.files[1]).read_bytes() != old_log

@@ -7,7 +7,8 @@ app, so every error ends the same way:
   or an ``OSError`` print ONE line ``error: <message>`` on stderr;
 * a usage error (unknown option, ``--seed abc``) prints one line too, with the
   ``--help`` to look at;
-* Ctrl-C prints ``error: interrupted`` and exits with 130;
+* Ctrl-C prints ``error: interrupted`` and exits with 130 (``error: interrupted: <what is left>`` where
+  a verb can say what it leaves behind and how to go on: ``fleet simulate`` resumes);
 * anything else is a bug: one line naming the exception type and asking for a rerun
   with ``--debug``.
 
@@ -96,8 +97,8 @@ def describe(exc: BaseException) -> tuple[int, str]:
     """Exit status and the one-line message (without ``error: ``) for ``exc``."""
     from ..errors import DataError, FrictionKitError, ParameterError
 
-    if isinstance(exc, KeyboardInterrupt):
-        return EXIT_INTERRUPTED, "interrupted"
+    if isinstance(exc, KeyboardInterrupt):  # a long verb may say what it leaves behind (fleet simulate)
+        return EXIT_INTERRUPTED, "interrupted" + (f": {_one_line(exc)}" if str(exc) else "")
     if isinstance(exc, OSError):
         if exc.strerror and exc.filename:
             msg = f"'{exc.filename}': {exc.strerror}"

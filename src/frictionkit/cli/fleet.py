@@ -109,8 +109,9 @@ def simulate(
                                broken=broken, progress=lambda done, total: bar.update(task, completed=done))
     doc = fleet.to_dict()
     text = (f"wrote {doc['files']} log file(s) of {doc['axes']} axes x {doc['days']} days to {out} "
-            f"({len(doc['drifting_axes'])} drifting, {len(doc['broken'])} broken: see broken.txt); "
-            f"configuration {fleet.config}")
+            f"({len(doc['drifting_axes'])} drifting, {len(doc['broken'])} broken: see broken.txt"
+            + (f"; resumed: {fleet.resumed} kept from the interrupted run" if fleet.resumed else "")
+            + f"); configuration {fleet.config}")
     _summary(doc, json_out, text)
 
 

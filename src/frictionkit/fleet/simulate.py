@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import io
+import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -57,6 +58,12 @@ BROKEN_KINDS = ("truncated", "nan_burst", "missing_column", "empty", "time_backw
 #: Reference temperature of the parameter model [°C].
 T_REF = 22.0
 FORMATS = ("csv", "parquet")
+#: Written into the fleet folder while :func:`simulate_fleet` runs (the arguments of the run), removed when
+#: it has finished: a folder holding it is an interrupted run — its log files are complete (each written
+#: atomically) and the same call resumes it, keeping them (issue 13 round 10: Ctrl-C left 139 of 1,000
+#: axes' logs behind "error: interrupted" without saying what they were or whether to start over).
+UNFINISHED = "unfinished.json"
+UNFINISHED_FORMAT = "frictionkit.fleet-simulate-run/1"
 
 
 def daily_test_motion(dt: float = DT, duration: float = DURATION) -> tuple[np.ndarray, np.ndarray]:
@@ -115,6 +122,8 @@ class SimulatedFleet:
         One row per axis-day: the true parameters of that day and its mean temperature.
     config : Path
         The fleet configuration written beside the logs.
+    resumed : int
+        Log files kept from an interrupted run with the same arguments (:data:`UNFINISHED`).
     """
 
     root: Path
@@ -123,11 +132,13 @@ class SimulatedFleet:
     truth: Any = field(repr=False)
     truth_days: Any = field(repr=False)
     config: Path
+    resumed: int = 0
 
     def summary(self) -> str:
         d = self.to_dict()
+        kept = f"; {self.resumed} of them kept from an interrupted run" if self.resumed else ""
         return (f"simulated fleet: {d['files']} log file(s) of {d['axes']} axes x {d['days']} days in {d['root']} "
-                f"({len(d['drifting_axes'])} drifting, {len(d['broken'])} broken); configuration {d['config']}")
+                f"({len(d['drifting_axes'])} drifting, {len(d['broken'])} broken{kept}); configuration {d['config']}")
 
     def to_dict(self) -> dict:
         tr = self.truth
@@ -270,6 +281,27 @@ def fleet_config_toml() -> str:
               "'frictionkit fleet simulate'). Units are those of the files; frictionkit converts to SI.")
 
 
+def _same_run(path: Path, run: dict) -> bool:
+    """True when ``path`` records an unfinished run with the same arguments (and frictionkit version)."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8")) == run
+    except (OSError, ValueError):  # absent, unreadable or not JSON: start over
+        return False
+
+
+def _written_since(path: Path, ns: int) -> bool:
+    try:
+        return path.is_file() and path.stat().st_mtime_ns >= ns
+    except OSError:
+        return False
+
+
+def _version() -> str:
+    from .. import __version__
+
+    return __version__
+
+
 def simulate_fleet(
     out_dir: str | Path,
     *,
@@ -288,7 +320,9 @@ def simulate_fleet(
     Parameters
     ----------
     out_dir : str or Path
-        Folder to write into (created; existing logs of the same names are replaced).
+        Folder to write into (created; existing logs of the same names are replaced). An interrupted
+        run leaves its complete logs and :data:`UNFINISHED` (its arguments): the same call resumes it,
+        keeping those logs; ``fleet.toml`` is written last, so only a finished folder is a fleet.
     axes, days : int
         Number of axes (>= 1) and of days (>= 1).
     seed : int
@@ -346,6 +380,17 @@ def simulate_fleet(
 
     root = Path(out_dir)
     root.mkdir(parents=True, exist_ok=True)
+    run = {"format": UNFINISHED_FORMAT, "frictionkit_version": _version(), "axes": axes, "days": days,
+           "seed": int(seed), "formats": list(formats), "drifting": float(drifting), "broken": n_broken,
+           "wear_rate": [lo_w, hi_w], "start": day0.isoformat()}
+    resume = _same_run(root / UNFINISHED, run)
+    if not resume:
+        atomic_write_text(root / UNFINISHED, json.dumps(run, indent=1) + "\n")
+        # a fleet.toml left from an earlier fleet in this folder would offer a half-rewritten folder as a fleet
+        (root / "fleet.toml").unlink(missing_ok=True)
+    # a log is kept on resuming only when the interrupted run wrote it: not older than its record (a folder
+    # may hold an earlier fleet's logs of the same names, which the run had not yet replaced)
+    started = (root / UNFINISHED).stat().st_mtime_ns
     rng_fleet = np.random.default_rng([int(seed), 0])
     n_drift = int(round(drifting * axes))
     if drifting > 0 and axes >= 2:
@@ -357,34 +402,43 @@ def simulate_fleet(
     t, vref = daily_test_motion()
     width = max(4, len(str(axes)))
     truth, truth_days, files, broken_list = [], [], [], []
-    done = 0
-    for i in range(axes):
-        axis = f"axis-{i + 1:0{width}d}"
-        p = _axis_params(np.random.default_rng([int(seed), 1, i]), days, i in drift_set, (lo_w, hi_w))
-        fmt = formats[i % len(formats)]
-        truth.append({"axis": axis, "drifting": i in drift_set, "format": fmt,
-                      "wear_onset_period": ((day0 + _dt.timedelta(days=p["wear_onset_day"])).isoformat()
-                                            if p["wear_onset_day"] >= 0 else None),
-                      **{k: v for k, v in p.items() if k != "T_phase"}})
-        (root / axis).mkdir(exist_ok=True)
-        for d in range(days):
-            rng = np.random.default_rng([int(seed), 2, i, d])
-            period = (day0 + _dt.timedelta(days=d)).isoformat()
-            q = _day_params(p, d, rng)
-            table = _log_table(p, q, rng, t, vref)
-            rel = f"{axis}/{period}.{fmt}"
-            k = i * days + d
-            if k in broken_kind:
-                _break(table, root / rel, fmt, broken_kind[k])
-                broken_list.append((rel, broken_kind[k]))
-            else:
-                _write_table(table, root / rel, fmt)
-            files.append(rel)
-            truth_days.append({"axis": axis, "period": period, "day": d, "file": rel,
-                               "broken": broken_kind.get(k), **q})
-            done += 1
-            if progress is not None:
-                progress(done, n_files)
+    done = kept = 0
+    try:
+        for i in range(axes):
+            axis = f"axis-{i + 1:0{width}d}"
+            p = _axis_params(np.random.default_rng([int(seed), 1, i]), days, i in drift_set, (lo_w, hi_w))
+            fmt = formats[i % len(formats)]
+            truth.append({"axis": axis, "drifting": i in drift_set, "format": fmt,
+                          "wear_onset_period": ((day0 + _dt.timedelta(days=p["wear_onset_day"])).isoformat()
+                                                if p["wear_onset_day"] >= 0 else None),
+                          **{k: v for k, v in p.items() if k != "T_phase"}})
+            (root / axis).mkdir(exist_ok=True)
+            for d in range(days):
+                rng = np.random.default_rng([int(seed), 2, i, d])
+                period = (day0 + _dt.timedelta(days=d)).isoformat()
+                q = _day_params(p, d, rng)
+                rel = f"{axis}/{period}.{fmt}"
+                k = i * days + d
+                if resume and _written_since(root / rel, started):  # complete: written atomically
+                    kept += 1
+                else:
+                    table = _log_table(p, q, rng, t, vref)
+                    if k in broken_kind:
+                        _break(table, root / rel, fmt, broken_kind[k])
+                    else:
+                        _write_table(table, root / rel, fmt)
+                if k in broken_kind:
+                    broken_list.append((rel, broken_kind[k]))
+                files.append(rel)
+                truth_days.append({"axis": axis, "period": period, "day": d, "file": rel,
+                                   "broken": broken_kind.get(k), **q})
+                done += 1
+                if progress is not None:
+                    progress(done, n_files)
+    except KeyboardInterrupt:  # say what is there and how to go on (the CLI prints it as its error line)
+        raise KeyboardInterrupt(
+            f"{done} of {n_files} log files are in '{root}', each complete; no fleet.toml yet ({UNFINISHED} records "
+            "the run). Run it again with the same arguments to resume: it keeps them and writes the rest") from None
 
     truth_df = pd.DataFrame(truth)
     days_df = pd.DataFrame(truth_days)
@@ -394,8 +448,9 @@ def simulate_fleet(
     atomic_write_text(root / "broken.csv", "file,kind\n" + "".join(f"{rel},{k}\n" for rel, k in broken_list))
     cfg = root / "fleet.toml"
     atomic_write_text(cfg, fleet_config_toml())
+    (root / UNFINISHED).unlink(missing_ok=True)
     return SimulatedFleet(root=root, files=tuple(files), broken=tuple(broken_list), truth=truth_df,
-                          truth_days=days_df, config=cfg)
+                          truth_days=days_df, config=cfg, resumed=kept)
 
 
 __all__ = ["SimulatedFleet", "daily_test_motion", "fleet_config_toml", "simulate_fleet"]

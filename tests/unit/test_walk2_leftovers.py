@@ -126,3 +126,30 @@ def test_static_map_fit_takes_one_svd_per_direction(monkeypatch):
     F = fk.Stribeck(Fc=1.0, Fs=1.5, vs=1e-2, sigma2=2.0).steady_state(v)
     res = static_map.fit_static_map(v, F, model="exponential")
     assert res.success and len(calls) == 2  # one per direction
+
+
+def test_static_map_legend_outside_the_axes():
+    """A real drive's breakaway points sit just right of v = 0 and high: the legend in the upper left, as wide
+    as its label 'fit (directional(...))', covered them (demo report, TRO2021 drives 1 and 3)."""
+    import matplotlib.pyplot as plt
+
+    from frictionkit.identify import fit_static_map
+
+    v = np.r_[np.geomspace(0.05, 20.0, 25), -np.geomspace(0.05, 20.0, 25)]
+    law = fk.Stribeck(Fc=0.9e-3, Fs=1.3e-3, vs=0.3, sigma2=1.5e-5)
+    ax = fit_static_map(v, law.steady_state(v), units={"F": "N·m", "v": "rad/s"}).plot()
+    try:
+        ax.figure.canvas.draw()
+        assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
+    finally:
+        plt.close(ax.figure)
+
+
+def test_demo_fleet_error_drops_the_temporary_folder(tmp_path):
+    """The demo report named the broken log by a temporary path deleted before anyone reads it."""
+    from frictionkit.report.demo import _short_error
+
+    root = tmp_path / "logs"
+    err = f"file '{root}/axis-0001/2026-01-11.csv', column 'x_mm', row 12162: value nan is not finite"
+    assert _short_error(err, root) == "column 'x_mm', row 12162: value nan is not finite"
+    assert _short_error(f"'{root}/axis-0002/x.csv': Permission denied", root) == "'axis-0002/x.csv': Permission denied"

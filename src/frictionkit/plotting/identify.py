@@ -87,6 +87,8 @@ def plot_identification(result, ax=None):
         elif series and y.size and y.size == y_pred.size:  # the fit over its residual, one time axis
             fig, (ax, res_ax) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True,
                                              gridspec_kw={"height_ratios": [RESIDUAL_PANEL_RATIO, 1]})
+        elif result.kind == "static_map":  # room for the legend right of the axes
+            _, ax = plt.subplots(figsize=(8.6, 4.0), layout="constrained")
         else:
             _, ax = plt.subplots(figsize=(6.4, 4.0))
     prov = result.provenance
@@ -162,10 +164,11 @@ def plot_identification(result, ax=None):
         if "static_rms" in result.diagnostics:
             title += f", RMS {result.rms:.3g} (static map {result.diagnostics['static_rms']:.3g}) {unit}"
         ax.set_title(title, fontsize="medium")
-    if series:  # dense traces fill the axes (the EMPS fit's legend hid its peaks): legend outside, right
+    # dense traces fill the axes (the EMPS fit's legend hid its peaks), and a static map's long fit label
+    # ("fit (directional(lorentzian, exponential))") reached from the empty v < 0, F > 0 quadrant over the
+    # breakaway points at v ≈ 0+ (TRO2021 drives 1 and 3 in the demo report): legend outside, right
+    if series or result.kind == "static_map":
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
-    elif result.kind == "static_map":  # friction opposes motion: the v < 0, F > 0 quadrant holds no data
-        ax.legend(loc="upper left", fontsize="small")
     else:
         ax.legend(loc="best", fontsize="small")
     return ax

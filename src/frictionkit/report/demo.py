@@ -255,6 +255,14 @@ def section_zhu_fujimoto() -> _Section | None:
 FLEET_DEMO = {"axes": 3, "days": 8, "seed": 2, "drifting": 0.34, "broken": 1, "wear_rate": (0.01, 0.02)}
 
 
+def _short_error(error: str, root: Path) -> str:
+    """A fleet task's error without the logs' temporary folder, which is gone when the report is read: it
+    read "axis-0001/2026-01-11.csv: file '/tmp/frictionkit-demo-fleet-…/logs/axis-0001/2026-01-11.csv', ..."."""
+    import re
+
+    return re.sub(r"^file '[^']*', ", "", str(error)).replace(f"{root}{os.sep}", "")
+
+
 def section_fleet(out: Path) -> _Section:
     """A small simulated fleet identified (single process: the same task Dask runs), monitored,
     and its fleet page written to ``out/fleet.html``; the logs go to a temporary folder."""
@@ -289,7 +297,7 @@ def section_fleet(out: Path) -> _Section:
     sec.text.append(
         f"Fc against the simulation's truth: median error {err.median():.2f} %, max {err.max():.2f} %; "
         f"{100 * inside:.0f} % of the 95 % intervals hold the truth. Failed file(s): "
-        + "; ".join(f"{r['file']}: {r['error']}" for _, r in bad.iterrows()) + ".")
+        + "; ".join(f"{r['file']}: {_short_error(r['error'], fleet.root)}" for _, r in bad.iterrows()) + ".")
     axes = drift_summary(df).set_index("axis")
     rows = [["axis", "wear (truth) [%/day]", "wear onset (truth)", "flagged", "alarm", "Fc+ wear fitted [%/day]",
              "median Fc+ [N]"]]

@@ -153,3 +153,17 @@ def test_demo_fleet_error_drops_the_temporary_folder(tmp_path):
     err = f"file '{root}/axis-0001/2026-01-11.csv', column 'x_mm', row 12162: value nan is not finite"
     assert _short_error(err, root) == "column 'x_mm', row 12162: value nan is not finite"
     assert _short_error(f"'{root}/axis-0002/x.csv': Permission denied", root) == "'axis-0002/x.csv': Permission denied"
+
+
+def test_report_takes_a_machine_run(tmp_path, monkeypatch):
+    """``Report.add_result(MachineResult)`` was refused as 'not a result the report knows'."""
+    from frictionkit.report import Report, adapters
+
+    figs = []
+    monkeypatch.setattr(adapters, "figure_png", lambda fig: figs.append(fig) or b"")
+    t = np.arange(301) * 1e-3
+    res = fk.simulate_machine(_saturating_machine(), dt=1e-3, inputs={"u": np.sin(2 * np.pi * 5.0 * t)})
+    (sec,) = Report("machine").add_result(res, name="run")
+    assert sec.title.startswith("Machine run: slide, 301 samples") and sec.kind == "machine-run"
+    assert "guide: max |F| = " in " ".join(sec.text) and ["u.drive", "-0.5", "0.5"] in sec.table
+    assert [a.get_ylabel() for a in figs[0].axes][-1] == "actuator force\n[N]"

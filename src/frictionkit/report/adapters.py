@@ -135,7 +135,8 @@ def sections_from_result(result: Any, *, name: str | None = None) -> tuple[str, 
     :class:`~frictionkit.models.ModelFile`, a result with ``to_dict()`` (compensation,
     reproductions) or its dict, a :class:`~frictionkit.study.StudyResult` /
     :class:`~frictionkit.fleet.FleetRun` (their ``table``) or a pandas DataFrame (study, fleet,
-    traces), a :class:`~frictionkit.SimulationResult` (its traces).
+    traces), a :class:`~frictionkit.SimulationResult` (its traces), a
+    :class:`~frictionkit.machines.MachineResult` (its summary and ``plot()``, actuators included).
 
     Raises
     ------
@@ -171,13 +172,15 @@ def sections_from_result(result: Any, *, name: str | None = None) -> tuple[str, 
         from ..simulation.traces import trace_table
 
         return "traces", _named(traces_sections(pd.DataFrame(trace_table(result))), label, "traces")
+    if hasattr(result, "dof_names") and hasattr(result, "machine") and hasattr(result, "site_forces"):
+        return "machine-run", _named(machine_run_sections(result), label, "machine-run")
     doc = result.to_dict() if callable(getattr(result, "to_dict", None)) else result
     if isinstance(doc, Mapping):
         kind, secs = _json_doc(doc, where, name=label)
         return kind, _named(secs, label, kind)
     raise ParameterError(f"Report.add_result: a {type(result).__name__} is not a result the report knows (an "
                          "IdentificationResult, a friction law or ModelFile, a result with to_dict(), a study or "
-                         "fleet table, a SimulationResult)")
+                         "fleet table, a SimulationResult or MachineResult)")
 
 
 def _named(secs: list[Section], source: str, kind: str = "") -> list[Section]:
@@ -1011,6 +1014,29 @@ def machine_traces_sections(df) -> list[Section]:
     axes = plot_panels(tt, [(q, u, [(lab, df[c].to_numpy(float)) for lab, c in lines]) for q, u, lines in groups],
                        title="positions, velocities and site forces")
     sec.figures.append(("machine_traces.png", figure_png(axes[0].figure)))
+    return [sec]
+
+
+def machine_run_sections(res) -> list[Section]:
+    """A :class:`~frictionkit.machines.MachineResult` in memory (``Report.add_result``; was refused as "not a
+    result the report knows"): its summary, the range of every trace column and ``res.plot()`` — positions,
+    velocities, site forces and the actuators' commanded and applied forces, one panel per quantity and unit."""
+    from ..simulation.traces import machine_trace_table
+
+    plt = _plt()
+    lines = res.summary().splitlines()
+    sec = Section(f"Machine run: {res.machine.name}, {res.t.size} samples over {fmt(res.t[-1] - res.t[0])} s, "
+                  f"status {res.status}")
+    # the summary without its debug line (which kernel ran): the run, then each DOF's and site's extremes
+    sec.text.extend(" ".join(ln.split()) for ln in lines if not ln.strip().startswith("kernel:"))
+    sec.table = [["column", "min", "max"]] + [[c, fmt(np.nanmin(y)), fmt(np.nanmax(y))]
+                                              for c, y in machine_trace_table(res).items() if np.size(y)]
+    try:
+        axes = res.plot()
+        sec.figures.append(("machine_run.png", figure_png(axes[0].figure)))
+    except Exception as exc:  # noqa: BLE001 - a plot must not hide the numbers
+        plt.close("all")
+        sec.text.append(f"(plot failed: {type(exc).__name__}: {' '.join(str(exc).split())})")
     return [sec]
 
 

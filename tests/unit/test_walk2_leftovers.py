@@ -8,6 +8,7 @@ Each test fails on f22475c.
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -64,6 +65,9 @@ def test_presliding_fit_saves_positions_and_plots_the_loop(tmp_path):
         np.testing.assert_allclose(measured.get_xdata(), 1e6 * x, rtol=1e-15)
         np.testing.assert_array_equal(measured.get_ydata(), F)
         np.testing.assert_array_equal(predicted.get_ydata(), back.data["y_pred"])
+        with warnings.catch_warnings():  # the CLI's save_plot lays it out again: no layout-engine clash
+            warnings.simplefilter("error")
+            ax.figure.tight_layout()
     finally:
         plt.close(ax.figure)
 

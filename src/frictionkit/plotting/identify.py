@@ -75,10 +75,11 @@ def plot_identification(result, ax=None):
     series = result.kind not in ("static_map", "reversal")
     y, y_pred = d.get("y", np.zeros(0)), d.get("y_pred", np.zeros(0))
     res_ax = loop_ax = None
+    new_figure = ax is None
     if ax is None:
         loop = result.kind == "presliding" and y.size and d.get("x", np.zeros(0)).size == y.size
         if series and y.size and y.size == y_pred.size and loop:  # beside it, the F(x) hysteresis loop
-            fig = plt.figure(figsize=(11.5, 5.2), layout="constrained")
+            fig = plt.figure(figsize=(11.5, 5.2))
             grid = fig.add_gridspec(2, 2, height_ratios=[RESIDUAL_PANEL_RATIO, 1], width_ratios=[1.45, 1])
             ax = fig.add_subplot(grid[0, 0])
             res_ax = fig.add_subplot(grid[1, 0], sharex=ax)
@@ -88,7 +89,7 @@ def plot_identification(result, ax=None):
             fig, (ax, res_ax) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True,
                                              gridspec_kw={"height_ratios": [RESIDUAL_PANEL_RATIO, 1]})
         elif result.kind == "static_map":  # room for the legend right of the axes
-            _, ax = plt.subplots(figsize=(8.6, 4.0), layout="constrained")
+            _, ax = plt.subplots(figsize=(8.6, 4.0))
         else:
             _, ax = plt.subplots(figsize=(6.4, 4.0))
     prov = result.provenance
@@ -171,4 +172,6 @@ def plot_identification(result, ax=None):
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small", frameon=False)
     else:
         ax.legend(loc="best", fontsize="small")
+    if new_figure:  # the legends outside the axes inside the figure, for a plain savefig too (no layout
+        ax.figure.tight_layout()  # engine: the CLI's and the report's own tight_layout must not clash with one)
     return ax

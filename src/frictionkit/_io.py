@@ -83,6 +83,48 @@ def missing_reason(p: str | os.PathLike) -> str:
     return "not found"
 
 
+#: Largest text input file (model, result, configuration JSON/TOML) read whole [bytes]: assumption — the largest
+#: the package writes is an identification result with its fitted samples (EMPS rigid-body JSON 172 kB; a
+#: 100,000-sample output-error fit ~10 MB); 256 MB is far beyond that and still fits in memory. ``/dev/zero``
+#: as a model file read until memory ran out (issue 13 round 11).
+MAX_TEXT_INPUT = 256 * 2**20
+
+
+def check_regular_input(path: str | os.PathLike, where: str) -> None:
+    """Refuse an input file that is no regular file or is too large to read whole, with a :class:`DataError`
+    prefixed by ``where``: a FIFO (reading one blocked for ever: a model file named ``fifo.json`` hung the
+    command, issue 13 round 11), a device (``/dev/zero`` read until memory ran out), a file beyond
+    :data:`MAX_TEXT_INPUT`. A path that does not exist, a folder or a link loop is left to the caller's read
+    (its own message)."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return
+    if not stat.S_ISREG(st.st_mode) and not stat.S_ISDIR(st.st_mode):
+        raise DataError(f"{where}: is not a regular file (a device, pipe or socket)")
+    if st.st_size > MAX_TEXT_INPUT:
+        raise DataError(f"{where}: {st.st_size / 2**20:.0f} MB, beyond the {MAX_TEXT_INPUT // 2**20} MB a "
+                        "text input file may have; is it the right file?")
+
+
+def read_input_bytes(path: str | os.PathLike, where: str, *, missing: str = "no such file") -> bytes:
+    """The bytes of an input file read whole (a model file, a result, a TOML configuration); what is no
+    regular file raises a :class:`DataError` prefixed by ``where`` (``"model file 'm.json'"``): missing, a
+    symbolic link loop or to nothing, a folder, and what :func:`check_regular_input` refuses. ``missing``: the
+    words for a path that does not exist (the callers' wording before this helper)."""
+    p = Path(path)
+    if not os.path.lexists(p) or (os.path.islink(p) and not os.path.exists(p)):
+        raise DataError(f"{where}: {missing if not os.path.islink(p) else missing_reason(p)}")
+    if p.is_dir():
+        raise DataError(f"{where}: is a folder, expected a file")
+    check_regular_input(p, where)
+    with open(p, "rb") as fh:  # a file growing while read: at most the limit (and one byte to notice)
+        raw = fh.read(MAX_TEXT_INPUT + 1)
+    if len(raw) > MAX_TEXT_INPUT:
+        raise DataError(f"{where}: grew beyond {MAX_TEXT_INPUT // 2**20} MB while read")
+    return raw
+
+
 def _through_link(path: Path) -> Path:
     """The file a write to ``path`` means: ``path`` itself, or for a symbolic link the file it points to.
 

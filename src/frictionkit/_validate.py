@@ -226,10 +226,10 @@ def no_huge_number(node: Any, where: str, *, skip: Any = None) -> None:
             no_huge_number(v, f"{where}[{i}]", skip=skip)
     elif isinstance(node, (int, float)) and not is_bool(node):
         try:
-            big = abs(float(node)) > HUGE
-        except OverflowError:  # an integer beyond the float range
-            big = True
-        if big and (not isinstance(node, float) or math.isfinite(node)):  # NaN/inf: the field's own check
+            big = math.isfinite(node) and abs(float(node)) > HUGE
+        except OverflowError:  # an integer beyond the float range: as NaN/inf, the field's own check says so
+            big = False
+        if big:
             raise DataError(f"{where} = {_short(node)}: beyond {HUGE:.0e}, no physical size in SI (its square "
                             "overflows): a unit slip or a corrupt number")
 

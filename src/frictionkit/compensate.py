@@ -353,6 +353,9 @@ class CompensationTest:
         """
         p = Path(path)
         w = f"compensation test '{p}'"
+        from ._io import check_regular_input
+
+        check_regular_input(p, w)  # a FIFO blocked for ever, /dev/zero filled the memory (round 11)
         try:
             text = p.read_text(encoding="utf-8-sig")  # a BOM is read as the JSON loaders read it
         except OSError as exc:

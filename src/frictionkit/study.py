@@ -340,11 +340,12 @@ class StudySpec:
 
 def load_study(path: str | Path) -> StudySpec:
     """Read a study TOML file (every mistake is one :class:`~frictionkit.DataError`)."""
+    from ._io import read_input_bytes
+
     p = Path(path)
-    if not p.is_file():
-        raise DataError(f"study '{p}': not found")
+    raw = read_input_bytes(p, f"study '{p}'", missing="not found")  # a FIFO or /dev/zero was "not found" (round 11)
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))  # a BOM is read as the JSON loaders read it
+        doc = tomllib.loads(raw.decode("utf-8-sig"))  # a BOM is read as the JSON loaders read it
     except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
         raise DataError(f"study '{p}': not valid TOML ({exc})") from None
     if not doc:  # an empty (or truncated to nothing) file ran a 20-run default study (campaign round 5)

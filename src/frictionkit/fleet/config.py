@@ -352,11 +352,12 @@ def load_config(path: str | Path) -> FleetConfig:
     >>> cfg.columns["force"]  # doctest: +SKIP
     'F_N'
     """
+    from .._io import read_input_bytes
+
     p = Path(path)
-    if not p.is_file():
-        raise DataError(f"fleet config '{p}': not found")
+    raw = read_input_bytes(p, f"fleet config '{p}'", missing="not found")  # a FIFO or /dev/zero was "not found" (round 11)
     try:
-        doc = tomllib.loads(p.read_text(encoding="utf-8-sig"))  # a BOM is read as the JSON loaders read it
+        doc = tomllib.loads(raw.decode("utf-8-sig"))  # a BOM is read as the JSON loaders read it
     except UnicodeDecodeError as exc:
         raise DataError(f"fleet config '{p}': not UTF-8 text (byte {exc.start})") from None
     except tomllib.TOMLDecodeError as exc:

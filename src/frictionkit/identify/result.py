@@ -196,8 +196,11 @@ def read_json_object(path: str | Path, where: str | None = None) -> dict[str, An
     Not UTF-8 text, not JSON, nested too deeply, or not an object at the top level.
     Missing files and folders raise the usual ``OSError``.
     """
+    from .._io import check_regular_input
+
     p = Path(path)
     where = where or f"file '{p}'"
+    check_regular_input(p, where)  # a FIFO blocked for ever, /dev/zero filled the memory (round 11)
     raw = p.read_bytes()
     try:
         text = raw.decode("utf-8")

@@ -289,13 +289,12 @@ class ModelFile:
 
     @classmethod
     def _load(cls, p: Path, where: str) -> ModelFile:
+        from .._io import DuplicateKeyError, json_loads, read_input_bytes
+
         try:
-            raw = p.read_bytes()
-        except IsADirectoryError:
-            raise DataError(f"{where}: is a folder, expected a JSON file") from None
-        except FileNotFoundError:
-            raise DataError(f"{where}: no such file") from None
-        from .._io import DuplicateKeyError, json_loads
+            raw = read_input_bytes(p, where)
+        except DataError as exc:
+            raise DataError(str(exc).replace("expected a file", "expected a JSON file")) from None
 
         try:
             doc = json_loads(raw.decode("utf-8"))

@@ -171,3 +171,33 @@ def test_report_takes_a_machine_run(tmp_path, monkeypatch):
     assert sec.title.startswith("Machine run: slide, 301 samples") and sec.kind == "machine-run"
     assert "guide: max |F| = " in " ".join(sec.text) and ["u.drive", "-0.5", "0.5"] in sec.table
     assert [a.get_ylabel() for a in figs[0].axes][-1] == "actuator force\n[N]"
+
+
+def test_redesign_drive_force_panel_names_the_stops_like_its_neighbour():
+    """Table 2's drive-force panel said 'original (fast non reverse)' beside 'original stop, 51 ms' and its
+    legend sat on the ringing after zero speed; now the same stop names, and headroom above the traces."""
+    from types import SimpleNamespace as NS
+
+    import matplotlib.pyplot as plt
+
+    from frictionkit.plotting.ballscrew import plot_redesign
+
+    t = np.linspace(-0.2, 0.1, 3001)
+    ring = np.where(t > 0, 300 * np.exp(-t / 0.01) * np.cos(2 * np.pi * 200 * t), 0.0)
+    original = np.where(t < -0.05, 600.0, 600.0 + 15e3 * (t + 0.05)) + ring + np.where(t > 0, 500.0 + 3e3 * t, 0.0)
+    runs = {"original": NS(t=t, drive_force=original, error=0 * t),
+            "redesigned": NS(t=t, drive_force=np.where(t < 0, 100.0, 800.0) + ring, error=0 * t)}
+    result = NS(runs=runs, crossings={k: [NS(t0=0.0)] for k in runs}, stop_ms={"original": 51.0, "redesigned": 126.0},
+                max_error_um={"original": 4.4, "redesigned": 2.8},
+                kind={"original": "fast_non_reverse", "redesigned": "slow_non_reverse"})
+    ax = plot_redesign(result, signal="drive_force")
+    try:
+        assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+            "original stop, 51 ms: fast non reverse", "redesigned stop, 126 ms: slow non reverse"]
+        ax.figure.canvas.draw()
+        box = ax.get_legend().get_window_extent()
+        for ln in ax.lines[:2]:
+            d = ax.transData.transform(np.column_stack([ln.get_xdata(), ln.get_ydata()]))
+            assert not ((d[:, 0] >= box.x0) & (d[:, 0] <= box.x1) & (d[:, 1] >= box.y0) & (d[:, 1] <= box.y1)).any()
+    finally:
+        plt.close(ax.figure)

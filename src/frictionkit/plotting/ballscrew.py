@@ -100,6 +100,11 @@ def plot_fig5(fig5_result, *, span=(-0.06, 0.08), signal: str = "error", ax=None
     return ax
 
 
+#: Extra room above the drive-force traces of :func:`plot_redesign`, as a fraction of their range: the legend's
+#: two lines sit there (without it they covered the original stop's ringing after zero speed).
+LEGEND_HEADROOM = 0.3
+
+
 def plot_redesign(redesign_result, *, span=(-0.13, 0.08), signal: str = "error", ax=None):
     """Table 2, fast non-reverse: the original fast stop against the redesigned Pattern I stop —
     tracking error [µm] (``signal="error"``) or drive force ``F_bn`` [N] (``"drive_force"``)."""
@@ -110,14 +115,20 @@ def plot_redesign(redesign_result, *, span=(-0.13, 0.08), signal: str = "error",
             ax.plot(x, res.error[sel] * 1e6, label=f"{key} stop, {redesign_result.stop_ms[key]:.0f} ms "
                                                    f"(max {redesign_result.max_error_um[key]:.2f} µm)")
         else:
-            ax.plot(x, res.drive_force[sel], label=f"{key} ({redesign_result.kind[key].replace('_', ' ')})")
+            # the same stop names as the error panel beside it, with the kind Table 2's rule gives each
+            # stop (it read 'original (fast non reverse)' beside 'original stop, 51 ms')
+            ax.plot(x, res.drive_force[sel], label=f"{key} stop, {redesign_result.stop_ms[key]:.0f} ms: "
+                                                   f"{redesign_result.kind[key].replace('_', ' ')}")
     ax.axvline(0.0, color="0.5", lw=0.8)
     if signal != "error":
         ax.axhline(0.0, color="0.5", lw=0.8)
     ax.set_xlabel("time from zero speed [ms]")
     ax.set_ylabel("tracking error [µm]" if signal == "error" else "drive force F_bn [N]")
     ax.set_title("Table 2, fast non-reverse: redesigned stop")
-    ax.legend(fontsize="small")
+    if signal != "error":  # the force fills its axes (600 N held, ringing after the stop): headroom for the legend
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, hi + LEGEND_HEADROOM * (hi - lo))
+    ax.legend(fontsize="small", loc="upper left")
     ax.grid(True, alpha=0.3)
     return ax
 

@@ -201,3 +201,13 @@ def test_redesign_drive_force_panel_names_the_stops_like_its_neighbour():
             assert not ((d[:, 0] >= box.x0) & (d[:, 0] <= box.x1) & (d[:, 1] >= box.y0) & (d[:, 1] <= box.y1)).any()
     finally:
         plt.close(ax.figure)
+
+
+def test_site_units_of_a_machine_run():
+    """``site_units`` takes the run too (the CLI's ``simulate MACHINE --json`` needs each site's unit beside
+    its peak force)."""
+    from frictionkit.simulation.traces import site_units
+
+    t = np.arange(11) * 1e-3
+    res = fk.simulate_machine(_saturating_machine(), dt=1e-3, inputs={"u": 0 * t})
+    assert site_units(res) == site_units(res.machine) == ["N"]

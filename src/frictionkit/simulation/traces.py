@@ -84,7 +84,20 @@ def machine_trace_table(result: Any) -> dict[str, np.ndarray]:
 
 
 def site_units(machine: Any) -> list[str]:
-    """The force unit of each site of ``machine``, in its order (``"N"`` or ``"N·m"``)."""
+    """The force unit of each site of ``machine`` — a :class:`~frictionkit.Machine` or a run of it
+    (``MachineResult``, in the order of its ``site_names``) — ``"N"`` or ``"N·m"``.
+
+    Examples
+    --------
+    >>> import frictionkit as fk
+    >>> from frictionkit.simulation.traces import site_units
+    >>> m = fk.Machine("axis")
+    >>> th = m.dof("motor", inertia=1e-4, kind="rotational")
+    >>> m.friction("bearing", th, law=fk.CoulombViscous(Fc=0.02, sigma2=0.0))
+    >>> site_units(m)
+    ['N·m']
+    """
+    machine = getattr(machine, "machine", machine)  # a MachineResult: its machine's sites
     return [getattr(s, "unit", "N") for s in machine.sites]
 
 

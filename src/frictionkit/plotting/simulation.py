@@ -47,7 +47,8 @@ def plot_result(res, ax=None, *, units=None):
 
 
 #: Height of one panel of :func:`plot_machine` [in]: six panels (the elastic ball screw: positions and
-#: velocities in m and rad, forces in N and N·m) then fit a report page at 8 x 10.8 in.
+#: velocities in m and rad, forces in N and N·m) then fit a report page at 8 x 10.8 in; its actuator
+#: panel (motor torque [N·m]) makes seven, 12.45 in.
 MACHINE_PANEL_HEIGHT = 1.65
 
 

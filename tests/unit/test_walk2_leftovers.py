@@ -7,6 +7,7 @@ Each test fails on f22475c.
 
 from __future__ import annotations
 
+import pickle
 import sys
 import warnings
 
@@ -38,6 +39,7 @@ def test_python_run_carries_its_units_to_plot_summary_and_traces():
     body = res.summary().split("\n")[1]
     assert "travel 0.04 rad" in body and "rad/s" in body and body.endswith(" N·m")
     assert list(trace_table(res))[:4] == ["t [s]", "x [rad]", "v [rad/s]", "friction [N·m]"]
+    assert pickle.loads(pickle.dumps(res)).units == {"F": "N·m", "v": "rad/s", "x": "rad"}  # Dask returns results
     plain = fk.simulate(fk.Dahl(Fc=0.2, sigma0=50.0), position=th, dt=1e-3)  # default: SI labels
     assert plain.units is None and list(trace_table(plain))[1] == "x [m]"
     with pytest.raises(ParameterError, match=r"units: key 'torque' unknown"):

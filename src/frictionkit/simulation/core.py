@@ -703,11 +703,9 @@ def simulate(
     (True, (4001,))
     """
     if units is not None:  # labels checked before the run, carried by its result
-        from types import MappingProxyType
-
         from ..models.files import _axis_units
 
-        labels = MappingProxyType(_axis_units(units))
+        labels = _axis_units(units)  # a plain dict: the result stays picklable (Dask tasks return results)
         res = simulate(model, dt=dt, plant=plant, force=force, position=position, velocity=velocity, x0=x0, v0=v0,
                        state0=state0, options=options, velocity_integration=velocity_integration)
         return dataclasses.replace(res, units=labels)

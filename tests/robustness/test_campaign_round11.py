@@ -184,6 +184,12 @@ def test_an_interrupted_fleet_simulation_says_what_is_there_and_the_same_call_re
                                                  r"complete; no fleet.toml yet .*same arguments to resume"):
         simulate_fleet(folder, axes=2, days=2, seed=3, progress=stop_after_3)
     assert not (folder / "fleet.toml").exists() and (folder / UNFINISHED).exists()
+    from frictionkit.errors import DataError
+    from frictionkit.fleet.identify import resolve_config
+
+    with pytest.raises(DataError, match=r"an interrupted 'fleet simulate' \(unfinished.json, no fleet.toml yet\); "
+                                        r"run the same 'fleet simulate' again"):  # was "no configuration"
+        resolve_config(folder, None)
     seen = []
     fleet = simulate_fleet(folder, axes=2, days=2, seed=3, progress=lambda d, n: seen.append(d))
     assert fleet.resumed == 3 and seen == [1, 2, 3, 4] and "3 of them kept" in fleet.summary()
@@ -268,3 +274,80 @@ def test_a_text_input_beyond_the_size_limit_is_refused(tmp_path, monkeypatch):
 
     with pytest.raises(DataError, match=r"m\.json': 0 MB, beyond the 0 MB a text input file may have"):
         fk.load_model(p)
+
+
+# ---------------------------------------------------------------- round 11: T (wrong types into the Python API)
+@pytest.mark.parametrize("call, match", [
+    (lambda: fk.find_plateaus(np.ones(50), 1e-3, min_samples="abc"), r"find_plateaus\.min_samples = 'abc': must be an "
+                                                                      r"integer"),
+    (lambda: fk.find_plateaus(np.ones(50), 1e-3, trim=None), r"find_plateaus\.trim = None: must be a real number"),
+    (lambda: fk.decimate(np.ones(50), 2, zero_phase="abc"), r"decimate\.zero_phase = 'abc': must be True or False"),
+    (lambda: fk.derivative(np.ones(50), 1e-3, window=None), r"derivative\.window = None: must be an integer"),
+    (lambda: fk.lowpass(np.ones(50), 1e3, "50"), r"lowpass\.cutoff = '50': must be a real number"),
+    (lambda: fk.fit_static_map(np.ones(5), np.ones(5), units="N"), r"fit_static_map\.units = 'N': must be a mapping"),
+    (lambda: fk.load_csv(None, time="t"), r"load_csv\.path = None: must be a string or a file path"),
+    (lambda: fk.load_recording("x.csv", time="t", current_gain="2"), r"load_recording\.current_gain = '2': must be a "
+                                                                       r"real number \(or None\)"),
+    (lambda: fk.simulate(LUGRE, position=np.zeros(5), dt=1e-3, x0="abc"), r"simulate\.x0 = 'abc': must be a real"),
+    (lambda: fk.ModelFile(model=LUGRE, provenance="x"), r"ModelFile.provenance = 'x': must be a mapping"),
+], ids=["int", "float-None", "bool", "int-None", "float-str", "mapping", "path", "optional-float", "simulate-x0",
+        "modelfile-provenance"])
+def test_public_entry_points_name_an_argument_of_the_wrong_type(call, match):
+    """Was (round 11, family T: every public entry point with a wrong type in each argument, 731 calls): 133 ended
+    in Python's or numpy's own TypeError/ValueError/AttributeError ("'>=' not supported between instances of
+    'int' and 'str'", "dictionary update sequence element #0 ..."), 64 ran (``decimate(zero_phase="abc")``,
+    ``simulate(x0="abc")`` on a motion-driven run). Now the annotated simple types are checked at the boundary
+    (``_validate.typed_arguments``) and the error names the function, the argument and the value."""
+    with pytest.raises(ParameterError, match=match):
+        call()
+
+
+def test_typed_arguments_leaves_legal_values_alone():
+    from frictionkit._validate import typed_arguments
+
+    @typed_arguments
+    def f(y, q: "int", *, path: "str | Path" = "x", m: "Mapping[str, float] | None" = None, flag: "bool" = True,
+          a: "ArrayLike" = 1, r: "float | None" = None):
+        return q
+
+    assert f(0, np.int64(3), path=__import__("pathlib").Path("p"), m={"a": 1.0}, flag=np.bool_(False), a="anything",
+             r=np.float32(2.0)) == 3
+    with pytest.raises(TypeError, match="missing 1 required positional argument: 'q'"):  # Python's own words
+        f(0)
+
+
+# ---------------------------------------------------------------- round 11: S (help of every verb)
+def test_the_verbs_answer_dash_h_with_their_usage():
+    """Was (round 11, family S): ``--help`` worked on all 23 commands but ``-h`` was "No such option: -h" on every
+    one. Now both print the usage (exit 0)."""
+    import typer
+    from typer.testing import CliRunner
+
+    from frictionkit.cli import _register, app
+
+    _register()
+
+    def walk(cmd, path):
+        yield path
+        for name, sub in sorted(getattr(cmd, "commands", {}).items()):
+            yield from walk(sub, path + [name])
+
+    paths = list(walk(typer.main.get_command(app), []))
+    assert len(paths) >= 20 and ["identify", "static"] in paths and ["fleet", "simulate"] in paths
+    runner = CliRunner()
+    # the top, a group, a verb of each group and two plain verbs (the names reach every verb through click's
+    # context; the campaign's family S runs all 23 commands)
+    for path in ([], ["identify"], ["identify", "static"], ["fleet", "simulate"], ["reproduce", "sdss"], ["export"],
+                 ["simulate"]):
+        res = runner.invoke(app, path + ["-h"])
+        assert res.exit_code == 0 and res.output.startswith(" ".join(["Usage: frictionkit"] + path)), (path, res.output)
+
+
+def test_a_fleet_glob_matching_nothing_says_so_before_asking_for_a_configuration(tmp_path):
+    """Was (round 11, family P): `fleet identify 'EMPTY/*/*.csv'` said "no configuration; pass config=" — the
+    user adds --config and only then learns that the pattern matches no file."""
+    from frictionkit.errors import DataError
+    from frictionkit.fleet.identify import resolve_config
+
+    with pytest.raises(DataError, match=r"\*/\*\.csv': the pattern matches no file"):
+        resolve_config(f"{tmp_path}/*/*.csv", None)

@@ -23,6 +23,9 @@ app = typer.Typer(
     help="Model, identify, simulate and compensate friction in precision motion axes.",
     cls=FrictionKitGroup,
     no_args_is_help=True,
+    # '-h' as well: 'frictionkit identify static -h' was "No such option: -h" (issue 13 round 11, family S);
+    # click passes the names on to every verb's context
+    context_settings={"help_option_names": ["-h", "--help"]},
     add_completion=False,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,

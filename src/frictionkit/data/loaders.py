@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from .._io import missing_reason
-from .._validate import HUGE
+from .._validate import HUGE, typed_arguments
 from ..errors import DataError
 from .recording import Recording
 
@@ -589,6 +589,7 @@ def _build(
     return Recording(**kw, current_gain=current_gain, units=dict(units or {}), name=name, provenance=prov)
 
 
+@typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def load_recording(
     path: str | Path,
     *,
@@ -661,6 +662,7 @@ def load_recording(
                   name=name or p.stem, extra_prov=extra)
 
 
+@typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def load_csv(
     path: str | Path,
     *,
@@ -697,6 +699,7 @@ def load_csv(
                           name=name, delimiter=delimiter)
 
 
+@typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def load_groups(
     path: str | Path,
     *,

@@ -66,6 +66,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist()))
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def find_plateaus(
     v: ArrayLike,
     dt: float,
@@ -179,6 +180,7 @@ def _find_plateaus(
     return found[0], found[1], float(min_speed)
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def find_reversals(v: ArrayLike, *, deadband: float = 0.0) -> np.ndarray:
     """Indices where the velocity changes sign.
 
@@ -213,6 +215,7 @@ def find_reversals(v: ArrayLike, *, deadband: float = 0.0) -> np.ndarray:
     return nz[changes].astype(int)
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def find_cycles(x: ArrayLike, dt: float, *, v: ArrayLike | None=None, deadband: float = 0.0,
                 max_amplitude: float | None = None) -> list[Segment]:
     """Back-and-forth cycles between every other reversal (pre-sliding cycles).

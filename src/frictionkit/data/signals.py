@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def lowpass(y: ArrayLike, fs: float, cutoff: float, *, order: int = 4) -> np.ndarray:
     """Zero-phase Butterworth low-pass filter (``scipy.signal.butter`` + ``filtfilt``).
 
@@ -60,6 +61,7 @@ def lowpass(y: ArrayLike, fs: float, cutoff: float, *, order: int = 4) -> np.nda
     return _sig.filtfilt(b, a, x)
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def derivative(y: ArrayLike, dt: float, *, order: int = 1, method: str = "central",
                window: int = 11, polyorder: int = 3) -> np.ndarray:
     """Numerical time derivative of a uniformly sampled signal.
@@ -112,6 +114,7 @@ def derivative(y: ArrayLike, dt: float, *, order: int = 1, method: str = "centra
     raise ParameterError(f"derivative.method = {method!r}: must be 'central' or 'savgol'")
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def decimate(y: ArrayLike, q: int, *, ftype: str = "iir", zero_phase: bool = True) -> np.ndarray:
     """Anti-alias filter and keep every ``q``-th sample (``scipy.signal.decimate``).
 

@@ -26,6 +26,8 @@ columns are identical either way.
 
 from __future__ import annotations
 
+import glob as _glob
+
 import logging
 import os
 import time
@@ -168,6 +170,13 @@ def resolve_config(dataset, config) -> FleetConfig:
         return load_config(config)
     if isinstance(dataset, (str, Path)) and Path(dataset).is_dir() and (Path(dataset) / CONFIG_NAME).is_file():
         return load_config(Path(dataset) / CONFIG_NAME)
+    from .simulate import UNFINISHED
+
+    if isinstance(dataset, (str, Path)) and (Path(dataset) / UNFINISHED).is_file():  # said "no configuration"
+        raise DataError(f"fleet dataset '{dataset}': an interrupted 'fleet simulate' ({UNFINISHED}, no "
+                        f"{CONFIG_NAME} yet); run the same 'fleet simulate' again to finish it")
+    if isinstance(dataset, (str, Path)) and any(c in str(dataset) for c in "*?[") and not _glob.glob(str(dataset)):
+        raise DataError(f"fleet dataset '{dataset}': the pattern matches no file")  # before the missing config
     raise DataError(f"fleet dataset '{dataset}': no configuration; pass config= (--config fleet.toml) "
                     f"or put a {CONFIG_NAME} in the dataset folder")
 

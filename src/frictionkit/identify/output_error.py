@@ -177,6 +177,7 @@ def _relative_percent(resid, y) -> float:
     return float(100.0 * np.linalg.norm(resid) / ny) if ny > 0 else math.nan
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def fit_output_error(
     data: Any,
     model0: str | FrictionLaw="lugre",

@@ -228,6 +228,7 @@ def _times(md: MotionData) -> np.ndarray:
 MAX_ELEMENTS = 32
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def fit_presliding(
     data: Any,
     *,

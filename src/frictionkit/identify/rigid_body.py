@@ -125,6 +125,7 @@ def _as_list(recording) -> list[Recording]:
     return items
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def fit_rigid_body(
     recording: Recording,
     *,

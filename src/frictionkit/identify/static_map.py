@@ -398,6 +398,7 @@ def _check_magnitudes(va: np.ndarray, Fa: np.ndarray) -> None:
             )
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def fit_static_map(
     v: ArrayLike | Recording,
     F: ArrayLike | None=None,
@@ -666,6 +667,7 @@ def stribeck_model(result: IdentificationResult) -> Directional:
     return Directional(positive=_as_stribeck(laws[0]), negative=_as_stribeck(laws[1]))
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def fit_static_records(records: Sequence[Recording] | Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
     """Average each record whole (one steady-state point per record) and fit the map.
 

@@ -627,6 +627,7 @@ def _substep_check(machine, res, dt, inputs, N, substeps, seed, raise_on_failure
     return dataclasses.replace(res, status=STATUS_TOLERANCE, message=message)
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
 def simulate_machine(machine: Machine, *, dt: float, inputs: dict | None = None,
                      n_samples: int | None = None, duration: float | None = None,
                      substeps: int = 10, seed: int | None = 0, fast_path: bool = True,

@@ -229,6 +229,10 @@ class ModelFile:
     format: str = MODEL_FORMAT
 
     def __post_init__(self) -> None:
+        if self.provenance is not None and not isinstance(self.provenance, Mapping):  # provenance="x" was "dictionary update sequence ..." (round 11)
+            raise ParameterError(f"ModelFile.provenance = {self.provenance!r}: must be a mapping (name -> JSON data)")
+        if not isinstance(self.format, str):
+            raise ParameterError(f"ModelFile.format = {self.format!r}: must be a string such as {MODEL_FORMAT!r}")
         if _is_machine(self.model):
             if dict(self.units or {}) not in ({}, LINEAR_UNITS, MACHINE_UNITS):
                 raise ParameterError("units: a machine file's units are fixed per field (SI, MACHINE_UNITS); "

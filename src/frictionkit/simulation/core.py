@@ -637,6 +637,7 @@ def _resolved_position(xpos: np.ndarray) -> None:
             "differences would be rounding noise; subtract the offset (start near 0)")
 
 
+@val.typed_arguments  # argument types named at the boundary (issue 13 round 11: x0='abc' ran)
 def simulate(
     model: FrictionLaw,
     *,

@@ -34,15 +34,36 @@ _MESSAGES = {
     "an unchecked step; the dynamics are faster than the integrator can resolve (a very small "
     "mass or inertia against stiff friction?); check the plant and the model's units",
     4: "fixed step too coarse: simulate_batch(method='fixed') has no error control and its sub-step "
-    "dt/batch_substeps exceeds FIXED_STEP_LIMIT = 0.5 of the set's fastest time scale "
-    "(1/sqrt(sigma0/m) or m/(sigma1 + sigma2)); use method='adaptive' or raise batch_substeps",
+    "h = dt/batch_substeps is beyond the measured limit for the set's damping ratio (omega·h = "
+    "sqrt(sigma0/m)·h above 0.02 undamped (zeta < 0.05), 0.1 (zeta < 0.3), 0.2 (FIXED_RING_LIMITS), or "
+    "h·(sigma1 + sigma2)/m above FIXED_STEP_LIMIT = 0.5); use method='adaptive' or raise batch_substeps",
 }
 
-#: Largest ``h * max(sqrt(sigma0 / m), (sigma1 + sigma2) / m)`` of a fixed-step batch set
-#: (``h = dt / batch_substeps``) before it is flagged with status 4 (assumption, issue 13):
-#: on the README LuGre at 4 kHz, 2 sub-steps, the RMS position error was <= 0.25 % of the
-#: stroke below 0.5 and 14-26 % of it at 0.72-2.65 (masses 3 g-0.3 kg, sigma0 1e5-1e7).
+#: Largest ``h * (sigma1 + sigma2) / m`` of a fixed-step batch set (``h = dt / batch_substeps``)
+#: before it is flagged with status 4 (assumption, issue 13): on the README LuGre at 4 kHz, 2
+#: sub-steps, the RMS position error was <= 0.25 % of the stroke below 0.5 and 14-26 % of it at
+#: 0.72-2.65 (masses 3 g-0.3 kg, sigma0 1e5-1e7). The limit on ``omega h`` is FIXED_RING_LIMITS.
 FIXED_STEP_LIMIT = 0.5
+#: The fixed method's limit on ``omega h = sqrt(sigma0 / m) h`` by damping ratio
+#: ``zeta = (sigma1 + sigma2) / (2 sqrt(sigma0 m))``: rows ``(zeta_from, limit)``, a set takes the row
+#: of the largest ``zeta_from <= zeta`` and beyond its limit gets status 4 (issue 13). Measured
+#: (``benchmarks/fixed_step_limits.py``, 2,239 random LuGre and Dahl sets: 20 of each per grid point
+#: zeta 0 ... 2 x omega h 0.01 ... 0.5, sines below and above breakaway, 2 sub-steps, against the
+#: adaptive kernel at rtol 1e-9): the largest grid omega h whose worst RMS position error stays
+#: within 0.25 % of the stroke (what the fixed method promises) -- undamped and zeta 0.01: 0.02 (0.10 %
+#: and 0.05 % there; 1.75 % and 0.26 % at 0.05: the L-stable step damps and shifts the ringing);
+#: zeta 0.05-0.1: 0.1 (0.22 %; 0.39 % at 0.2); zeta 0.3-1: 0.2 (0.12 %; one LuGre above breakaway
+#: at zeta 0.7 was 59 % of its stroke off at 0.3, one at zeta 0.3 62 % at 0.5). Was 0.5 for every
+#: zeta (measured on damped LuGre sets only): an undamped Dahl at omega h 0.20 (sigma0 1e8 N/m on
+#: 13.8 kg) passed at status 0 with 0.34 % of its stroke and 4.3 % of its friction range (RMS) off.
+FIXED_RING_LIMITS = ((0.0, 0.02), (0.05, 0.1), (0.3, 0.2))
+
+
+def fixed_step_limit(zeta: np.ndarray) -> np.ndarray:
+    """The fixed method's largest ``omega h`` at damping ratio ``zeta`` (:data:`FIXED_RING_LIMITS`)."""
+    froms = np.array([z for z, _ in FIXED_RING_LIMITS])
+    limits = np.array([lim for _, lim in FIXED_RING_LIMITS])
+    return limits[np.searchsorted(froms, np.asarray(zeta, dtype=float), side="right") - 1]
 
 
 #: The default ``SimOptions.atol_F`` at rtol >= 1e-5 (below it the default follows rtol).
@@ -907,8 +928,11 @@ def simulate_batch(
     BatchResult
         ``sse[j] = sum_k weight_k (y_j(t_k) - target_k)^2`` (``inf`` where run j failed)
         and ``status[j]`` (as :class:`SimulationResult`; with ``method="fixed"`` also 4: the
-        fixed sub-step is coarser than :data:`FIXED_STEP_LIMIT` of the set's fastest time
-        scale — a 5 g mass, say — and the run has no error control to say how wrong it is).
+        fixed sub-step is beyond the limit measured for the set's damping ratio — ``omega·h``
+        above :data:`FIXED_RING_LIMITS` (0.02 undamped, 0.1 from zeta 0.05, 0.2 from 0.3) or
+        ``h·(sigma1 + sigma2)/m`` above :data:`FIXED_STEP_LIMIT` (0.5) — and the run has no error
+        control to say how wrong it is; the message names the first such set and the
+        ``batch_substeps`` that brings it within).
         ``rms`` divides by the number of weighted samples.
 
     Notes
@@ -932,6 +956,29 @@ def simulate_batch(
 
     Directional sets run as fast; sets with ``delta != 2`` or the Lorentzian
     shape take a scalar fallback (``pow``), ~300 /s at 1 sub-step.
+
+    Where the fixed method holds depends on the damping ratio
+    ``zeta = (sigma1 + sigma2) / (2 sqrt(sigma0 m))``: an undamped contact rings at
+    ``omega = sqrt(sigma0 / m)`` and the fixed step damps and shifts that ringing. Worst RMS
+    position error, % of the stroke, over 40 random LuGre and Dahl sets per cell (sines below
+    and above breakaway, 2 sub-steps, ``h = dt / 2``; ``benchmarks/fixed_step_limits.py``):
+
+    =========  =====  =====  =====  =====  =====  =====  =====
+    ζ \\ ω·h    0.01   0.02   0.05   0.1    0.2    0.3    0.5
+    =========  =====  =====  =====  =====  =====  =====  =====
+    0          0.018  0.10   1.8    3.6    4.2    6.2    57
+    0.01       0.020  0.051  0.26   1.4    2.8    1.9    45
+    0.05       0.013  0.037  0.076  0.22   0.34   0.12   0.47
+    0.1        0.010  0.017  0.14   0.086  0.39   0.15   0.069
+    0.3        0.008  0.010  0.041  0.007  0.12   0.025  62
+    0.7        0.005  0.015  0.008  0.020  0.013  59     47
+    1          0.011  0.007  0.003  0.008  0.041  22     57
+    =========  =====  =====  =====  =====  =====  =====  =====
+
+    A set beyond the limit for its damping ratio (:data:`FIXED_RING_LIMITS`: ``omega·h`` 0.02 below
+    zeta 0.05, 0.1 below 0.3, 0.2 above; and ``h·(sigma1 + sigma2)/m <= 0.5``) gets status 4 and no
+    number: within it the worst set stayed within 0.25 % of its stroke, and its friction within
+    0.4 % of its range (RMS; 0.36 % at zeta 2, omega·h 0.1).
 
     The error is second order in the sub-step (÷4 per doubling; 4 sub-steps are
     as close to the tight run in x as the default adaptive tolerances). Why 2 by
@@ -1018,13 +1065,24 @@ def simulate_batch(
                 u, dt, m, static, dyn, int(options.batch_substeps), y, which, w,
                 _batch.chunk_modes(static, dyn), sse, status,
             )
-            h = dt / int(options.batch_substeps)
-            fastest = np.maximum(np.sqrt(dyn[:, :, 0].max(axis=1) / m),
-                                 (dyn[:, :, 1] + static[:, :, 4]).max(axis=1) / m)
-            coarse = (h * fastest > FIXED_STEP_LIMIT) & (status == 0)
+            n_sub = int(options.batch_substeps)
+            h = dt / n_sub
+            K = dyn[:, :, 0].max(axis=1)
+            c = (dyn[:, :, 1] + static[:, :, 4]).max(axis=1)
+            wh = np.sqrt(K / m) * h
+            zeta = c / (2.0 * np.sqrt(K * m))
+            lim = fixed_step_limit(zeta)
+            coarse = ((wh > lim) | (h * c / m > FIXED_STEP_LIMIT)) & (status == 0)
             status[coarse] = 4  # no error control: a step this coarse gives no trustworthy answer
             sse[coarse] = np.inf
-            return BatchResult(sse, status, int((w[1:] > 0).sum()))
+            detail = ""
+            if coarse.any():
+                j = int(np.flatnonzero(coarse)[0])
+                need = math.ceil(n_sub * max(wh[j] / lim[j], h * c[j] / m[j] / FIXED_STEP_LIMIT) * (1 - 1e-12))
+                detail = (f"Set {j}: damping ratio {zeta[j]:.3g}, omega·h = sqrt(sigma0/m)·dt/{n_sub} = {wh[j]:.3g} "
+                          f"(limit {lim[j]:g} at that damping), h·(sigma1 + sigma2)/m = {h * c[j] / m[j]:.3g} (limit "
+                          f"{FIXED_STEP_LIMIT:g}); batch_substeps >= {need} or method='adaptive' brings it within")
+            return BatchResult(sse, status, int((w[1:] > 0).sum()), detail)
         # each set with the tolerances simulate() gives it alone (issue 13: tolerances shared over
         # the sets -- atol_F Fs / max sigma0 -- made a sigma0 = 1e300 set fail every other set with it)
         F_sets = static[:, :, :2].max(axis=(1, 2))

@@ -76,6 +76,8 @@ def test_constant_inputs_dt_and_duration(tmp_path):
     # Newton by hand: (3 N - 1 N) / 1 kg = 2 m/s², x(0.5 s) = 0.25 m, v = 1 m/s
     assert doc["samples"] == 501 and doc["dofs"]["x"]["final_x"] == pytest.approx(0.25, rel=1e-3)
     assert doc["dofs"]["x"]["peak_v"] == pytest.approx(1.0, rel=1e-6)
+    # the sliding contact's 1 N with its unit (a translational site: newtons)
+    assert doc["sites"]["contact"] == {"peak_force": pytest.approx(1.0, rel=1e-6), "unit": "N"}
     import pandas as pd
 
     tab = pd.read_parquet(tmp_path / "tr.parquet")

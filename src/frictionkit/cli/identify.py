@@ -669,8 +669,9 @@ def presliding(
     validate: Optional[Path] = typer.Option(None, "--validate", help="Report the error on this other record "
                                             "(same column options) beside the training error."),
     json_out: Optional[Path] = typer.Option(None, "--json", help="Write the result as JSON."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force as a plot "
-                                        "(format from the extension: .png, .pdf, .svg ...)."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Write measured vs simulated force over time and "
+                                        "as the force-displacement loop, as a plot (format from the "
+                                        "extension: .png, .pdf, .svg ...)."),
 ) -> None:
     """GMS pre-sliding k_i, xi_i from a force-displacement branch (seed 000 eq. 19)."""
     elements = chk.integer(elements, "--elements", lo=1, hi=chk.MAX_PRESLIDING_ELEMENTS,

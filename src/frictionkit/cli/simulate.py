@@ -311,14 +311,15 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
         a = a[np.isfinite(a)]
         return float(np.max(np.abs(a))) if a.size else None
 
-    from ..simulation.traces import RUN_FORMAT
+    from ..simulation.traces import RUN_FORMAT, site_units
 
     doc = {"format": RUN_FORMAT, "model": str(model), "kind": "machine", "machine": machine.name,
            "inputs": {name: (f"{p}:{c}" if p is not None else c) for name, p, c in parsed}, "samples": n, "dt": h,
            "substeps": res.substeps, "status": res.status, "message": res.message, "success": res.success,
            "dofs": {d.name: {"unit": d.unit, "final_x": float(res.q[-1, i]), "peak_v": peak(res.v[:, i])}
                     for i, d in enumerate(machine.dofs)},
-           "sites": {s: {"peak_force": peak(res.site_forces[:, j])} for j, s in enumerate(res.site_names)},
+           "sites": {s: {"peak_force": peak(res.site_forces[:, j]), "unit": u}
+                     for j, (s, u) in enumerate(zip(res.site_names, site_units(res)))},
            "outputs": {k: str(p) for k, p in (("traces", out), ("plot", plot)) if p is not None}}
     text = res.summary() + "".join(f"\nwrote {p}" for p in doc["outputs"].values())
     chk.emit(doc, json_out, text)

@@ -503,6 +503,20 @@ CHECK_BOUND_RATE = 1000.0
 #: itself at rtol / 10, so an agreement within 0.5 rtol means a run within ~0.6 rtol or one the check cannot
 #: see. Costs a third run only on checked GMS runs (fast contacts) that agree that closely.
 CHECK_SAME = 0.5
+#: A checked LuGre/Dahl run whose check run (rtol / CHECK_FACTOR) differs from it by more than CHECK_BOUND
+#: but at most this many rtol of the ranges of x and the friction (v within CHECK_BOUND_RATE) is checked once
+#: more at rtol / 100 and judged by that run, against CHECK_BOUND_DEEP. Why (issue 13, lug13): the check run
+#: sees ``1 - rho`` of the run's error, and CHECK_BOUND 5 keeps the contract (10 rtol) for rho <= 1/2; the
+#: measured rho is ~0.1, so runs 5.6-9 rtol off were flagged although within the contract: 30 of the 93
+#: flagged runs of robustness_lugre.py part a (seeds 0-189, 400-559) were within it. Where the run at rtol/100
+#: finished, it differed from the run by 0.98-1.01 of the run's true error (15 runs, against the twin). With
+#: this third run 14 of the 30 pass, none of the 63 beyond the contract does; part b (seeds 40-69): 3 of 3
+#: false alarms pass, 7 flagged sets stay flagged. Costs a third run only on flagged-near-the-bound runs.
+CHECK_NEAR = 10.0
+#: See :data:`CHECK_NEAR`: the bound (rtol of the ranges of x and the friction) on the difference to the run
+#: at rtol / 100. Assumption: that run's own error is <= 0.1 of the run's (rho <= 0.3 per decade), so a
+#: difference within 9 rtol keeps the run within 10 rtol.
+CHECK_BOUND_DEEP = 9.0
 
 
 #: When both check runs fail (the default velocity tolerance follows the speed so far down to
@@ -532,6 +546,17 @@ def oscillator_detail(K: float, c: float, m: float, dt: float, kind: str = "lugr
     zeta = c / (2.0 * math.sqrt(K) * math.sqrt(m))
     return (f"{name} = {K:.3g} N/m on a mass of {m:.3g} kg: omega·dt = sqrt({name}/m)·dt = {wdt:.3g} "
             f"(damping ratio {zeta:.3g}; (c/m)·dt = {c / m * dt:.3g} with c = {c:.3g} N·s/m)")
+
+
+def _near_bound(res: SimulationResult, fine: SimulationResult, rtol: float) -> bool:
+    """Whether ``fine`` (the check run) differs from ``res`` by more than CHECK_BOUND but at most CHECK_NEAR
+    rtol of the ranges of x and the friction, and v within CHECK_BOUND_RATE (see :data:`CHECK_NEAR`)."""
+    frac = {}
+    for name, a, b in (("x", res.x, fine.x), ("v", res.v, fine.v), ("F", res.friction, fine.friction)):
+        span = float(np.ptp(b))
+        frac[name] = float(np.max(np.abs(a - b))) / (rtol * span) if span > 0.0 else math.inf
+    worst = max(frac["x"], frac["F"])
+    return CHECK_BOUND < worst <= CHECK_NEAR and frac["v"] <= CHECK_BOUND_RATE
 
 
 def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str, K: float, c: float,
@@ -581,6 +606,15 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
         again = rerun(deeper)
         if again.status == 0:
             tight, fine = deeper, again
+    bound_xF = CHECK_BOUND
+    if kind == "lugre" and fine.status == 0 and _near_bound(res, fine, options.rtol):
+        # the check run sees most of the run's error: near the bound, a run 10x tighter still judges (CHECK_NEAR)
+        f = CHECK_FACTOR * CHECK_FACTOR
+        deeper = dataclasses.replace(tight, rtol=options.rtol / f, atol_F=options.atol_F / f,
+                                     atol_v=None if options.atol_v is None else options.atol_v / f)
+        again = rerun(deeper)
+        if again.status == 0:
+            tight, fine, bound_xF = deeper, again, CHECK_BOUND_DEEP
     osc = oscillator_detail(K, c, m, dt, kind)
     why = (f"the contact is {'faster than' if fast > FAST_LIMIT else 'a lightly damped ringing against'} the samples "
            f"{'and the run followed it' if per_sample > SUBSTEP_RISK else 'and its switches fall between them'} "
@@ -599,8 +633,8 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
                 "the mass and dt (units?)")
     end = n if fine.status == 0 else int(fine.failed_at)
     first_bad, worst, worst_frac = None, "", 0.0
-    for name, a, b, mult in (("x", res.x, fine.x, CHECK_BOUND), ("v", res.v, fine.v, CHECK_BOUND_RATE),
-                             ("friction", res.friction, fine.friction, CHECK_BOUND)):
+    for name, a, b, mult in (("x", res.x, fine.x, bound_xF), ("v", res.v, fine.v, CHECK_BOUND_RATE),
+                             ("friction", res.friction, fine.friction, bound_xF)):
         a, b = a[:end + (fine.status == 0)], b[:end + (fine.status == 0)]
         span = float(np.ptp(b)) if b.size else 0.0
         bound = mult * options.rtol * span + 1e-300
@@ -631,7 +665,7 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
         return _finish(res.t, res.x, res.v, res.friction, res.states, 2, max(at, 0), res.substeps, res.model,
                        message=message, stacklevel=4)
     note = (f"{res.message}; accuracy check passed ({why}; a run at rtol = {tight.rtol:.3g} agrees within "
-            f"{100 * CHECK_BOUND * options.rtol:.3g} % of the ranges of x and the friction, "
+            f"{100 * bound_xF * options.rtol:.3g} % of the ranges of x and the friction, "
             f"{100 * CHECK_BOUND_RATE * options.rtol:.3g} % of that of v)")
     return dataclasses.replace(res, message=note)
 

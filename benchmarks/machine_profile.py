@@ -34,6 +34,19 @@ profile (kernels/machine.py run, "Coarse steps") 97 % / 99 % of the samples are 
 two-shaft drive's coarse solves are then ~90 % of its kernel (13.7 law evaluations, 9.7 solves,
 2.9 sweeps per sample; its ball pair and guide sit on the same coordinate, so the Gauss-Seidel
 between them is the likely next target: not measured).
+
+Measured 2026-11-24 (mcore; load 2-12, same-run kernel CPU against f22475c in a worktree,
+/tmp scripts): the two-shaft drive's sweeps started from the last step's held forces, so the first
+sweep's inputs were off by a sample's change of every force and a third sweep followed. The
+sweeps now start from predicted forces (``run``: the recorded force plus half the profile's
+change, else a linear extrapolation): 2.94 -> 2.03 coarse sweeps, 9.7 -> 7.1 site solves, 13.7
+-> 10.9 law evaluations a sample; kernel 27.4 -> 26.1 ms (-5 %), the Dahl sliding stage 7.7 ->
+7.0 ms, GMS-4 13.3 -> 13.1, flank / Hertz unchanged (89 % / 95 % of their samples sub-stepped).
+Tried and not kept: a joint scalar solve of the sites on one coordinate (the ball pair and the
+guide; the flank stage's nut and two flank sites) — solves 9.7 -> 6.3 a sample but law
+evaluations only 13.7 -> 12.3; the two-shaft kernel +23 % (+8 % with the group calling its laws
+directly, +0.2 % on top of the prediction), the flank stage +1 %, Hertz +13 %: the Gauss-Seidel
+between sites on one coordinate was not where the evaluations go.
 """
 
 from __future__ import annotations
@@ -94,7 +107,7 @@ _SECTIONS = [
     ("                    if not ok:\n                        break\n", _T.format(i=8), "before"),
     ("            if coarse_now:\n                for j in range(ns):\n                    dlam[j] = 0.0\n",
      "tB = rdtsc(); tm[9 if coarse_now else 19] += tB - tA; tA = tB", "before"),
-    ("                return STATUS_NONFINITE, k + 1, n_bad, n_one\n    return STATUS_OK, N, n_bad, n_one", None, None),
+    ("                return STATUS_NONFINITE, k + 1, n_bad, n_one, n_sw\n    return STATUS_OK, N, n_bad, n_one, n_sw", None, None),
 ]
 LABELS = {0: "record", 1: "controller", 2: "save start", 3: "coarse: Xf = Phi X + G w", 4: "coarse: site inputs",
           5: "coarse: solves (sweeps)", 6: "coarse: deviation + commit", 7: "coarse: X update", 8: "coarse: end check",

@@ -108,7 +108,7 @@ class _KernelClock:
         c0 = time.thread_time()
         try:
             out = self.inner(*args, **kwargs)
-            if len(out) == 4:  # kernels.machine.run: (status, k_end, n_bad, n_one)
+            if len(out) == 5:  # kernels.machine.run: (status, k_end, n_bad, n_one, n_sweeps)
                 self.calls.append((int(out[3]), int(out[1]), int(args[0])))
                 self.call_cpu.append(time.thread_time() - c0)
             return out

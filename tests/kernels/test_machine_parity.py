@@ -384,7 +384,7 @@ def _recorded_kernel_types(monkeypatch, module: str, name: str, runs) -> list:
         for o in outs:
             o[...] = 0.0
         n = outs[0].shape[0]
-        return (0, n, 0, 0) if name == "run" else (0, n, 0)
+        return (0, n, 0, 0, 0) if name == "run" else (0, n, 0)
 
     monkeypatch.setattr(km, name, stub)
     runs()

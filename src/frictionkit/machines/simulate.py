@@ -1141,8 +1141,8 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
         # always given, as a bool: an omitted default is another numba signature, so a caller passing
         # coarse=False (the tests) would compile the whole kernel a second time (~19 s CPU)
         kw.setdefault("coarse", True)
-        status, k_end, n_bad, n_one = _k.run(*[kw[name] for name in _RUN_PARAMS],
-                                      **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
+        status, k_end, n_bad, n_one, _ = _k.run(*[kw[name] for name in _RUN_PARAMS],
+                                         **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
             arr[k_end:] = np.nan

@@ -71,3 +71,28 @@ def test_gms_breakaway_at_a_reversal_below_the_speed_of_the_step_end_is_found():
     assert res.status == 0, res.message
     # measured 2026-11-24 (gms13): x 4.2e-10, friction 1.0e-8 of their ranges (1.0 rtol); old: x 2.7e-7
     assert max(errs["x"], errs["friction"]) <= 10 * rtol, errs
+
+
+# Campaign seed 5054, inside the error contract's ranges: nine elements (sum k 3.7e4 N/m on 83 kg, omega dt 1.0,
+# damping ratio 0.0023), C = 880 N/s on Fc 0.038 N (slip relaxing at C / g ~ 2e4 /s). Every trial sub-step
+# across a reversal while the elements slip was rejected by its error estimate (the slip targets and rates
+# change sign at v = 0) down to H_MIN dt: old kernel status 3 (error control failed) at sample 90 of 239, as
+# did seeds 5010 and 5011; 3 of 80 contract-range sets. Now the step lands at the reversal.
+GMS_5054 = fk.GMS(
+    fk.Stribeck(Fc=0.03771860148356558, Fs=0.04974449192656047, vs=1.3100610792709215e-05,
+                sigma2=8.165769536229922),
+    k=[8912.626907787491, 2507.280240773548, 2721.013918176228, 2090.8222467484165, 3823.9507854671665,
+       406.0579402187663, 1326.153156943816, 1651.6838637601518, 13758.674768205217],
+    xi=[0.07608404429083161, 0.03544612922499591, 0.2319494579455248, 0.09640949560808199,
+        0.11473585057741947, 0.0028481627248094724, 0.3793082212415598, 0.010548675897756654,
+        0.0526699624890204],
+    C=879.6178830747314,
+)
+
+
+def test_gms_fast_slip_reversal_does_not_underflow_the_error_control():
+    res, errs = _campaign_run(GMS_5054, 83.48464498633524, 0.04755476670777198, 239, 0.12569850416946104,
+                              1.8171869243496888)
+    assert res.status == 0, res.message
+    # measured 2026-11-24 (gms13): x 6.3e-7, friction 2.9e-6 of their ranges
+    assert max(errs["x"], errs["friction"]) <= 10 * fk.SimOptions().rtol, errs

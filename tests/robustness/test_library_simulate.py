@@ -158,7 +158,7 @@ def test_fixed_batch_method_flags_steps_too_coarse_for_the_mass():
     """method='fixed' has no error control: on the README LuGre at 4 kHz with 2 sub-steps the
     RMS position error against the twin was 24 % of the stroke on 10 g (h*(sigma1+sigma2)/m =
     0.8) and 0.14 % on 30 g (0.27); sets beyond FIXED_STEP_LIMIT = 0.5 now carry status 4. (40 g, not
-    30 g, below: 30 g is omega·h 0.23, beyond FIXED_RING_LIMITS' 0.2 at its damping ratio 0.58.)"""
+    30 g, below: 30 g is omega·h 0.23, beyond FIXED_RING_LIMITS_ABOVE's 0.2 at its damping ratio 0.58.)"""
     from importlib import import_module
 
     FIXED_STEP_LIMIT = import_module("frictionkit.simulation.core").FIXED_STEP_LIMIT

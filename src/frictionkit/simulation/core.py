@@ -34,36 +34,55 @@ _MESSAGES = {
     "an unchecked step; the dynamics are faster than the integrator can resolve (a very small "
     "mass or inertia against stiff friction?); check the plant and the model's units",
     4: "fixed step too coarse: simulate_batch(method='fixed') has no error control and its sub-step "
-    "h = dt/batch_substeps is beyond the measured limit for the set's damping ratio (omega·h = "
-    "sqrt(sigma0/m)·h above 0.02 undamped (zeta < 0.05), 0.1 (zeta < 0.3), 0.2 (FIXED_RING_LIMITS), or "
-    "h·(sigma1 + sigma2)/m above FIXED_STEP_LIMIT = 0.5); use method='adaptive' or raise batch_substeps",
+    "h = dt/batch_substeps is beyond the limit measured for the set's damping ratio and force (omega·h = "
+    "sqrt(sigma0/m)·h above FIXED_RING_LIMITS_BELOW/_ABOVE: 0.02 for an undamped contact below breakaway, "
+    "0.05 above it; or h·(sigma1 + sigma2)/m above FIXED_STEP_LIMIT = 0.5); use method='adaptive' or raise "
+    "batch_substeps",
 }
 
 #: Largest ``h * (sigma1 + sigma2) / m`` of a fixed-step batch set (``h = dt / batch_substeps``)
 #: before it is flagged with status 4 (assumption, issue 13): on the README LuGre at 4 kHz, 2
 #: sub-steps, the RMS position error was <= 0.25 % of the stroke below 0.5 and 14-26 % of it at
-#: 0.72-2.65 (masses 3 g-0.3 kg, sigma0 1e5-1e7). The limit on ``omega h`` is FIXED_RING_LIMITS.
+#: 0.72-2.65 (masses 3 g-0.3 kg, sigma0 1e5-1e7). The limit on ``omega h`` is FIXED_RING_LIMITS_BELOW/_ABOVE.
 FIXED_STEP_LIMIT = 0.5
 #: The fixed method's limit on ``omega h = sqrt(sigma0 / m) h`` by damping ratio
-#: ``zeta = (sigma1 + sigma2) / (2 sqrt(sigma0 m))``: rows ``(zeta_from, limit)``, a set takes the row
-#: of the largest ``zeta_from <= zeta`` and beyond its limit gets status 4 (issue 13). Measured
+#: ``zeta = (sigma1 + sigma2) / (2 sqrt(sigma0 m))``: rows ``(zeta_from, limit)``, a set takes the row of
+#: the largest ``zeta_from <= zeta`` and beyond its limit gets status 4 (issue 13). Two tables: a set whose
+#: largest |force| stays within FIXED_BELOW of its breakaway level ``max(Fc, Fs)`` (pre-sliding only: the
+#: stroke is the bristles' deflection, and the fixed step damps and shifts its ringing) takes the first, one
+#: beyond FIXED_ABOVE of it the second, one in between the smaller of both. Measured
 #: (``benchmarks/fixed_step_limits.py``, 2,239 random LuGre and Dahl sets: 20 of each per grid point
-#: zeta 0 ... 2 x omega h 0.01 ... 0.5, sines below and above breakaway, 2 sub-steps, against the
-#: adaptive kernel at rtol 1e-9): the largest grid omega h whose worst RMS position error stays
-#: within 0.25 % of the stroke (what the fixed method promises) -- undamped and zeta 0.01: 0.02 (0.10 %
-#: and 0.05 % there; 1.75 % and 0.26 % at 0.05: the L-stable step damps and shifts the ringing);
-#: zeta 0.05-0.1: 0.1 (0.22 %; 0.39 % at 0.2); zeta 0.3-1: 0.2 (0.12 %; one LuGre above breakaway
-#: at zeta 0.7 was 59 % of its stroke off at 0.3, one at zeta 0.3 62 % at 0.5). Was 0.5 for every
-#: zeta (measured on damped LuGre sets only): an undamped Dahl at omega h 0.20 (sigma0 1e8 N/m on
-#: 13.8 kg) passed at status 0 with 0.34 % of its stroke and 4.3 % of its friction range (RMS) off.
-FIXED_RING_LIMITS = ((0.0, 0.02), (0.05, 0.1), (0.3, 0.2))
+#: zeta 0 ... 2 x omega h 0.01 ... 0.5, sines of 0.3-0.9 and 1.2-3 x the breakaway level, 2 sub-steps,
+#: against the adaptive kernel at rtol 1e-9): the largest grid omega h whose worst RMS position error
+#: stays within 0.25 % of the stroke (what the fixed method promises). Below breakaway: zeta < 0.05
+#: 0.02 (0.10 % there, 1.8 % undamped at 0.05), 0.05 0.1 (0.22 %; 0.34 % at 0.2), from 0.1 0.5
+#: (0.16 %). Above: undamped 0.05 (0.07 %; 0.47 % at 0.1), zeta 0.01 0.2 (0.21 %; 0.35 % at 0.3), 0.05
+#: 0.3 (0.04 %; 0.47 % at 0.5), 0.1 0.1 (0.07 %; 0.39 % at 0.2), from 0.3 0.2 (0.12 %; one LuGre at
+#: zeta 0.7 was 59 % of its stroke off at 0.3, one at zeta 0.3 62 % at 0.5). Was 0.5 for every zeta
+#: (measured on damped LuGre sets only): an undamped Dahl at omega h 0.20 (sigma0 1e8 N/m on 13.8 kg)
+#: passed at status 0 with 0.34 % of its stroke and 4.3 % of its friction range (RMS) off.
+FIXED_RING_LIMITS_BELOW = ((0.0, 0.02), (0.05, 0.1), (0.1, 0.5))
+#: See :data:`FIXED_RING_LIMITS_BELOW`.
+FIXED_RING_LIMITS_ABOVE = ((0.0, 0.05), (0.01, 0.2), (0.05, 0.3), (0.1, 0.1), (0.3, 0.2))
+#: See :data:`FIXED_RING_LIMITS_BELOW`: the largest |force| of the measured sets below and above breakaway,
+#: as a share of ``max(Fc, Fs)``.
+FIXED_BELOW = 0.9
+#: See :data:`FIXED_BELOW`.
+FIXED_ABOVE = 1.2
 
 
-def fixed_step_limit(zeta: np.ndarray) -> np.ndarray:
-    """The fixed method's largest ``omega h`` at damping ratio ``zeta`` (:data:`FIXED_RING_LIMITS`)."""
-    froms = np.array([z for z, _ in FIXED_RING_LIMITS])
-    limits = np.array([lim for _, lim in FIXED_RING_LIMITS])
+def _row_limit(table, zeta: np.ndarray) -> np.ndarray:
+    froms = np.array([z for z, _ in table])
+    limits = np.array([lim for _, lim in table])
     return limits[np.searchsorted(froms, np.asarray(zeta, dtype=float), side="right") - 1]
+
+
+def fixed_step_limit(zeta: np.ndarray, load: np.ndarray) -> np.ndarray:
+    """The fixed method's largest ``omega h`` at damping ratio ``zeta`` under a force whose largest
+    magnitude is ``load`` times the set's breakaway level (:data:`FIXED_RING_LIMITS_BELOW`)."""
+    below, above = _row_limit(FIXED_RING_LIMITS_BELOW, zeta), _row_limit(FIXED_RING_LIMITS_ABOVE, zeta)
+    load = np.asarray(load, dtype=float)
+    return np.where(load <= FIXED_BELOW, below, np.where(load >= FIXED_ABOVE, above, np.minimum(below, above)))
 
 
 #: The default ``SimOptions.atol_F`` at rtol >= 1e-5 (below it the default follows rtol).
@@ -962,8 +981,9 @@ def simulate_batch(
     BatchResult
         ``sse[j] = sum_k weight_k (y_j(t_k) - target_k)^2`` (``inf`` where run j failed)
         and ``status[j]`` (as :class:`SimulationResult`; with ``method="fixed"`` also 4: the
-        fixed sub-step is beyond the limit measured for the set's damping ratio — ``omega·h``
-        above :data:`FIXED_RING_LIMITS` (0.02 undamped, 0.1 from zeta 0.05, 0.2 from 0.3) or
+        fixed sub-step is beyond the limit measured for the set's damping ratio and force —
+        ``omega·h`` above :data:`FIXED_RING_LIMITS_BELOW` / ``_ABOVE`` (undamped: 0.02 below
+        breakaway, 0.05 above) or
         ``h·(sigma1 + sigma2)/m`` above :data:`FIXED_STEP_LIMIT` (0.5) — and the run has no error
         control to say how wrong it is; the message names the first such set and the
         ``batch_substeps`` that brings it within).
@@ -1009,10 +1029,13 @@ def simulate_batch(
     1          0.011  0.007  0.003  0.008  0.041  22     57
     =========  =====  =====  =====  =====  =====  =====  =====
 
-    A set beyond the limit for its damping ratio (:data:`FIXED_RING_LIMITS`: ``omega·h`` 0.02 below
-    zeta 0.05, 0.1 below 0.3, 0.2 above; and ``h·(sigma1 + sigma2)/m <= 0.5``) gets status 4 and no
-    number: within it the worst set stayed within 0.25 % of its stroke, and its friction within
-    0.4 % of its range (RMS; 0.36 % at zeta 2, omega·h 0.1).
+    Below breakaway (a force within 0.9 of ``max(Fc, Fs)``: pre-sliding only) the undamped rows
+    are the worst (0.10 % at ``omega·h`` 0.02, 1.8 % at 0.05); above it (1.2-3 x) the undamped rows
+    hold to 0.05 (0.07 %; 0.47 % at 0.1) and some damped LuGre sets fail at 0.3 (59 % at zeta 0.7).
+    A set beyond the limit for its damping ratio and force (:data:`FIXED_RING_LIMITS_BELOW`,
+    :data:`FIXED_RING_LIMITS_ABOVE`, the smaller of both in between; and
+    ``h·(sigma1 + sigma2)/m <= 0.5``) gets status 4 and no number: within it the worst set stayed
+    within 0.25 % of its stroke, and its friction within 0.4 % of its range (RMS).
 
     The error is second order in the sub-step (÷4 per doubling; 4 sub-steps are
     as close to the tight run in x as the default adaptive tolerances). Why 2 by
@@ -1105,7 +1128,12 @@ def simulate_batch(
             c = (dyn[:, :, 1] + static[:, :, 4]).max(axis=1)
             wh = np.sqrt(K / m) * h
             zeta = c / (2.0 * np.sqrt(K * m))
-            lim = fixed_step_limit(zeta)
+            # the largest |force| against each set's breakaway level (both directions: the smaller level
+            # decides "above", the larger "below"; see FIXED_BELOW)
+            peak = float(np.max(np.abs(u)))
+            lv = static[:, :, :2].max(axis=2)
+            load = np.where(peak >= FIXED_ABOVE * lv.max(axis=1), peak / lv.min(axis=1), peak / lv.max(axis=1))
+            lim = fixed_step_limit(zeta, load)
             coarse = ((wh > lim) | (h * c / m > FIXED_STEP_LIMIT)) & (status == 0)
             status[coarse] = 4  # no error control: a step this coarse gives no trustworthy answer
             sse[coarse] = np.inf
@@ -1114,7 +1142,8 @@ def simulate_batch(
                 j = int(np.flatnonzero(coarse)[0])
                 need = math.ceil(n_sub * max(wh[j] / lim[j], h * c[j] / m[j] / FIXED_STEP_LIMIT) * (1 - 1e-12))
                 detail = (f"Set {j}: damping ratio {zeta[j]:.3g}, omega·h = sqrt(sigma0/m)·dt/{n_sub} = {wh[j]:.3g} "
-                          f"(limit {lim[j]:g} at that damping), h·(sigma1 + sigma2)/m = {h * c[j] / m[j]:.3g} (limit "
+                          f"(limit {lim[j]:g} at that damping and a force {load[j]:.3g} x its breakaway level), "
+                          f"h·(sigma1 + sigma2)/m = {h * c[j] / m[j]:.3g} (limit "
                           f"{FIXED_STEP_LIMIT:g}); batch_substeps >= {need} or method='adaptive' brings it within")
             return BatchResult(sse, status, int((w[1:] > 0).sum()), detail)
         # each set with the tolerances simulate() gives it alone (issue 13: tolerances shared over

@@ -351,3 +351,24 @@ def test_a_fleet_glob_matching_nothing_says_so_before_asking_for_a_configuration
 
     with pytest.raises(DataError, match=r"\*/\*\.csv': the pattern matches no file"):
         resolve_config(f"{tmp_path}/*/*.csv", None)
+
+
+# ---------------------------------------------------------------- round 11: O (huge but legal arrays)
+def test_a_static_fit_of_many_points_does_not_build_an_n_by_n_matrix(monkeypatch):
+    """Was (round 11, family O): fit_static_map on 1e6 points raised numpy's MemoryError "Unable to allocate
+    1.82 TiB for an array with shape (500000, 500000)" — the rank check took the full SVD of the Jacobian (U is
+    n x n; 20,000 points per direction already took 3.2 GB). Now only V is full, and only when n < p."""
+    shapes = []
+    real_svd = np.linalg.svd
+
+    def spy(a, *args, **kwargs):
+        out = real_svd(a, *args, **kwargs)
+        shapes.append((np.shape(a), np.shape(out[0]) if kwargs.get("compute_uv", True) else None))
+        return out
+
+    monkeypatch.setattr(np.linalg, "svd", spy)
+    v = np.r_[np.geomspace(1e-4, 0.2, 3000), -np.geomspace(1e-4, 0.2, 3000)]
+    res = fk.fit_static_map(v, LAW.steady_state(v), model="coulomb_viscous")
+    assert res.names == ("Fc_pos", "sigma2_pos", "Fc_neg", "sigma2_neg")
+    big = [(a, u) for a, u in shapes if a[0] >= 3000]  # the Jacobians (3000 x 2) and their U
+    assert big and all(u is None or u[1] <= a[1] for a, u in big), shapes  # was (3000, 3000)

@@ -156,12 +156,13 @@ def real_array(name: str, value: Any, *, copy: bool = True) -> np.ndarray:
         raise DataError(f"{name}: cannot be read as an array of numbers") from None
 
 
-def velocities(owner: str, value: Any) -> np.ndarray:
-    """The velocities ``v`` [m/s or rad/s] a law's ``steady_state(v)`` evaluates, as a float array of any
-    shape (a scalar too). ``None``, booleans, text, complex numbers and objects are refused with a
-    :class:`ParameterError` naming ``owner``'s argument ``v`` (``LuGre.steady_state("abc")`` raised numpy's
-    "could not convert string to float", ``steady_state(None)`` returned NaN and ``steady_state(True)`` the
-    force at 1 m/s, issue 13 round 11). NaN entries stay NaN (numpy's rule for an array evaluation)."""
+def real_values(owner: str, name: str, value: Any, what: str) -> np.ndarray:
+    """``value`` as a float array of any shape (a scalar too) for a law's or a function's array argument
+    ``name``; ``None``, booleans, text, complex numbers and objects are refused with a :class:`ParameterError`
+    naming ``owner``'s argument (``LuGre.steady_state("abc")`` raised numpy's "could not convert string to
+    float", ``steady_state(None)`` returned NaN and ``steady_state(True)`` the force at 1 m/s; the compensation
+    laws the same, issue 13 round 11). ``what``: the words for the values ("velocities [m/s or rad/s]").
+    NaN entries stay NaN (numpy's rule for an array evaluation)."""
     if isinstance(value, np.ndarray) and value.dtype.kind in "fiu":  # the common case, no copy
         return np.asarray(value, dtype=float)
     arr = None
@@ -171,9 +172,14 @@ def velocities(owner: str, value: Any) -> np.ndarray:
         except (TypeError, ValueError):  # ragged nesting
             arr = None
     if arr is None or arr.dtype.kind not in "fiu":  # text, booleans, complex numbers, None entries (object)
-        raise ParameterError(f"{owner}: v = {_short(value)}: must be velocities [m/s or rad/s], a real number "
-                             "or an array of real numbers")
+        raise ParameterError(f"{owner}: {name} = {_short(value)}: must be {what}, a real number or an array of "
+                             "real numbers")
     return arr.astype(float, copy=False)
+
+
+def velocities(owner: str, value: Any) -> np.ndarray:
+    """The velocities ``v`` a law's ``steady_state(v)`` evaluates (:func:`real_values`)."""
+    return real_values(owner, "v", value, "velocities [m/s or rad/s]")
 
 
 def signal(name: str, value: Any, *, min_len: int = 2, copy: bool = True) -> np.ndarray:

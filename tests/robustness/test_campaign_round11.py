@@ -372,3 +372,14 @@ def test_a_static_fit_of_many_points_does_not_build_an_n_by_n_matrix(monkeypatch
     assert res.names == ("Fc_pos", "sigma2_pos", "Fc_neg", "sigma2_neg")
     big = [(a, u) for a, u in shapes if a[0] >= 3000]  # the Jacobians (3000 x 2) and their U
     assert big and all(u is None or u[1] <= a[1] for a, u in big), shapes  # was (3000, 3000)
+
+
+@pytest.mark.parametrize("law, arg", [(lambda a: fk.coulomb_compensation(a, F0=1.0), "v"),
+                                      (lambda a: fk.sinc_compensation(a, F0=1.0, xs=2e-6), "x"),
+                                      (lambda a: fk.sigmoid_compensation(a, F0=1.0, sigma=2e-6), "x")])
+@pytest.mark.parametrize("value", ["abc", None])
+def test_the_compensation_laws_refuse_what_is_no_number_naming_their_argument(law, arg, value):
+    """Was (round 11, family T): ``coulomb_compensation("abc", F0=1)`` raised numpy's ValueError and
+    ``coulomb_compensation(None, F0=1)`` returned a number (NaN compared as "not positive": -F0)."""
+    with pytest.raises(ParameterError, match=rf"_compensation: {arg} = {value!r}: must be "):
+        law(value)

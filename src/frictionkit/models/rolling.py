@@ -44,7 +44,7 @@ def sigmoid_compensation(x: ArrayLike, *, F0: float, sigma: float) -> np.ndarray
     """
     F0 = _check.nonnegative("sigmoid_compensation", "F0", F0)
     sigma = _check.positive("sigmoid_compensation", "sigma", sigma)
-    r = np.asarray(x, dtype=float) / sigma
+    r = _check.real_values("sigmoid_compensation", "x", x, "displacements from the reversal [m or rad]") / sigma
     return F0 * r / np.sqrt(1.0 + r * r)
 
 
@@ -63,7 +63,7 @@ def sinc_compensation(x: ArrayLike, *, F0: float, xs: float) -> np.ndarray:
     """
     F0 = _check.nonnegative("sinc_compensation", "F0", F0)
     xs = _check.positive("sinc_compensation", "xs", xs)
-    x = np.asarray(x, dtype=float)
+    x = _check.real_values("sinc_compensation", "x", x, "displacements from the reversal [m or rad]")
     y = np.sqrt(np.clip(x / xs, 0.0, 1.0)) - 1.0
     mid = 2.0 * F0 * np.sinc(y) - F0
     return np.where(x < 0.0, -F0, np.where(x >= xs, F0, mid))
@@ -78,5 +78,5 @@ def coulomb_compensation(v: ArrayLike, *, F0: float) -> np.ndarray:
     ``v < 0`` (correction recorded here).
     """
     F0 = _check.nonnegative("coulomb_compensation", "F0", F0)
-    v = np.asarray(v, dtype=float)
+    v = _check.real_values("coulomb_compensation", "v", v, "velocities [m/s or rad/s]")
     return np.where(v >= 0.0, F0, -F0)

@@ -356,6 +356,26 @@ def _annotation_rule(annotation: Any):
     return (lambda x: (none_ok and x is None) or any(t(x) for t in tests)), what
 
 
+def _refuse_type(owner: str, name: str, value: Any, rule) -> None:
+    raise ParameterError(f"{owner}.{name} = {_short(value)}: must be {rule[1]}"
+                         + (", not a boolean" if is_bool(value) else ""))
+
+
+def annotated(owner: str, name: str, value: Any, annotation: str) -> None:
+    """Refuse ``value`` unless it fits ``annotation`` (the words of :data:`_TYPE_RULES`), naming ``owner.name``:
+    the check :func:`typed_arguments` makes for a function, for a dataclass field whose annotation is a string.
+
+    >>> annotated("Recording", "name", "run 1", "str")
+    >>> annotated("Recording", "name", None, "str")
+    Traceback (most recent call last):
+    ...
+    frictionkit.errors.ParameterError: Recording.name = None: must be a string
+    """
+    rule = _annotation_rule(annotation)
+    if rule is not None and not rule[0](value):
+        _refuse_type(owner, name, value, rule)
+
+
 def typed_arguments(func):
     """Check the arguments of a public function whose annotations are simple types (``float``, ``int``,
     ``bool``, ``str``, ``Path``, ``Mapping``/``dict``, optionally ``| None``) before it runs, raising one
@@ -387,8 +407,7 @@ def typed_arguments(func):
         for name, value in bound.arguments.items():
             rule = rules.get(name)
             if rule is not None and not rule[0](value):
-                raise ParameterError(f"{owner}.{name} = {_short(value)}: must be {rule[1]}"
-                                     + (", not a boolean" if is_bool(value) else ""))
+                _refuse_type(owner, name, value, rule)
         return func(*args, **kwargs)
 
     return checked

@@ -29,7 +29,7 @@ import numpy as np
 
 from .._io import missing_reason
 from .._validate import HUGE, typed_arguments
-from ..errors import DataError
+from ..errors import DataError, ParameterError
 from .recording import Recording
 
 #: Keyword of the loader → signal name of :class:`Recording`.
@@ -748,6 +748,9 @@ def load_groups(
     digest = _sha256(p)
     table = read_table(p, delimiter=delimiter)
     sel = _select_rows(table, p, where)
+    # group=None or an object was "'NoneType' object is not iterable" (issue 13 round 11)
+    if not (isinstance(group, str) or (np.iterable(group) and all(isinstance(k, str) for k in group))):
+        raise ParameterError(f"load_groups.group = {group!r}: must be a column name or a list of column names")
     keys = [group] if isinstance(group, str) else list(group)
     if not keys:
         raise DataError("group: give at least one column")

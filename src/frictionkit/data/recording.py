@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from types import MappingProxyType
 from typing import Any
 
@@ -97,6 +97,11 @@ def _as_signal(provenance: Mapping[str, Any], signal: str, value: Any, n: int | 
     return arr
 
 
+#: The fields of :class:`Recording` checked against their annotations at construction (the signals are checked as
+#: arrays by :func:`_as_signal`).
+_TYPED_FIELDS = ("current_gain", "units", "name", "provenance")
+
+
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Recording:
     """Sampled signals of one experiment on one axis, validated at construction.
@@ -165,6 +170,11 @@ class Recording:
     MIN_SAMPLES = 2
 
     def __post_init__(self) -> None:
+        # the scalar and mapping fields keep their annotations (issue 13 round 11: current_gain="abc" was
+        # float()'s ValueError, units="abc" "dictionary update sequence ...", name=None accepted)
+        for f in fields(self):
+            if f.name in _TYPED_FIELDS:
+                _val.annotated("Recording", f.name, getattr(self, f.name), f.type)
         prov = MappingProxyType(dict(self.provenance or {}))
         object.__setattr__(self, "provenance", prov)
         t = _as_signal(prov, "t", self.t, None)

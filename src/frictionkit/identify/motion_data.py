@@ -121,7 +121,7 @@ def _rest_masks(rests, recs: list[Recording], min_rest: int) -> list[np.ndarray]
         return [find_rests(r.force(), min_run=min_rest) for r in recs]
     if rests is None:
         return [np.zeros(r.n, bool) for r in recs]
-    if val.is_bool(rests) or np.isscalar(rests):
+    if val.is_bool(rests) or np.isscalar(rests) or not (isinstance(rests, Mapping) or np.iterable(rests)):
         raise ParameterError(f"rests = {rests!r}: must be 'auto', None or boolean masks (one per record)")
     if isinstance(rests, Mapping):
         masks = [rests.get(r.name) for r in recs]

@@ -30,7 +30,7 @@ from scipy.optimize import least_squares, minimize
 from .. import _validate as val
 from ..errors import DataError, IdentificationError, ParameterError, warn_renamed
 from ..models.gms import GMS
-from ..models.static import CoulombViscous
+from ..models.static import CoulombViscous, check_static
 from ..simulation.core import simulate
 from .fit_options import FitOptions, fit_settings
 from .motion_data import MotionData, motion_data
@@ -336,6 +336,8 @@ def fit_presliding(
         polish = bool(settings.pop("refine"))
     if not val.is_bool(polish):
         raise ParameterError(f"{owner}: polish = {polish!r}: must be True or False")
+    if static is not None:  # static="abc" was "'str' object has no attribute 'stribeck'" (issue 13 round 11)
+        check_static(owner, static)
     why = "the pre-sliding fit has one start (the eq. 19 breakpoints)"
     cfg = fit_settings(owner, PRESLIDING_FIT, fit, settings,
                        unused={"starts": why, "refine": why, "seed": why, "workers": "the polish runs in one thread",

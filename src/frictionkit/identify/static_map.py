@@ -499,7 +499,7 @@ def fit_static_map(
                              f"{MAX_FIXED_DELTA:g} (above it (|v|/vs)**delta overflows within the fit's vs range; "
                              f"the drop is then a step anyway)")
     if sig is not None:
-        sig = np.asarray(sig, dtype=float).ravel()
+        sig = val.real_array("fit_static_map.sigma", sig).ravel()  # "abc" was float()'s ValueError (round 11)
         if sig.size != va.size or not np.all(np.isfinite(sig) & (sig > 0)):
             raise DataError("fit_static_map.sigma: need one finite, positive standard deviation per point")
     un = dict(pts.units) if pts is not None else {"v": "m/s", "F": "N"}
@@ -670,7 +670,7 @@ def stribeck_model(result: IdentificationResult) -> Directional:
 
 
 @val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
-def fit_static_records(records: Sequence[Recording] | Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
+def fit_static_records(records: Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
     """Average each record whole (one steady-state point per record) and fit the map.
 
     Parameters

@@ -101,7 +101,7 @@ class Stribeck:
         object.__setattr__(self, "vs", val.positive(o, "vs", self.vs))
         object.__setattr__(self, "delta", val.positive(o, "delta", self.delta))
         object.__setattr__(self, "sigma2", val.nonnegative(o, "sigma2", self.sigma2))
-        if self.shape not in SHAPE_CODES:
+        if not isinstance(self.shape, str) or self.shape not in SHAPE_CODES:  # a list was "unhashable" (round 11)
             raise ParameterError(
                 f"{o}.shape = {self.shape!r}: must be one of {sorted(SHAPE_CODES)}"
             )

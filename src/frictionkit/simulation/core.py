@@ -1071,7 +1071,7 @@ def simulate_batch(
     y = val.signal("target", target)
     if y.size != u.size:
         raise DataError(f"target has {y.size} samples but force has {u.size}: they must match")
-    if compare not in _SIGNALS:
+    if not isinstance(compare, str) or compare not in _SIGNALS:  # a list was "unhashable" (round 11)
         raise ParameterError(f"simulate_batch: compare = {compare!r}: must be one of 'x', 'v', 'F'")
     w = np.ones(u.size) if weight is None else val.signal("weight", weight)
     if w.size != u.size:

@@ -7,6 +7,8 @@ grazing switch), as in the campaign. Errors: largest |run - twin| over the run, 
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 import frictionkit as fk
@@ -96,3 +98,44 @@ def test_gms_fast_slip_reversal_does_not_underflow_the_error_control():
     assert res.status == 0, res.message
     # measured 2026-11-24 (gms13): x 6.3e-7, friction 2.9e-6 of their ranges
     assert max(errs["x"], errs["friction"]) <= 10 * fk.SimOptions().rtol, errs
+
+
+# The accuracy check near its bound (simulation/core.py CHECK_NEAR, now for GMS too). Campaign seed 4141: two
+# elements, sum k 4.2e7 N/m on 0.11 kg (omega dt 1.6), Fs < Fc: the run is 7.4 rtol of its position range off
+# the twin (inside the contract), its check run at rtol/10 5.75 rtol away: flagged (status 2) before, now the
+# run at rtol/100 (6.9 rtol away) judges it and it passes.
+GMS_4141 = fk.GMS(
+    fk.Stribeck(Fc=0.5253881281736537, Fs=0.38188912968028843, vs=3.020798269126799e-05,
+                sigma2=24.487776824514807),
+    k=[6397711.844840225, 35304712.70090677], xi=[0.19452280625849555, 0.8054771937415044],
+    C=273.2276596568546,
+)
+
+
+def test_gms_run_within_the_contract_near_the_check_bound_passes():
+    res, errs = _campaign_run(GMS_4141, 0.11211476010650032, 8.438734406740535e-05, 172, 0.5537395324241842,
+                              1.7069401674178861)
+    assert res.status == 0, res.message
+    assert "accuracy check passed" in res.message, res.message
+    # measured 2026-11-24 (gms13): x 7.4e-5, friction 6.4e-5 of their ranges
+    assert max(errs["x"], errs["friction"]) <= 10 * fk.SimOptions().rtol, errs
+
+
+def test_gms_run_beyond_the_contract_near_the_check_bound_stays_flagged():
+    """Campaign seed 5006 (inside the contract's ranges: sum k 1.7e5 N/m on 13.7 kg, omega dt 11.7): the
+    unchecked run is 11.5 rtol of its friction range off the twin (measured 2026-11-24, gms13), its check run
+    9.7 rtol away (near the bound) and the run at rtol/100 11.2: it must stay flagged."""
+    law = fk.GMS(
+        fk.Stribeck(Fc=0.03071655076152405, Fs=0.02627228666619457, vs=2.6744017841182447e-05,
+                    sigma2=28.36124972485245),
+        k=[18044.19876537712, 44529.19450494079, 28670.95275066662, 22851.86683270298, 58431.18239651078],
+        xi=[0.18928976250210502, 0.5870410428905598, 0.08624270792766425, 0.07388775204463253,
+            0.06353873463503847],
+        C=62.44007325556839,
+    )
+    n = 316
+    u = 0.04277373995079046 * np.sin(2 * np.pi * 1.3811436379899322 * np.arange(n) / n)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = fk.simulate(law, dt=0.10439061365033062, plant=fk.Mass(13.688880044930166), force=u)
+    assert res.status == 2 and "accuracy check" in res.message, res.message

@@ -572,6 +572,15 @@ def oscillator_detail(K: float, c: float, m: float, dt: float, kind: str = "lugr
             f"(damping ratio {zeta:.3g}; (c/m)·dt = {c / m * dt:.3g} with c = {c:.3g} N·s/m)")
 
 
+def _deeper_check(rerun, tight: SimOptions, options: SimOptions):
+    """The check run's options tightened to rtol / CHECK_FACTOR² of the user's (CHECK_SAME, CHECK_NEAR), and
+    that run."""
+    f = CHECK_FACTOR * CHECK_FACTOR
+    deeper = dataclasses.replace(tight, rtol=options.rtol / f, atol_F=options.atol_F / f,
+                                 atol_v=None if options.atol_v is None else options.atol_v / f)
+    return deeper, rerun(deeper)
+
+
 def _near_bound(res: SimulationResult, fine: SimulationResult, rtol: float) -> bool:
     """Whether ``fine`` (the check run) differs from ``res`` by more than CHECK_BOUND but at most CHECK_NEAR
     rtol of the ranges of x and the friction, and v within CHECK_BOUND_RATE (see :data:`CHECK_NEAR`)."""
@@ -624,19 +633,13 @@ def _accuracy_check(res: SimulationResult, rerun, options: SimOptions, kind: str
             float(np.max(np.abs(a - b))) <= CHECK_SAME * options.rtol * float(np.ptp(b))
             for a, b in ((res.x, fine.x), (res.friction, fine.friction))):
         # the check run agrees too closely to have checked anything (CHECK_SAME): once more, tighter still
-        f = CHECK_FACTOR * CHECK_FACTOR
-        deeper = dataclasses.replace(tight, rtol=options.rtol / f, atol_F=options.atol_F / f,
-                                     atol_v=None if options.atol_v is None else options.atol_v / f)
-        again = rerun(deeper)
+        deeper, again = _deeper_check(rerun, tight, options)
         if again.status == 0:
             tight, fine = deeper, again
     bound_xF = CHECK_BOUND
     if kind in ("lugre", "gms") and fine.status == 0 and _near_bound(res, fine, options.rtol):
         # the check run sees most of the run's error: near the bound, a run 10x tighter still judges (CHECK_NEAR)
-        f = CHECK_FACTOR * CHECK_FACTOR
-        deeper = dataclasses.replace(tight, rtol=options.rtol / f, atol_F=options.atol_F / f,
-                                     atol_v=None if options.atol_v is None else options.atol_v / f)
-        again = rerun(deeper)
+        deeper, again = _deeper_check(rerun, tight, options)
         if again.status == 0:
             tight, fine, bound_xF = deeper, again, CHECK_BOUND_DEEP
     osc = oscillator_detail(K, c, m, dt, kind)

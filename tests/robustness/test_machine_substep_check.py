@@ -42,9 +42,11 @@ def run(law, mass, **kw):
 @pytest.mark.parametrize("mass", [1e-9, 1e-7, 1e-5])
 def test_light_lugre_slider_is_flagged_not_returned_as_ok(mass):
     res = run(LUGRE, mass)
-    peak = float(np.max(np.abs(res.site_forces)))
-    # the run is wrong: the friction on a near-massless slider cannot exceed the 2 N drive by 50 %
-    assert peak > 3.0, peak
+    # the run is wrong: on a near-massless slider the friction follows the drive (m a < 1e-4 N; a run at 2,000
+    # sub-steps of the 1e-5 kg slider is within 0.004 N of u at every sample), and these runs are more than 1 N
+    # off it somewhere (the peak alone no longer shows it at 1e-5 kg: 2.0 N, but 2.96 N off u at one sample)
+    off = float(np.max(np.abs(res.site_forces[:, 0] - U)))
+    assert off > 1.0, off
     assert res.status == STATUS_TOLERANCE and not res.success, res.message
     assert "substeps" in res.message and "atol=" in res.message and "'site'" in res.message
 

@@ -670,7 +670,7 @@ def stribeck_model(result: IdentificationResult) -> Directional:
 
 
 @val.typed_arguments  # argument types named at the boundary (issue 13 round 11)
-def fit_static_records(records: Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
+def fit_static_records(records: Recording | Mapping[str, Recording], *, trim: float = 0.0, **kwargs: Any) -> IdentificationResult:
     """Average each record whole (one steady-state point per record) and fit the map.
 
     Parameters

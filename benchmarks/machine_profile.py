@@ -47,6 +47,17 @@ guide; the flank stage's nut and two flank sites) — solves 9.7 -> 6.3 a sample
 evaluations only 13.7 -> 12.3; the two-shaft kernel +23 % (+8 % with the group calling its laws
 directly, +0.2 % on top of the prediction), the flank stage +1 %, Hertz +13 %: the Gauss-Seidel
 between sites on one coordinate was not where the evaluations go.
+
+Measured 2026-11-24 (mtol; load 2-6, same-run kernel CPU against 98dccba in a worktree, least of
+3 x 5 runs each, /tmp scripts): the site solves stopped at a residual of 1e-18 m, 1e6x below the
+coarse steps' bound. At ``kernels.machine.SITE_XTOL`` = 1e-15 (1e-3 of the bound, scaled with
+the sub-steps as the bound is) the two-shaft drive's coarse law evaluations 10.9 -> 4.3, site
+solves 7.1 -> 4.1, sweeps 2.03 -> 1.05 a sample; flank / Hertz sub-step law evaluations 73.9 ->
+56.1 / 107.4 -> 77.2 a sample. Kernel CPU (the two-shaft drive with its loop check's rerun):
+two-shaft 51.6 -> 33.8 ms, Dahl sliding 7.2 -> 6.4, GMS-4 12.8 -> 11.9, flank 78.5 -> 66.9,
+Hertz 110.6 -> 89.1; the errors against 640 sub-steps move by <= 5e-15 m (the constant's
+comment has the sweep over 1e-16 ... 1e-12). 1e-14 would take flank and Hertz to -38 % (37.5 /
+51.8 sub-step law evaluations a sample), but flips a quantised zhang2023 sub-step check verdict.
 """
 
 from __future__ import annotations

@@ -88,6 +88,29 @@ COARSE_PTOL = 1e-12
 #: steps 0.127, against 640 0.127: the quantised loop's own spread, not the scheme's).
 COARSE_PTOL_SUBSTEPS = 10
 
+#: Tolerance of a site's solve in ``run`` (the residual of ``ds = a - Gjj Fbar(ds)``, and the
+#: input change that makes the Gauss-Seidel sweeps solve a site again) [site unit, as
+#: :data:`COARSE_PTOL`; m/s for a static site's velocity form], plus ``1e-13 |a|``. Tied to the
+#: coarse steps' bound and scaled with it above :data:`COARSE_PTOL_SUBSTEPS` (a run at 4x the
+#: sub-steps solves 4x as tightly). It was 1e-18 (forces converged to ~5e-9 N, 1e6x below the
+#: bound): ~1.5 law evaluations a solve, ~2 sweeps a sample. Measured 2026-11-24 (mtol; same run,
+#: kernel CPU of the benchmark workloads, one tolerance for every run; 1e-18 -> 1e-16 / 1e-15 /
+#: 1e-14 / 1e-13 / 1e-12): two-shaft drive with its loop check's rerun -24 / -34 / -35 / -35 /
+#: -36 %, Dahl sliding stage -3 / -4 / -5 / -6 / -9 %, GMS-4 -4 / -7 / -9 / -11 / -13 %, flank
+#: -3 / -15 / -38 / -40 / -41 %, Hertz -5 / -19 / -39 / -41 / -41 %. Accuracy (ideal sensors,
+#: 2 s, table against 640 sub-steps without coarse steps: sliding 0.208, GMS-4 0.924, flank
+#: 0.247, Hertz 0.246 nm): the table moves from the 1e-18 run by 2e-16 m (float rounding: 1e-19
+#: and 1e-17 alike) / 2e-16 / 5e-15 / 3e-14 / 2e-13 / 1e-11 m; at 1e-12 the flank and Hertz
+#: errors grow 2 % and the two-shaft drive's screw error (ideal sensors) falls 17 %. 1e-15, not
+#: 1e-14: at 1e-14 the zhang2023 preset's co-speed pre-sliding run at 2 sub-steps passes its
+#: sub-step check (its table moved 1.08 % of its range against 32 sub-steps, bound 1 %; below
+#: 1 % at 1e-14: a quantised loop, a count flips), which tests/reference/zhang2023 holds as the
+#: reason for the preset's default of 3. At 1e-15 (this constant, scaled): the two-shaft drive's
+#: coarse law evaluations 10.9 -> 4.3, solves 7.1 -> 4.1, sweeps 2.03 -> 1.05 a sample; its
+#: errors (ideal sensors, 2 s) screw 9.981e-8 -> 9.979e-8 rad, nut 5.821e-9 rad unchanged; its
+#: loop check at 0.101 of its bound either way.
+SITE_XTOL = 1e-3 * COARSE_PTOL
+
 # Site kinds
 S_STATIC, S_LUGRE, S_GMS, S_HERTZ, S_PWL, S_SINE = 0, 1, 2, 3, 4, 5
 #: Memoryless site kinds whose force is a smooth function of the site coordinate: a Hertz
@@ -1052,8 +1075,10 @@ def run(
     N = q_out.shape[0]
     h = dt / n_sub
     # the coarse steps' error bound tightens with the sub-steps asked for (never loosens below
-    # COARSE_PTOL_SUBSTEPS): a run at 4x the sub-steps is 4x as strict in its coarse steps too
-    ptol = COARSE_PTOL * min(1.0, COARSE_PTOL_SUBSTEPS / n_sub)
+    # COARSE_PTOL_SUBSTEPS): a run at 4x the sub-steps is 4x as strict in its coarse steps too,
+    # and in its site solves (SITE_XTOL)
+    xscale = min(1.0, COARSE_PTOL_SUBSTEPS / n_sub)
+    ptol = COARSE_PTOL * xscale
 
     # transposed copies of the sub-step maps (the state update runs column by column)
     PhiT = np.ascontiguousarray(Phi.T)
@@ -1496,7 +1521,7 @@ def run(
                                 Gjj = Gssa[j, j]
                             if sweep > 0 and abs(aj - aused[j]) <= tused[j]:
                                 continue
-                            tj = xtol[j] + 1e-13 * abs(aj)
+                            tj = xscale * xtol[j] + 1e-13 * abs(aj)
                             xg = math.nan
                             if sweep > 0:  # same law and state, only aj moved: a Newton step from the last root
                                 slope = 1.0 + Gjj * kt[j]

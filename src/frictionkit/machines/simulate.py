@@ -852,7 +852,7 @@ def _pack(machine: Machine, dt: float, in_keys: tuple, substeps: int) -> dict:
         so.append(len(st))
         par += p
         st += s0
-        xtol.append(1e-18)
+        xtol.append(_k.SITE_XTOL)
 
     # normal loads
     nmo = len(mnames)

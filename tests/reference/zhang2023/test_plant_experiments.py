@@ -27,7 +27,8 @@ def test_default_substeps_pass_the_substep_check(monkeypatch):
     two = z.presliding_reciprocation("screw", substeps=2, **PRESLIDE)
     assert two.status == 2 and "'guide' couples to its own motion by 0.0331" in two.message
     assert "position of 'table' moves by 1.59e-09 (1.06 %" in two.message or \
-        "position of 'table' moves by 1.59e-09 (1.08 %" in two.message
+        "position of 'table' moves by 1.59e-09 (1.08 %" in two.message or \
+        "position of 'table' moves by 1.57e-09 (1.06 %" in two.message  # site solves at SITE_XTOL 1e-15 m
     a = z.presliding_reciprocation("screw", **PRESLIDE)
     # no sub-step coupling check needed (coupling < 0.03); the loop screen's hunting check
     # (steepest Stribeck slope, issue 13) may add its converged-limit-cycle note

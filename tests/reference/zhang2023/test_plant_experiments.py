@@ -1,6 +1,8 @@
 """Seed 000 TDMS virtual experiments: sub-step convergence, feed-forward hook, and the extension
 (ours) finding: TDMS vs single drive (CDFS) velocity ripple at 1-10 µm/s."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -26,9 +28,11 @@ def test_default_substeps_pass_the_substep_check(monkeypatch):
     assert z.Assumptions().substeps == 3
     two = z.presliding_reciprocation("screw", substeps=2, **PRESLIDE)
     assert two.status == 2 and "'guide' couples to its own motion by 0.0331" in two.message
-    assert "position of 'table' moves by 1.59e-09 (1.06 %" in two.message or \
-        "position of 'table' moves by 1.59e-09 (1.08 %" in two.message or \
-        "position of 'table' moves by 1.57e-09 (1.06 %" in two.message  # site solves at SITE_XTOL 1e-15 m
+    # the table's move against 32 sub-steps: 1.06-1.08 % of its range (1.57-1.59 nm, by the site solves'
+    # tolerance and the quantised loop), just beyond the 1 % bound; read from the message, not matched digit by digit
+    got = re.search(r"position of 'table' moves by ([0-9.e+-]+) \(([0-9.]+) %", two.message)
+    assert got is not None, two.message
+    assert 1.5e-9 <= float(got.group(1)) <= 1.7e-9 and 1.0 < float(got.group(2)) <= 1.15, two.message
     a = z.presliding_reciprocation("screw", **PRESLIDE)
     # no sub-step coupling check needed (coupling < 0.03); the loop screen's hunting check
     # (steepest Stribeck slope, issue 13) may add its converged-limit-cycle note

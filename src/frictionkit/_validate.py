@@ -397,14 +397,18 @@ def typed_arguments(func):
         if rule is not None and prm.kind not in (prm.VAR_POSITIONAL, prm.VAR_KEYWORD):
             rules[name] = rule
     owner = func.__name__
+    # the checked arguments a caller may give by position, in order (None: a position not checked); the
+    # arguments are matched by hand, not by Signature.bind, which cost ~20 µs a call (simulate: 51 -> 72 µs of
+    # overhead, 2026-11-24); a missing, unknown or doubled argument is left to the call, whose message names it
+    positional = tuple(name if name in rules else None for name, prm in sig.parameters.items()
+                       if prm.kind in (prm.POSITIONAL_ONLY, prm.POSITIONAL_OR_KEYWORD))
 
     @functools.wraps(func)
     def checked(*args: Any, **kwargs: Any) -> Any:
-        try:
-            bound = sig.bind(*args, **kwargs)
-        except TypeError:  # a missing or unknown argument: Python's own message names it
-            return func(*args, **kwargs)
-        for name, value in bound.arguments.items():
+        for name, value in zip(positional, args):
+            if name is not None and not rules[name][0](value):
+                _refuse_type(owner, name, value, rules[name])
+        for name, value in kwargs.items():
             rule = rules.get(name)
             if rule is not None and not rule[0](value):
                 _refuse_type(owner, name, value, rule)

@@ -107,16 +107,18 @@ def check_regular_input(path: str | os.PathLike, where: str) -> None:
                         "text input file may have; is it the right file?")
 
 
-def read_input_bytes(path: str | os.PathLike, where: str, *, missing: str = "no such file") -> bytes:
+def read_input_bytes(path: str | os.PathLike, where: str, *, missing: str = "no such file",
+                     expected: str = "a file") -> bytes:
     """The bytes of an input file read whole (a model file, a result, a TOML configuration); what is no
     regular file raises a :class:`DataError` prefixed by ``where`` (``"model file 'm.json'"``): missing, a
     symbolic link loop or to nothing, a folder, and what :func:`check_regular_input` refuses. ``missing``: the
-    words for a path that does not exist (the callers' wording before this helper)."""
+    words for a path that does not exist (the callers' wording before this helper); ``expected``: what a folder
+    given instead should have been (``"a JSON file"``)."""
     p = Path(path)
     if not os.path.lexists(p) or (os.path.islink(p) and not os.path.exists(p)):
         raise DataError(f"{where}: {missing if not os.path.islink(p) else missing_reason(p)}")
     if p.is_dir():
-        raise DataError(f"{where}: is a folder, expected a file")
+        raise DataError(f"{where}: is a folder, expected {expected}")
     check_regular_input(p, where)
     with open(p, "rb") as fh:  # a file growing while read: at most the limit (and one byte to notice)
         raw = fh.read(MAX_TEXT_INPUT + 1)

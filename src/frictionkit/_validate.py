@@ -34,7 +34,7 @@ def finite(owner: str, name: str, value: Any) -> float:
     try:
         out = float(value)
     except OverflowError:  # a 400-digit integer in a model file was an "unexpected OverflowError" (round 9)
-        raise ParameterError(f"{owner}.{name} = {_short(value)}: beyond the float range; must be finite") from None
+        raise ParameterError(f"{owner}.{name} = {short(value)}: beyond the float range; must be finite") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be a real number") from None
     if not math.isfinite(out):
@@ -42,7 +42,8 @@ def finite(owner: str, name: str, value: Any) -> float:
     return out
 
 
-def _short(value: Any) -> str:
+def short(value: Any) -> str:
+    """``repr(value)`` cut to about 40 characters, for a message naming a refused value."""
     text = repr(value)
     return text if len(text) <= 40 else f"{text[:12]}...({len(text)} characters)"
 
@@ -120,7 +121,7 @@ def vector(owner: str, name: str, value: Any, *, rule: str = "finite") -> np.nda
     try:
         arr = np.array(value, dtype=float, ndmin=1)
     except OverflowError:
-        raise ParameterError(f"{owner}.{name} = {_short(value)}: an entry is beyond the float range") from None
+        raise ParameterError(f"{owner}.{name} = {short(value)}: an entry is beyond the float range") from None
     except (TypeError, ValueError):
         raise ParameterError(f"{owner}.{name} = {value!r}: must be a sequence of real numbers") from None
     if arr.ndim != 1 or arr.size == 0:
@@ -172,7 +173,7 @@ def real_values(owner: str, name: str, value: Any, what: str) -> np.ndarray:
         except (TypeError, ValueError):  # ragged nesting
             arr = None
     if arr is None or arr.dtype.kind not in "fiu":  # text, booleans, complex numbers, None entries (object)
-        raise ParameterError(f"{owner}: {name} = {_short(value)}: must be {what}, a real number or an array of "
+        raise ParameterError(f"{owner}: {name} = {short(value)}: must be {what}, a real number or an array of "
                              "real numbers")
     return arr.astype(float, copy=False)
 
@@ -236,7 +237,7 @@ def no_huge_number(node: Any, where: str, *, skip: Any = None) -> None:
         except OverflowError:  # an integer beyond the float range: as NaN/inf, the field's own check says so
             big = False
         if big:
-            raise DataError(f"{where} = {_short(node)}: beyond {HUGE:.0e}, no physical size in SI (its square "
+            raise DataError(f"{where} = {short(node)}: beyond {HUGE:.0e}, no physical size in SI (its square "
                             "overflows): a unit slip or a corrupt number")
 
 
@@ -302,10 +303,6 @@ def _is_real(x: Any) -> bool:
     return isinstance(x, (int, float, np.integer, np.floating)) and not is_bool(x)
 
 
-def _is_int(x: Any) -> bool:
-    return isinstance(x, (int, np.integer)) and not is_bool(x)
-
-
 def _is_path(x: Any) -> bool:
     import os
 
@@ -357,7 +354,7 @@ def _annotation_rule(annotation: Any):
 
 
 def _refuse_type(owner: str, name: str, value: Any, rule) -> None:
-    raise ParameterError(f"{owner}.{name} = {_short(value)}: must be {rule[1]}"
+    raise ParameterError(f"{owner}.{name} = {short(value)}: must be {rule[1]}"
                          + (", not a boolean" if is_bool(value) else ""))
 
 
@@ -385,7 +382,7 @@ def typed_arguments(func):
     in Python's or numpy's own TypeError/ValueError/AttributeError (``find_plateaus(min_samples="abc")``:
     "'>=' not supported between instances of 'int' and 'str'"; ``load_csv(units="abc")``: "dictionary update
     sequence element #0 ...") and flags took any object (``decimate(zero_phase="abc")`` ran). The annotations
-    are the contract; the checks cost one signature binding per call (a few µs).
+    are the contract; the checks cost a few µs per call (the arguments matched by hand, see below).
     """
     import functools
     import inspect

@@ -408,11 +408,11 @@ def steady_state_points(
     else:
         # a list, text or any object was "'list' object has no attribute 'items'" (issue 13 round 11)
         if not isinstance(source, Mapping):
-            raise ParameterError(f"steady_state_points.source = {val._short(source)}: must be a Recording or a "
+            raise ParameterError(f"steady_state_points.source = {val.short(source)}: must be a Recording or a "
                                  "mapping of name -> Recording (e.g. from load_groups)")
         bad = next((k for k, r in source.items() if not isinstance(r, Recording)), None)
         if bad is not None:
-            raise ParameterError(f"steady_state_points.source[{bad!r}] = {val._short(source[bad])}: must be a "
+            raise ParameterError(f"steady_state_points.source[{bad!r}] = {val.short(source[bad])}: must be a "
                                  "Recording")
         if not source:
             raise DataError("steady_state_points: no records given")

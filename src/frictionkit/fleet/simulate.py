@@ -296,12 +296,6 @@ def _written_since(path: Path, ns: int) -> bool:
         return False
 
 
-def _version() -> str:
-    from .. import __version__
-
-    return __version__
-
-
 def simulate_fleet(
     out_dir: str | Path,
     *,
@@ -380,7 +374,9 @@ def simulate_fleet(
 
     root = Path(out_dir)
     root.mkdir(parents=True, exist_ok=True)
-    run = {"format": UNFINISHED_FORMAT, "frictionkit_version": _version(), "axes": axes, "days": days,
+    from .. import __version__
+
+    run = {"format": UNFINISHED_FORMAT, "frictionkit_version": __version__, "axes": axes, "days": days,
            "seed": int(seed), "formats": list(formats), "drifting": float(drifting), "broken": n_broken,
            "wear_rate": [lo_w, hi_w], "start": day0.isoformat()}
     resume = _same_run(root / UNFINISHED, run)

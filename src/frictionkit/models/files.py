@@ -295,10 +295,7 @@ class ModelFile:
     def _load(cls, p: Path, where: str) -> ModelFile:
         from .._io import DuplicateKeyError, json_loads, read_input_bytes
 
-        try:
-            raw = read_input_bytes(p, where)
-        except DataError as exc:
-            raise DataError(str(exc).replace("expected a file", "expected a JSON file")) from None
+        raw = read_input_bytes(p, where, expected="a JSON file")
 
         try:
             doc = json_loads(raw.decode("utf-8"))

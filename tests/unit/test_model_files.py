@@ -254,3 +254,16 @@ def test_any_edit_loads_or_fails_in_one_line(tmp_path, data):
         assert "\n" not in str(exc) and str(exc).startswith(f"model file '{p}': ")
     else:
         assert mf.model is not None
+
+
+def test_model_file_units_none_is_documented_and_a_wrong_value_names_the_allowed_ones():
+    # None meant "the defaults" by behaviour only; the docstring now says so (units : mapping or None)
+    assert dict(ModelFile(model=ST, units=None).units) == {"F": "N", "x": "m", "v": "m/s"}
+    units_doc = ModelFile.__doc__.split("units :")[1].split("provenance :")[0]
+    assert "``None``" in units_doc and "defaults" in units_doc
+    # a wrong value named neither the keys nor what None gives ("must be a mapping of axis labels {'F': ..., 'v': ...}")
+    with pytest.raises(ParameterError, match=r"ModelFile\.units = 5: must be None \(the defaults \{'F': 'N', 'x': 'm', "
+                                             r"'v': 'm/s'\}\) or a mapping of axis labels with the keys 'F', 'x', 'v'"):
+        ModelFile(model=ST, units=5)
+    with pytest.raises(ParameterError, match=r"ModelFile\.units: key 'T' unknown; the keys are 'F', 'x', 'v'"):
+        ModelFile(model=ST, units={"T": "K"})

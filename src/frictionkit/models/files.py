@@ -127,16 +127,29 @@ def _version() -> str:
     return __version__
 
 
-def _axis_units(units: Mapping[str, str] | None) -> dict[str, str]:
-    """``{"F", "x", "v"}`` unit labels; ``x`` follows ``v`` (``rad/s`` -> ``rad``)."""
+#: The axis-unit keys and their defaults, as the errors of :func:`_axis_units` name them.
+_UNIT_KEYS = ", ".join(repr(k) for k in LINEAR_UNITS)
+_ALLOWED_UNITS = "{" + ", ".join(f"{k!r}: {v!r}" for k, v in LINEAR_UNITS.items()) + "}"
+
+
+def _axis_units(units: Mapping[str, str] | None, owner: str = "units") -> dict[str, str]:
+    """``{"F", "x", "v"}`` unit labels; ``x`` follows ``v`` (``rad/s`` -> ``rad``).
+
+    ``None`` or ``{}`` means the defaults (:data:`LINEAR_UNITS`); a key left out of a mapping
+    keeps its default. ``owner`` names the argument in the errors (``"ModelFile.units"``).
+    """
     out = dict(LINEAR_UNITS)
     if units is not None and not isinstance(units, Mapping):  # units=5 was "'int' object has no attribute 'items'"
-        raise ParameterError(f"units = {units!r}: must be a mapping of axis labels {{'F': ..., 'v': ...}}")
+        raise ParameterError(f"{owner} = {units!r}: must be None (the defaults {_ALLOWED_UNITS}) or a mapping of "
+                             f"axis labels with the keys {_UNIT_KEYS}, e.g. {{'F': 'N·m', 'v': 'rad/s'}} for a rotary "
+                             "axis")
     for key, label in (units or {}).items():
-        if key not in ("F", "x", "v"):
-            raise ParameterError(f"units: key {key!r} unknown; give labels for 'F', 'v' (and 'x')")
+        if key not in LINEAR_UNITS:
+            raise ParameterError(f"{owner}: key {key!r} unknown; the keys are {_UNIT_KEYS} "
+                                 f"(defaults {_ALLOWED_UNITS})")
         if not isinstance(label, str) or not label.strip() or "\n" in label:
-            raise ParameterError(f"units[{key!r}] = {label!r}: must be a non-empty one-line label")
+            raise ParameterError(f"{owner}[{key!r}] = {label!r}: must be a non-empty one-line label "
+                                 f"(SI: {' or '.join(repr(x) for x in SI_LABELS[key][:2])})")
         out[key] = label
     if units and "v" in units and "x" not in units:
         out["x"] = out["v"][:-2] if out["v"].endswith("/s") else out["x"]
@@ -211,9 +224,13 @@ class ModelFile:
     model : friction law or Machine
         Any registered law (``Stribeck``, ``LuGre``, ``GMS``, ``Directional`` ...), or a
         :class:`~frictionkit.Machine` (:attr:`kind` ``"machine"``).
-    units : mapping
-        Axis unit labels ``{"F", "x", "v"}``; default N, m, m/s. A machine's are fixed per
-        field (:data:`MACHINE_UNITS`).
+    units : mapping or None
+        Axis unit labels with the keys ``"F"``, ``"x"``, ``"v"`` (free text, never a
+        conversion: the numbers stay as they are). ``None`` or ``{}`` means the defaults
+        :data:`LINEAR_UNITS` (N, m, m/s); a key left out keeps its default, and ``"x"``
+        follows ``"v"`` (``{"F": "N·m", "v": "rad/s"}`` gives x in rad). Any other type, or
+        another key, raises :class:`~frictionkit.ParameterError` naming the keys. A
+        machine's units are fixed per field (:data:`MACHINE_UNITS`): give ``None``.
     provenance : mapping
         ``frictionkit_version``, ``created`` (ISO 8601, UTC), ``method``,
         ``data_sha256`` / ``data_file`` where known, and anything the source recorded
@@ -224,7 +241,7 @@ class ModelFile:
     """
 
     model: Any
-    units: Mapping[str, str] = field(default_factory=lambda: dict(LINEAR_UNITS))
+    units: Mapping[str, str] | None = field(default_factory=lambda: dict(LINEAR_UNITS))
     provenance: Mapping[str, Any] = field(default_factory=dict)
     format: str = MODEL_FORMAT
 
@@ -235,12 +252,13 @@ class ModelFile:
             raise ParameterError(f"ModelFile.format = {self.format!r}: must be a string such as {MODEL_FORMAT!r}")
         if _is_machine(self.model):
             if dict(self.units or {}) not in ({}, LINEAR_UNITS, MACHINE_UNITS):
-                raise ParameterError("units: a machine file's units are fixed per field (SI, MACHINE_UNITS); "
-                                     "axis labels {'F', 'v'} are for a friction law")
+                raise ParameterError(f"ModelFile.units = {dict(self.units)!r}: a machine file's units are fixed per "
+                                     "field (SI, MACHINE_UNITS); give None (axis labels {'F', 'v'} are for a "
+                                     "friction law)")
             object.__setattr__(self, "units", MappingProxyType(dict(MACHINE_UNITS)))
         else:
             law_entry(self.model)  # raises ParameterError naming the type when it is not a law or machine
-            object.__setattr__(self, "units", MappingProxyType(_axis_units(self.units)))
+            object.__setattr__(self, "units", MappingProxyType(_axis_units(self.units, "ModelFile.units")))
         object.__setattr__(self, "provenance", MappingProxyType(dict(self.provenance or {})))
 
     @property

@@ -33,6 +33,13 @@ BEFORE = {"published": (0.228814, 5.850316), "asymmetric": (0.228502, 5.219881),
 # the same loop at 1000 RK4 sub-steps
 BEFORE_FINE = {"published": (0.229085, 5.855113), "asymmetric": (0.228815, 5.225766),
                "stribeck": (0.211112, 4.681003)}
+# The Stribeck map is identified from the record, and since lowpass pads over the filter's settling
+# time (its end transient, a -22 N residual at the last sample, no longer enters the fit) the refitted
+# map's errors moved by this much: (velocity, force) percentage points, the machine core at 40 and at 80
+# sub-steps alike (0.211116 / 4.681076 on abc898a, 0.211044 / 4.688036 after). Same loop, another map.
+STRIBECK_REFIT = (-0.000072, 0.006960)
+for _before in (BEFORE, BEFORE_FINE):
+    _before["stribeck"] = tuple(b + d for b, d in zip(_before["stribeck"], STRIBECK_REFIT))
 
 
 @pytest.fixture(scope="module")

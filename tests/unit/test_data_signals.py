@@ -34,6 +34,18 @@ def test_lowpass_rejects_cutoff_above_nyquist():
         lowpass(np.zeros(100), FS, 600.0)
 
 
+def test_lowpass_leaves_no_end_transient_on_a_constant_velocity_ramp():
+    # an axis moving at 0.042 m/s (the EMPS record's slow plateau) has zero acceleration; scipy's default
+    # padding (15 samples) left the filter's start-up transient at each end, and twice differentiated it
+    # read -0.48 m/s² at the last sample (the -22 N spike of the EMPS rigid-body residual)
+    t = np.arange(2000) * 1e-3
+    x = 1e-3 + 0.042 * t
+    xf = lowpass(x, 1000.0, 100.0)
+    a = derivative(derivative(xf, 1e-3), 1e-3)
+    assert np.abs(xf - x).max() < 1e-9  # m; the ramp passes unchanged, ends included
+    assert np.abs(a).max() < 1e-3  # m/s²
+
+
 def test_lowpass_needs_enough_samples():
     with pytest.raises(DataError, match=r"filtfilt needs more than 15"):
         lowpass(np.zeros(10), FS, 100.0)

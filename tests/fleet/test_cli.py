@@ -41,6 +41,7 @@ def test_simulate_identify_monitor(tmp_path):
     assert {"axis", "period", "ok", "error", "Fc_pos", "Fc_neg", "drift_flag"} <= set(df.columns)
     assert "1 with an error" in res.stdout
     assert "warning: 1 of 4 log file(s) failed" in _stderr(res)  # partial failure: exit 0, counted
+    assert "match no [layout] pattern" not in _stderr(res)  # the simulator's truth.csv ... are not recordings
 
     res = runner.invoke(app, ["fleet", "identify", str(fleet), "--out", str(out), "--workers", "0", "--no-progress",
                               "--json", "-"])

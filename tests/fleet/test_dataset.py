@@ -127,3 +127,24 @@ def test_layout_keys_are_checked():
     cfg = config_from_dict({**base, "layout": {"axis": "a", "period_column": "day", "pattern": r"x\.csv$"}})
     assert cfg.match("x.csv") == ("a", None) and cfg.match("y.csv") is None
     assert config_from_dict(base).sha256 == config_from_dict({**base, "layout": {}}).sha256  # old parts stay valid
+
+
+def test_simulated_fleets_side_files_are_not_recordings_and_unknown_files_are_still_reported(tmp_path):
+    # `fleet identify` on a simulated fleet warned "4 data file(s) match no [layout] pattern" about the
+    # simulator's own truth.csv, truth_days.csv, broken.csv, broken.txt; fleet.toml now names them
+    from frictionkit.fleet.simulate import fleet_config_toml
+
+    (tmp_path / "fleet.toml").write_text(fleet_config_toml())
+    for rel in ("axis-0001/2026-01-05.csv", "truth.csv", "truth_days.csv", "broken.csv", "broken.txt", "notes.csv"):
+        (tmp_path / rel).parent.mkdir(exist_ok=True)
+        (tmp_path / rel).write_text("t_s\n0\n")
+    cfg = load_config(tmp_path / "fleet.toml")
+    logs, unmatched = discover(tmp_path, cfg)
+    assert [g.file for g in logs] == ["axis-0001/2026-01-05.csv"]
+    assert unmatched == ["notes.csv"]  # a file nobody named is still reported
+    # the list is checked, and changes no result (the parts of a fleet stay valid)
+    base = {"columns": {"time": "t", "force": "F", "velocity": "v"}}
+    assert config_from_dict({**base, "layout": {"ignore": ["notes/*"]}}).sha256 == config_from_dict(base).sha256
+    assert config_from_dict({**base, "layout": {"ignore": "notes/*"}}).ignores("notes/a/b.csv")
+    with pytest.raises(DataError, match=r"\[layout\] ignore = 5: must be a list of file patterns"):
+        config_from_dict({**base, "layout": {"ignore": 5}})

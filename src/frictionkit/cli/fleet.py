@@ -182,7 +182,8 @@ def identify(
                    "and a rerun retries them", err=True)
     if run.unmatched:
         typer.echo(f"warning: {len(run.unmatched)} data file(s) match no [layout] pattern and were not "
-                   f"identified (e.g. {run.unmatched[0]})", err=True)
+                   f"identified (e.g. {run.unmatched[0]}); name files that are not recordings under [layout] "
+                   "ignore", err=True)
     if {"axis", "period", "file"} <= set(run.table.columns) and len(run.table):
         # e.g. [layout] axis/period constants over a folder of several logs: every file got the same
         # axis-period, so distinct logs would pass for repeated measurements of one axis on one day

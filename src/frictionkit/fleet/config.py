@@ -57,6 +57,14 @@ the path nor a column gives::
 
 A pattern is then needed only for what no column or constant gives. Discovering the tasks
 reads those key columns of each such file (not the signals).
+
+**Files that are not recordings** (a truth table, a list of known-bad files, notes) are named
+in ``[layout] ignore``: shell-style patterns on the path relative to the dataset folder
+(``/`` separated; ``*`` also crosses folders). They are left out without a word, while any other
+data file that matches no pattern is reported (``fleet identify`` warns)::
+
+    [layout]
+    ignore = ["truth.csv", "truth_days.csv", "broken.csv", "broken.txt"]  # fleet simulate's side files
 """
 
 from __future__ import annotations
@@ -67,6 +75,7 @@ import math
 import re
 import tomllib
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
 from pathlib import Path
 from typing import Any
 
@@ -138,6 +147,10 @@ class FleetConfig:
         file into one task per value pair; ``axis`` / ``period`` are constants used when
         neither the path nor a column gives them; ``record_column`` marks records (time
         restarting) inside one task, each averaged whole into one steady-state point.
+    ignore : tuple of str
+        ``[layout] ignore``: shell-style patterns (:func:`fnmatch.fnmatchcase`) on the path
+        relative to the dataset folder of files that are not recordings (side files such as a
+        truth table); :meth:`ignores` tells. They change no result, so not the fingerprint.
     source : str, optional
         File the configuration came from.
     """
@@ -152,6 +165,7 @@ class FleetConfig:
     monitor: dict = field(default_factory=dict)
     dynamic: dict = field(default_factory=lambda: {"lugre": True})
     layout: dict = field(default_factory=dict)
+    ignore: tuple = ()
     source: str | None = None
 
     def __post_init__(self) -> None:
@@ -188,6 +202,11 @@ class FleetConfig:
             if what in lay and f"{what}_column" in lay:
                 raise DataError(f"{where}: [layout] gives both {what} and {what}_column; keep one")
         object.__setattr__(self, "layout", lay)
+        ignore = (self.ignore,) if isinstance(self.ignore, str) else self.ignore
+        if not isinstance(ignore, (list, tuple)) or not all(isinstance(g, str) and g.strip() for g in ignore):
+            raise DataError(f"{where}: [layout] ignore = {self.ignore!r}: must be a list of file patterns "
+                            "(strings such as \"truth.csv\" or \"notes/*\")")
+        object.__setattr__(self, "ignore", tuple(ignore))
         need = {g for g in ("axis", "period") if g not in lay and f"{g}_column" not in lay}
         pats = tuple(self.patterns)
         for p in pats:
@@ -231,6 +250,8 @@ class FleetConfig:
              "dynamic": dict(self.dynamic)}
         if self.layout:  # only when used: configurations without it keep their hash (and their parts)
             d["layout"] = dict(self.layout)
+        if self.ignore:
+            d["ignore"] = list(self.ignore)
         return d
 
     @property
@@ -243,7 +264,12 @@ class FleetConfig:
         """Hash of everything that changes a per-file result (not ``monitor`` nor ``source``)."""
         d = self.to_dict()
         d.pop("monitor")
+        d.pop("ignore", None)  # which side files are left out changes no log's result
         return hashlib.sha256(json.dumps(d, sort_keys=True, default=str).encode()).hexdigest()
+
+    def ignores(self, relpath: str) -> bool:
+        """True when ``relpath`` (relative to the dataset folder, ``/`` separated) is an ``ignore`` file."""
+        return any(fnmatchcase(relpath, g) for g in self.ignore)
 
     def match(self, relpath: str) -> tuple[str | None, str | None] | None:
         """``(axis, period)`` read from a relative path, or None when no pattern matches.
@@ -278,9 +304,10 @@ def config_from_dict(doc: dict, *, source: str | None = None) -> FleetConfig:
     if unknown:
         raise DataError(f"{where}: unknown section(s) {sorted(unknown)}; allowed: {sorted(_SECTIONS)}")
     layout = _table(doc, "layout", where)
-    bad = set(layout) - {"pattern", "patterns", *LAYOUT_KEYS}
+    bad = set(layout) - {"pattern", "patterns", "ignore", *LAYOUT_KEYS}
     if bad:
-        raise DataError(f"{where}: [layout] unknown key(s) {sorted(bad)}; use pattern, patterns or {list(LAYOUT_KEYS)}")
+        raise DataError(f"{where}: [layout] unknown key(s) {sorted(bad)}; use pattern, patterns, ignore or "
+                        f"{list(LAYOUT_KEYS)}")
     if "pattern" in layout:
         patterns = (layout["pattern"],)
     elif "patterns" in layout:
@@ -325,7 +352,8 @@ def config_from_dict(doc: dict, *, source: str | None = None) -> FleetConfig:
                        segmentation=_table(doc, "segmentation", where), fit=_table(doc, "fit", where),
                        monitor=_table(doc, "monitor", where),
                        dynamic={"lugre": True, **_table(doc, "dynamic", where)},
-                       layout={k: v for k, v in layout.items() if k in LAYOUT_KEYS}, source=source)
+                       layout={k: v for k, v in layout.items() if k in LAYOUT_KEYS}, ignore=layout.get("ignore", ()),
+                       source=source)
 
 
 def load_config(path: str | Path) -> FleetConfig:

@@ -167,7 +167,8 @@ def discover(dataset: str | Path, config: FleetConfig, *, exclude: Iterable[str 
     logs : list of LogFile
         Sorted by axis, period, file.
     unmatched : list of str
-        Data files (by suffix) whose path matches no pattern, relative to the folder.
+        Data files (by suffix) whose path matches no pattern, relative to the folder; files
+        the configuration ignores (:attr:`FleetConfig.ignore`) are in neither list.
 
     Raises
     ------
@@ -189,6 +190,8 @@ def discover(dataset: str | Path, config: FleetConfig, *, exclude: Iterable[str 
             rel = p.relative_to(root).as_posix()
         except ValueError:
             rel = p.as_posix()
+        if config.ignores(rel):  # a side file beside the recordings (fleet simulate's truth.csv ...)
+            continue
         hit = config.match(rel) or config.match(p.as_posix())  # e.g. a list of one axis's files
         if hit is None:
             unmatched.append(rel)

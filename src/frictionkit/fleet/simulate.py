@@ -263,10 +263,15 @@ def _break(table, path: Path, fmt: str, kind: str) -> None:
     _write_table(pa.table(cols), path, fmt)
 
 
+#: The files the simulator writes beside the logs (listed under ``[layout] ignore`` in ``fleet.toml``).
+SIDE_FILES = ("truth.csv", "truth_days.csv", "broken.txt", "broken.csv")
+
+
 def fleet_config_toml() -> str:
     """The TOML configuration of a simulated fleet (written as ``DIR/fleet.toml``)."""
     return config_toml({
-        "layout": {"pattern": r"(?P<axis>[^/]+)/(?P<period>\d{4}-\d{2}-\d{2})\.(csv|parquet)$"},
+        "layout": {"pattern": r"(?P<axis>[^/]+)/(?P<period>\d{4}-\d{2}-\d{2})\.(csv|parquet)$",
+                   "ignore": list(SIDE_FILES)},  # not recordings: left out without a warning
         "columns": {"time": "t_s", "position": "x_mm", "velocity": "v_mm_s", "force": "F_N"},
         "units": {"time": "s", "position": "mm", "velocity": "mm/s", "force": "N"},
         "schedule": {"temperature": {"column": "temperature_C", "unit": "degC"}},

@@ -43,7 +43,7 @@ def test_steady_state_still_takes_numbers_lists_and_arrays():
     ({"method": 5}, r"save_model: method = 5: must be a string"),
     ({"provenance": 5}, r"save_model: provenance = 5: must be a mapping"),
     ({"provenance": {"a": object()}}, r"provenance: .*not JSON serializable"),
-    ({"units": 5}, r"units = 5: must be a mapping"),
+    ({"units": 5}, r"save_model: units = 5: must be None \(the defaults .*\) or a mapping"),
     ({"data": 5}, r"save_model: data = 5: must be a file path"),
 ])
 def test_save_model_refuses_wrong_types_naming_the_argument(tmp_path, kw, match):

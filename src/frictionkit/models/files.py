@@ -598,6 +598,8 @@ def save_model(model: Any, path: str | Path, *, units: Mapping[str, str] | None 
         raise ParameterError(f"save_model: provenance = {provenance!r}: must be a mapping (name -> JSON data)")
     if method is not None and not isinstance(method, str):  # method=object() was written as "<object object at ...>"
         raise ParameterError(f"save_model: method = {method!r}: must be a string (how the parameters were obtained)")
+    if units is not None and not isinstance(units, Mapping):
+        _axis_units(units, "save_model: units")  # raises, naming this function's argument and the allowed keys
     prov: dict[str, Any] = dict(provenance or {})
     prov.setdefault("frictionkit_version", _version())
     prov.setdefault("created", datetime.now(timezone.utc).isoformat(timespec="seconds"))

@@ -2,19 +2,95 @@
 
 Options and output paths are checked before the (long) run; the files are written
 atomically (:mod:`frictionkit._io`), so a failed write keeps the previous result.
+
+The figure, one convention for every reproduction (as for ``simulate``, ``identify`` and
+``compensate``, ``--plot`` takes a file): ``--plot FILE`` writes it there (format from the
+extension); without it a PNG goes beside ``--json`` (``OUT.png``); ``--no-plot`` writes none.
+The JSON's ``"plot"`` names the figure relative to the JSON's folder. ``--plot`` without a
+file was the flag of ``zhu-fujimoto`` and ``zhang2023`` (``--plot/--no-plot``): it still means
+the default, with a deprecation warning.
 """
 
 from __future__ import annotations
 
+import os
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated, Any, Optional
 
 import typer
+from typer.core import TyperCommand
 
 from ..errors import ParameterError
 from . import _common as chk
 from . import app
+
+#: Key in the click context's ``meta``: the invocation gave ``--plot`` without a file (the old flag).
+_BARE_PLOT_KEY = "frictionkit.reproduce.bare_plot"
+
+
+class _ReproduceCommand(TyperCommand):
+    """A reproduction verb: takes the old bare ``--plot`` flag out before click reads ``--plot FILE``.
+
+    ``--plot`` followed by nothing or by another option (a word starting with ``-``, except ``-``
+    itself) is the old flag; a file whose name starts with ``-`` is given as ``--plot=-name.png``.
+    """
+
+    def parse_args(self, ctx: Any, args: list[str]) -> list[str]:
+        end = args.index("--") if "--" in args else len(args)
+        bare = [i for i in range(end) if args[i] == "--plot"
+                and (i + 1 >= end or (args[i + 1].startswith("-") and args[i + 1] != "-"))]
+        if bare:
+            ctx.meta[_BARE_PLOT_KEY] = True
+            args = [a for i, a in enumerate(args) if i not in bare]
+        return super().parse_args(ctx, args)
+
+
+PlotFile = Annotated[Optional[Path], typer.Option(
+    "--plot", help="Write the figure here (format from the extension: PNG, PDF, SVG ...); default: a PNG beside "
+                   "--json.")]
+NoPlot = Annotated[bool, typer.Option("--no-plot", help="Write no figure.")]
+
+
+def _plot_path(plot: Path | None, no_plot: bool, json_out: Path, *, robustness: bool = False) -> Path | None:
+    """Where a reproduction's figure goes (None: no figure); warns about the old bare ``--plot``."""
+    from ._errors import _click_module
+
+    ctx = _click_module("globals").get_current_context(silent=True)
+    if ctx is not None and ctx.meta.get(_BARE_PLOT_KEY):
+        typer.echo(f"warning: --plot without a file is deprecated (it will be refused in a later release): the "
+                   f"figure goes beside --json by default ({json_out.with_suffix('.png')}); --plot FILE puts it "
+                   "elsewhere, --no-plot writes none", err=True)
+    if plot is not None and no_plot:
+        raise ParameterError(f"--plot '{plot}' and --no-plot: give one (--no-plot writes no figure)")
+    if robustness:
+        if plot is not None:
+            raise ParameterError(f"--plot '{plot}' goes with a single run; --robustness writes no figure")
+        return None
+    return None if no_plot else (plot if plot is not None else json_out.with_suffix(".png"))
+
+
+def _plot_option(plot: Path | None) -> str:
+    """The option an error about the figure's path names."""
+    return "--plot" if plot is not None else "the figure beside --json (--no-plot for none)"
+
+
+def _save_figure(fig: Any, path: Path, summary: dict, json_out: Path, *, dpi: int) -> None:
+    """Write a reproduction's figure atomically, close it, and name it in the summary (relative to the JSON)."""
+    import matplotlib.pyplot as plt
+
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)  # checked up front (make_parents), made like --json's
+        chk.save_figure(fig, path, dpi=dpi)
+    finally:
+        plt.close(fig)
+    summary["plot"] = os.path.relpath(path, json_out.parent)
+
+
+def _agg() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
 
 # Options of the two reproductions that have a --robustness sweep (zhu-fujimoto, zhang2023), declared once.
 SweepSeed = Annotated[Optional[int], typer.Option(
@@ -57,16 +133,18 @@ def _stages(console, name: str, total: int):
 _EX_ZHU_FUJIMOTO = """\b
 Examples:
   frictionkit reproduce zhu-fujimoto --stage fig2 --quick --json fig2.json
+  frictionkit reproduce zhu-fujimoto --quick --json zf.json --plot table3.pdf
   frictionkit reproduce zhu-fujimoto --robustness --quick --workers 2 --json robust.json
 """
 
 
-@reproduce_app.command("zhu-fujimoto", epilog=_EX_ZHU_FUJIMOTO)
+@reproduce_app.command("zhu-fujimoto", epilog=_EX_ZHU_FUJIMOTO, cls=_ReproduceCommand)
 def zhu_fujimoto(
-    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
+    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (the figure goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Shorter runs (one reversal per case)."),
     seed: SweepSeed = None,
-    plot: bool = typer.Option(True, "--plot/--no-plot", help="Write the Fig. 10/15-like PNG beside the JSON."),
+    plot: PlotFile = None,
+    no_plot: NoPlot = False,
     nut_model: str = typer.Option("sliding", "--nut-model",
                                   help="Nut model: 'sliding' (Dahl on screw rotation), 'flank' "
                                        "(load transfer between groove flanks, tied to F_bn) or 'hertz' "
@@ -94,9 +172,8 @@ def zhu_fujimoto(
     if robustness and seed is not None:
         raise ParameterError("--seed goes with a single run; --robustness runs its own noise seeds (0, 1, 2)")
     seed = chk.integer(0 if seed is None else seed, "--seed", lo=0, hi=2**32 - 1)
-    png = json_out.with_suffix(".png")
-    chk.outputs([], files={"--json": json_out}, plots={"the plot beside --json": png} if plot and not robustness
-                else {}, make_parents=True)
+    png = _plot_path(plot, no_plot, json_out, robustness=robustness)
+    chk.outputs([], files={"--json": json_out}, plots={_plot_option(plot): png}, make_parents=True)
     workers, out_dir = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
     if robustness:
         variants = zf_rep.robustness(quick=quick, nut_model=nut_model, stage=stage, progress=True, workers=workers,
@@ -119,27 +196,19 @@ def zhu_fujimoto(
         return
 
     console = Console(stderr=True)
-    with _stages(console, "zhu-fujimoto", total=3 + int(plot)) as (bar, task, step):
+    with _stages(console, "zhu-fujimoto", total=3 + int(png is not None)) as (bar, task, step):
 
         result = zf_rep.run(quick=quick, seed=seed, nut_model=nut_model, stage=stage, progress=step)
         bar.advance(task)
         summary = result.to_dict()
         json_out.parent.mkdir(parents=True, exist_ok=True)
-        if plot:
+        if png is not None:
             bar.update(task, description="plot")
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
+            _agg()
             from ..plotting.ballscrew import reproduction_figure
 
             fig, _ = reproduction_figure(result)
-            try:
-                chk.save_figure(fig, png, dpi=110)
-            finally:
-                plt.close(fig)
-            summary["plot"] = png.name
+            _save_figure(fig, png, summary, json_out, dpi=110)
             bar.advance(task)
     chk.save_json(summary, json_out)
 
@@ -183,7 +252,7 @@ def zhu_fujimoto(
                   f"resonance {g['first_resonance_hz']:.1f} Hz; level vs eq. 1 fit in "
                   f"{g['band_hz'][0]:g}-{g['band_hz'][1]:g} Hz: {g['gain_offset_vs_eq1_db'][0]:+.1f} to "
                   f"{g['gain_offset_vs_eq1_db'][1]:+.1f} dB")
-    out.print(f"wrote {json_out}" + (f" and {png}" if summary.get("plot") else ""))  # the PNG beside it too
+    out.print(f"wrote {json_out}" + (f" and {png}" if png is not None else ""))
 
 
 def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
@@ -207,16 +276,18 @@ def _robustness_options(robustness, workers, scheduler, out_dir, json_out):
 
 _EX_SDSS = """\b
 Examples:
-  frictionkit reproduce sdss --quick --json sdss.json --plot sdss.png
+  frictionkit reproduce sdss --quick --json sdss.json
+  frictionkit reproduce sdss --quick --json sdss.json --plot figs.pdf
 """
 
 
-@reproduce_app.command("sdss", epilog=_EX_SDSS)
+@reproduce_app.command("sdss", epilog=_EX_SDSS, cls=_ReproduceCommand)
 def sdss(
-    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary."),
+    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (the figure goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer speeds and shorter runs (under a minute)."),
     seed: int = typer.Option(0, "--seed", help="Measurement-noise seed (0 to 2**16 - 1)."),
-    plot: Path | None = typer.Option(None, "--plot", help="Write the Figs. 3/4/6/7/8-like figure here (PNG, PDF, ...)."),
+    plot: PlotFile = None,
+    no_plot: NoPlot = False,
 ) -> None:
     """Seed 002 (SDSS 2.5 m telescope): the two-step LuGre estimation on the three simulated axes,
     Figs. 3, 4a-c, 6a-b, 7, 8 and sidereal tracking with LuGre feed-forward (ours)."""
@@ -226,27 +297,20 @@ def sdss(
     from ..reproduce import sdss as sdss_rep
 
     seed = chk.integer(seed, "--seed", lo=0, hi=2**16 - 1)
-    chk.outputs([], files={"--json": json_out}, plots={"--plot": plot} if plot else {}, make_parents=True)
+    png = _plot_path(plot, no_plot, json_out)
+    chk.outputs([], files={"--json": json_out}, plots={_plot_option(plot): png}, make_parents=True)
     console = Console(stderr=True)
-    with _stages(console, "sdss", total=4 + int(plot is not None)) as (bar, task, step):
+    with _stages(console, "sdss", total=4 + int(png is not None)) as (bar, task, step):
 
         result = sdss_rep.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)
         summary = result.to_dict()
         json_out.parent.mkdir(parents=True, exist_ok=True)
-        if plot is not None:
+        if png is not None:
             bar.update(task, description="plot")
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
+            _agg()
             fig, _ = result.plot()
-            try:
-                chk.save_figure(fig, plot, dpi=100)
-            finally:
-                plt.close(fig)
-            summary["plot"] = str(plot)
+            _save_figure(fig, png, summary, json_out, dpi=100)
             bar.advance(task)
     chk.save_json(summary, json_out)
     out = Console()
@@ -274,23 +338,25 @@ def sdss(
     trk = summary["sidereal_tracking_rms_arcsec"]
     out.print(f"sidereal tracking RMS (ours): no compensation {trk['no_compensation']:.4f} arcsec, "
               f"LuGre feed-forward {trk['lugre_feedforward']:.4f} arcsec")
-    out.print(f"wrote {json_out}" + (f" and {plot}" if plot is not None else ""))
+    out.print(f"wrote {json_out}" + (f" and {png}" if png is not None else ""))
 
 
 _EX_ZHANG2023 = """\b
 Examples:
   frictionkit reproduce zhang2023 --quick --json zhang2023.json
+  frictionkit reproduce zhang2023 --quick --json zhang2023.json --plot figs.svg
   frictionkit reproduce zhang2023 --robustness --workers 2 --out runs/ --json robust.json
 """
 
 
-@reproduce_app.command("zhang2023", epilog=_EX_ZHANG2023)
+@reproduce_app.command("zhang2023", epilog=_EX_ZHANG2023, cls=_ReproduceCommand)
 def zhang2023(
-    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (PNG goes beside it)."),
+    json_out: Path = typer.Option(..., "--json", help="Where to write the JSON summary (the six-panel figure -- "
+                                                       "Fig. 16, Tables 7-8, Figs. 17-20, crawling -- goes beside it)."),
     quick: bool = typer.Option(False, "--quick", help="Fewer plateaus and base speeds, shorter runs (< 60 s)."),
     seed: SweepSeed = None,
-    plot: bool = typer.Option(True, "--plot/--no-plot",
-                              help="Write the six-panel PNG (Fig. 16, Tables 7-8, Figs. 17-20, crawling) beside the JSON."),
+    plot: PlotFile = None,
+    no_plot: NoPlot = False,
     robustness: bool = typer.Option(False, "--robustness",
                                     help="Instead: the robustness sweep (3 noise seeds, +-20 % on the preset's "
                                          "assumptions; --quick runs per variant); long."),
@@ -308,9 +374,8 @@ def zhang2023(
     if robustness and seed is not None:
         raise ParameterError("--seed goes with a single run; --robustness runs its own noise seeds (0, 1, 2)")
     seed = chk.integer(0 if seed is None else seed, "--seed", lo=0, hi=2**32 - 1)
-    png = json_out.with_suffix(".png")
-    chk.outputs([], files={"--json": json_out},
-                plots={"the plot beside --json": png} if plot and not robustness else {}, make_parents=True)
+    png = _plot_path(plot, no_plot, json_out, robustness=robustness)
+    chk.outputs([], files={"--json": json_out}, plots={_plot_option(plot): png}, make_parents=True)
     workers, out_dir = _robustness_options(robustness, workers, scheduler, out_dir, json_out)
     console = Console(stderr=True)
     if robustness:
@@ -329,26 +394,16 @@ def zhang2023(
                         + (f"; failed: {', '.join(out['failed'])}" if out["failed"] else ""))
         Console().print(f"wrote {json_out}" + (f" and {out['out']}" if out["out"] else ""))
         return
-    with _stages(console, "zhang2023", total=10 + int(plot)) as (bar, task, step):
+    with _stages(console, "zhang2023", total=10 + int(png is not None)) as (bar, task, step):
 
         result = zr.run(quick=quick, seed=seed, progress=step)
         bar.advance(task)
         summary = result.to_dict()
         summary["findings"] = zr.findings(summary)
-        if plot:
+        if png is not None:
             bar.update(task, description="plot")
-            import matplotlib
-
-            matplotlib.use("Agg")
-            import matplotlib.pyplot as plt
-
-            ax = result.plot()
-            fig = ax[0].figure
-            try:
-                chk.save_figure(fig, png, dpi=110)
-            finally:
-                plt.close(fig)
-            summary["plot"] = png.name
+            _agg()
+            _save_figure(result.plot()[0].figure, png, summary, json_out, dpi=110)
             bar.advance(task)
     chk.save_json(summary, json_out)
     out = Console()
@@ -371,4 +426,4 @@ def zhang2023(
         out.print(f"crawling {r['table_speed_um_s']:g} µm/s: CDFS ripple {r['cdfs_ripple_percent']:.1f} %, "
                   f"TDMS {r['tdms_ripple_percent']:.1f} %")
     out.print("findings: " + ", ".join(f"{k}={'yes' if v['holds'] else 'no'}" for k, v in summary["findings"].items()))
-    out.print(f"wrote {json_out}" + (f" and {png}" if summary.get("plot") else ""))
+    out.print(f"wrote {json_out}" + (f" and {png}" if png is not None else ""))

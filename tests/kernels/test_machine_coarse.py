@@ -95,9 +95,10 @@ def _one_step_share(r, e_max):
 
 
 def test_loaded_sites_take_coarse_steps_without_losing_accuracy(flank_runs):
-    # measured 60 % on the 1 s benchmark run (the rest: ~0.2 s after each reversal, where the
-    # flank force's curvature over a sample exceeds the bound)
-    assert _one_step_share(flank_runs, 1e-9) > 0.3
+    # measured on this 0.6 s run: 71 % (93 % on 1 s); 50 % while the profile took the force as
+    # following its load at once (dF = F_k dl / lam: a Dahl force lags a rising load, and the
+    # profile's start missed it; abc898a) -- the rest: the start and the reversal's transients
+    assert _one_step_share(flank_runs, 1e-9) > 0.6
 
 
 @pytest.fixture(scope="module")

@@ -884,7 +884,8 @@ def _predict_profile(Xf, GfT, Fbar, Gss, mvals, Fk, site_kind, site_po, site_so,
     """A coarse step's linear force profile (see ``run``): its end predicted at the sample's end
     state ``Xp`` = the free end ``Xf`` plus the last held forces ``Fbar`` (this sample's actuator
     commands included; motions at ``mvals``): a smooth compliance's force there (``dFp = f - F_k``),
-    a loaded LuGre/Dahl site's load there (``dlam``; ``dFp = F_k dlam / lam``), on scratch copies
+    a loaded LuGre/Dahl site's load there (``dlam``; ``dFp`` its law's end minus start force
+    under the load ramp, over the step to the predicted end, as a GMS site's), on scratch copies
     (``lamx``, ``stx``: :func:`_loads` rescales states). ``Fk``: the forces recorded at ``t_k``.
 
     A GMS site: its law's end force over the step from its start (``X``; motion positions and
@@ -922,7 +923,8 @@ def _predict_profile(Xf, GfT, Fbar, Gss, mvals, Fk, site_kind, site_po, site_so,
             for m in range(mvals.size):
                 se += Cm[j, m] * mvals[m]
             dFp[j] = _elastic(site_kind[j], par, site_po[j], se) - Fk[j]
-        elif site_kind[j] == S_GMS:
+        elif site_kind[j] == S_GMS or (ld_mode[j] != 0 and site_kind[j] == S_LUGRE):
+            # the law's own end force minus its start force over the step to the predicted end
             o = site_po[j]
             so = site_so[j]
             nmot = mvals.size
@@ -940,18 +942,20 @@ def _predict_profile(Xf, GfT, Fbar, Gss, mvals, Fk, site_kind, site_po, site_so,
                 # same in w0 and w1), so its rate at the step's end is its start rate: the end
                 # velocity the step itself integrates and checks (its end check reads w1's rate)
                 ve += Cm[j, m] * w0[nact + nmot + m]
-            M = int(par[o + 12])
-            _gms_mean(par, o, st, so, se - sa, dt, stx, lam[j], va)
-            fa = fe = 0.0
-            for i in range(so, so + M):
-                fa += st[i]
-                fe += stx[i]
-            dFp[j] = lam[j] * (fe - fa) + (par[o + 4] if ve >= 0.0 else par[o + N_ROW + 4]) * ve - (
-                par[o + 4] if va >= 0.0 else par[o + N_ROW + 4]) * va
-        elif ld_mode[j] != 0 and site_kind[j] == S_LUGRE:
-            dlam[j] = lamx[j] - lam[j]
-            if lam[j] > 0.0:  # the load's part of the force's change
-                dFp[j] = Fk[j] * dlam[j] / lam[j]
+            if site_kind[j] == S_GMS:
+                M = int(par[o + 12])
+                _gms_mean(par, o, st, so, se - sa, dt, stx, lam[j], va)
+                fa = fe = 0.0
+                for i in range(so, so + M):
+                    fa += st[i]
+                    fe += stx[i]
+                dFp[j] = lam[j] * (fe - fa) + (par[o + 4] if ve >= 0.0 else par[o + N_ROW + 4]) * ve - (
+                    par[o + 4] if va >= 0.0 else par[o + N_ROW + 4]) * va
+            else:  # loaded LuGre/Dahl: under the load ramp to the load there (a rising load's force lags it)
+                dlam[j] = lamx[j] - lam[j]
+                stx[so] = _lugre_mean(par, o, st[so], se - sa, dt, lam[j], dlam[j])[1]
+                dFp[j] = (_site_now(S_LUGRE, par, o, stx, so, se, ve, lamx[j])
+                          - _site_now(S_LUGRE, par, o, st, so, sa, va, lam[j]))
 
 
 @njit(inline="always", error_model="numpy")
@@ -1020,9 +1024,11 @@ def run(
     (:data:`SMOOTH`: Hertz, sine) ``dF = f(s_end) - F_k``; a LuGre/Dahl site with a normal load
     instead gets the load's ramp: its load scale is taken linear in time from ``lam_k`` to the
     load there, the law integrates it exactly (:func:`_lugre_mean` with ``dl``),
-    ``dF = F_k dl / lam``, and the bound adds the mean force's error from the predicted end
-    load, ``|lam_end - lam_pred| |Fbar| / (2 lam_mid)``. (Extrapolating ``dF`` and the load from
-    the recorded samples instead kept 0 % with quantised sensors: the commands jump.)
+    ``dF`` is the law's end force minus its start force under that ramp (2026-11-24; it was
+    ``F_k dl / lam``, a force that follows its load at once), and the bound adds the mean force's
+    error from the predicted end load, ``|lam_end - lam_pred| |Fbar| / (2 lam_mid)``.
+    (Extrapolating ``dF`` and the load from the recorded samples instead kept 0 % with quantised
+    sensors: the commands jump.)
     Why the bound holds: the error of the step is the chain's response to the law's force minus
     the profile; both have the same mean (the law's ``Fbar``), so for a deviation quadratic in
     time (a force smooth over the step) its largest value is at an end, and the bound is that
@@ -1034,7 +1040,16 @@ def run(
     (ideal sensors; errors against 640 sub-steps unchanged: 0.274 / 0.281 nm without, 0.274 /
     0.280 with). With the paper's quantised sensors and noise 7-10 %: each sample's command
     jump rings the motor coupling, the flank loads follow it inside the sample, and the bound
-    (rightly) rejects those steps.
+    (rightly) rejects those steps. The flank profile's start was off: under a rising load a
+    Dahl force lags the load (the new contact carries no traction; ``y' = lam v - r y``: flat at
+    first, its mean ``Fc dl q`` below the load's line, ``q = (1 - frac) / x`` of
+    :func:`_lugre_mean`: 0.2-0.5 of the load's change at the stage's 1-3 relaxations per
+    sample), so ``dF = F_k dl / lam`` failed the start bound by that much where the law's own
+    end-minus-start passes (residual ``Fc dl |frac / 2 - q|``, <= 0.07 of the change). Measured
+    2026-11-24 (flk; same run against abc898a, the benchmark's workloads: paper sensors, 5 s):
+    one-step samples flank 10.7 -> 53 %, Hertz 5.1 -> 38 %; kernel CPU 67.9 -> 45.5 ms, 89.2
+    -> 69.4 ms; ideal sensors, 1 s, table error against 640 sub-steps 0.274 -> 0.269 nm (flank),
+    0.280 -> 0.275 nm (Hertz) with 59 -> 93 % one-step samples.
 
     GMS sites (2026-11-24) take the profile too, predicted by the law itself: ``dF`` is the
     law's end force minus its start force over the step from the sample's start to the

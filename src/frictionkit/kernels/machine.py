@@ -111,6 +111,22 @@ COARSE_PTOL_SUBSTEPS = 10
 #: loop check at 0.101 of its bound either way.
 SITE_XTOL = 1e-3 * COARSE_PTOL
 
+#: A rejected coarse step is tried again at the next sample up to this many times in a row;
+#: after that the tries back off (2, 4, ... 32 samples) until one passes. A rejected try costs
+#: its coarse step on top of the sub-steps: ~1.5 us against ~7.6 us for a sample's 10 sub-steps
+#: (``benchmarks/machine_profile.py``, flank stage), so trying again at once pays while ~1 in 5
+#: such tries passes. With the back-off from the first rejection the flank and Hertz stages
+#: (paper sensors: short runs of rejected samples, 1-4 long, where a command jump rings the
+#: motor coupling) kept 53 / 38 % of their samples as one step while 82 / 73 % pass when every
+#: sample is tried. Measured 2026-11-24 (same process, captured benchmark workloads, least of 6
+#: runs, load ~5; retries 0 / 2 / 4 / 8): flank 47.1 / 39.0 / 45.2 / 38.3 ms (53 / 72 / 64 / 74 %
+#: one step: the quantised loop's counts make single runs jumpy), Hertz 71.7 / 57.9 / 62.3 /
+#: 56.9 ms (38 / 62 / 60 / 65 %); the Dahl sliding stage 7.2 / 6.6 / 6.6 / 6.4 ms, GMS-4 12.5 /
+#: 12.2 / 12.0 / 12.2 ms, the two-shaft drive 15.6 / 15.6 / 15.4 / 15.4 ms (their rejections:
+#: ~20-sample runs at reversals). A running pass share instead (retry while > 1/4 of the last
+#: ~10 tries passed) kept as many but retried through those reversal runs: sliding +15 %.
+COARSE_RETRIES = 8
+
 # Site kinds
 S_STATIC, S_LUGRE, S_GMS, S_HERTZ, S_PWL, S_SINE = 0, 1, 2, 3, 4, 5
 #: Memoryless site kinds whose force is a smooth function of the site coordinate: a Hertz
@@ -1069,9 +1085,10 @@ def run(
 
     Otherwise the sample is restored
     (state, site states, forces, loads) and run again in the ``n_sub`` sub-steps; after a
-    rejected sample the next try waits 2, 4, ... up to 32 samples (doubling while they are
-    rejected; a transient lasts several samples, and a machine whose sites never qualify pays
-    ~1/32 of a coarse step per sample). ``coarse=False`` turns them off.
+    rejected sample the next sample tries again (up to :data:`COARSE_RETRIES` times in a
+    row), then the next try waits 2, 4, ... up to 32 samples (doubling
+    while they are rejected; a transient lasts several samples, and a machine whose sites never
+    qualify pays ~1/32 of a coarse step per sample). ``coarse=False`` turns them off.
 
     Returns ``(status, k_end, n_unconverged, n_one_step, n_sweeps)``: samples ``k >= k_end`` are
     left untouched; ``n_one_step`` counts the samples advanced in one step of ``dt`` (a kept coarse
@@ -1141,6 +1158,10 @@ def run(
     dev = np.zeros(ns)
     k_try = 0  # the next sample to try a coarse step at, and the back-off after a rejection
     gap = 1
+    # rejected coarse tries in a row (COARSE_RETRIES); in an array, not a scalar: one more
+    # variable carried through the sample loop made its machine code slower everywhere (measured
+    # 2026-11-24, same run, with the retries switched off: Dahl sliding stage 6.5 -> 8.1 ms)
+    n_fail = np.zeros(1, dtype=np.int64)
     Fbar = np.zeros(ns)
     Fprev = np.zeros(ns)  # the sub-step mean before the last (sub-step force extrapolation)
     n_run = 0  # consecutive sub-steps taken (of size h) up to the current one
@@ -1669,7 +1690,11 @@ def run(
                     dlam[j] = 0.0
                 if ok:
                     gap = 1
+                    n_fail[0] = 0
                     n_one += 1
+                elif n_fail[0] < COARSE_RETRIES:  # try again at the next sample
+                    n_fail[0] += 1
+                    k_try = k + 1
                 else:  # back off: the next try after 2, 4, ... 32 samples
                     gap = min(2 * gap, 32)
                     k_try = k + gap

@@ -425,5 +425,11 @@ def zhang2023(
     for r in summary["crawling"]:
         out.print(f"crawling {r['table_speed_um_s']:g} µm/s: CDFS ripple {r['cdfs_ripple_percent']:.1f} %, "
                   f"TDMS {r['tdms_ripple_percent']:.1f} %")
-    out.print("findings: " + ", ".join(f"{k}={'yes' if v['holds'] else 'no'}" for k, v in summary["findings"].items()))
+    # a finding a failed fit left unevaluated (holds None) printed as "no" (README walk, round walk3)
+    verdict = {True: "yes", False: "no", None: "n/a (not evaluated)"}
+    out.print("findings: " + ", ".join(f"{k}={verdict[v['holds']]}" for k, v in summary["findings"].items()))
+    if summary.get("status"):  # was only in the JSON and the report: the text said nothing of WSIM's flags
+        from ..report.adapters import _clip
+
+        out.print(f"status {summary['status']}: {_clip(summary.get('message') or '')}", markup=False)
     out.print(f"wrote {json_out}" + (f" and {png}" if png is not None else ""))

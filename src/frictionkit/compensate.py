@@ -277,7 +277,7 @@ def _refuse_file(path: Path) -> None:
     raise ParameterError(f"machine file '{path}' ({mf.model.name}) carries no compensation test: give one with "
                          "--test SPEC.toml (its test motion as input files, the coordinate whose error is scored, "
                          "the input holding the reference velocity and the site a compensator acts at; README "
-                         f"'Compensation'), or run a preset ({', '.join(PRESETS)})")
+                         f"'Command line', 'Compensate'), or run a preset ({', '.join(PRESETS)})")
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,4 +1,5 @@
-"""What ``frictionkit reproduce zhang2023`` prints about its run, not only its tables (README walk, walk3).
+"""What the CLI prints where a README walk tripped (walk3): ``reproduce zhang2023``'s run status, ``compensate`` on a
+mistyped machine file.
 
 Before: a quick run of status 1 (WSIM's identifiability flags, ~4,000 characters in the JSON's
 "message" and in the report's section) printed nothing of it, and a finding that a failed fit left
@@ -13,7 +14,8 @@ from types import SimpleNamespace
 import pytest
 from typer.testing import CliRunner
 
-import frictionkit.cli.reproduce  # noqa: F401  (registers the command group)
+import frictionkit.cli.compensate  # noqa: F401  (registers the verbs)
+import frictionkit.cli.reproduce  # noqa: F401
 from frictionkit.cli import app
 
 #: A WSIM-style status message longer than the report's clip (400 characters), with a "[...]" that rich
@@ -44,3 +46,24 @@ def test_zhang2023_prints_its_status_and_unevaluated_findings(stand_in, tmp_path
     assert "status 1: WSIM: table3: screw: positive: vs not identifiable [N·m]" in text
     assert "more characters: the JSON's \"message\"" in text   # clipped, and says where the rest is
     assert "item 39" not in text
+
+
+@pytest.mark.parametrize("name, why", [("emps.jsn", "not found"), ("runs/emps.json", "not found"),
+                                       (".", "a folder")])
+def test_compensate_names_a_missing_machine_file_as_a_file(name, why, tmp_path, monkeypatch):
+    """``compensate emps.jsn`` (a mistyped machine file) said "must be one of ballscrew, emps, sdss"."""
+    monkeypatch.chdir(tmp_path)
+    res = CliRunner().invoke(app, ["compensate", name])
+    assert res.exit_code == 2
+    assert f"PRESET '{name}': not a preset (ballscrew, emps, sdss), and as a machine model file: {why}" \
+        in " ".join(res.output.split())
+
+
+def test_compensate_points_to_the_readme_section_that_exists():
+    """The help and the no-test error named a README section 'Compensation' that does not exist."""
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    assert "## Command line" in readme and "**Compensate**" in readme
+    res = CliRunner().invoke(app, ["compensate", "--help"])
+    assert 'README "Command line", "Compensate"' in res.output

@@ -27,7 +27,7 @@ Presets and their compensators:
   emps       EMPS axis, 0.1 m 0.2 Hz sine: none, coulomb (the true friction), model
   sdss       SDSS azimuth, sidereal tracking from rest: none, lugre (the true friction), model
   MACHINE.json  a machine model file with --test SPEC.toml (inputs, scored position, reference
-                velocity, site; README "Compensation"): none, the spec's, model
+                velocity, site; README "Command line", "Compensate"): none, the spec's, model
 Errors are of the true position, r - x [µm; arcsec on sdss]: max and RMS after the first
 10 % of the run (sdss: the whole run), and the max within -50 ... +100 ms of each velocity
 reversal."""
@@ -70,6 +70,14 @@ def compensate(
     # a folder was "no such file" (round 10): the one input check names folders, broken links, unreadable files
     chk.input_files({"--test": test, "--model": model})
     if not is_file:
+        if preset not in PRESETS and (Path(preset).suffix or "/" in preset or Path(preset).exists()):
+            # a mistyped machine file was "PRESET 'emps.jsn': must be one of ballscrew, emps, sdss" (README walk)
+            from .._io import missing_reason
+            from ..errors import ParameterError
+
+            why = "a folder" if Path(preset).is_dir() else missing_reason(preset)
+            raise ParameterError(f"PRESET '{preset}': not a preset ({', '.join(PRESETS)}), and as a machine "
+                                 f"model file: {why}")
         chk.choice(preset, "PRESET", PRESETS)
         for c in compensator or []:
             chk.choice(c, "--compensator", COMPENSATORS[preset])

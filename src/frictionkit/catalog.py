@@ -193,7 +193,8 @@ def _builders(mod) -> tuple[str, ...]:
     out = []
     for n in names:
         obj = getattr(mod, n, None)
-        if inspect.isfunction(obj) and obj.__module__ == mod.__name__ and (
+        # a package preset (zhang2023) defines its builders in submodules: tdms_machine was not listed
+        if inspect.isfunction(obj) and (obj.__module__ == mod.__name__ or (obj.__module__ or "").startswith(mod.__name__ + ".")) and (
                 n.endswith("_machine") or n.startswith("simulate_")):
             out.append(n)
     return tuple(out)

@@ -194,7 +194,8 @@ def _builders(mod) -> tuple[str, ...]:
     for n in names:
         obj = getattr(mod, n, None)
         # a package preset (zhang2023) defines its builders in submodules: tdms_machine was not listed
-        if inspect.isfunction(obj) and (obj.__module__ == mod.__name__ or (obj.__module__ or "").startswith(mod.__name__ + ".")) and (
+        home = getattr(obj, "__module__", None) or ""
+        if inspect.isfunction(obj) and (home == mod.__name__ or home.startswith(mod.__name__ + ".")) and (
                 n.endswith("_machine") or n.startswith("simulate_")):
             out.append(n)
     return tuple(out)

@@ -156,7 +156,11 @@ def identify(
     run = identify_fleet(dataset, out=out, config=cfg, scheduler=scheduler, workers=workers,
                          progress=progress, monitor=monitor, batch=batch)
     doc = run.to_dict()
-    lines = [f"{run.tasks} log file(s): {run.computed} identified, {run.skipped} done before (skipped); "
+    files = run.table["file"].nunique() if "file" in run.table else run.tasks
+    # one file of many axes (examples/fleet/tro2021_steady_state.toml) said "3 log file(s)" for 1 file
+    what = (f"{run.tasks} log file(s)" if files == run.tasks
+            else f"{run.tasks} axis-period(s) from {files} file(s)")
+    lines = [f"{what}: {run.computed} identified, {run.skipped} done before (skipped); "
              f"{run.ok} ok, {run.errors} with an error"]
     errs = run.table.loc[~run.table["ok"].astype(bool), ["axis", "period", "error"]]
     for _, r in errs.head(5).iterrows():
@@ -165,9 +169,9 @@ def identify(
         lines.append(f"  ... {len(errs) - 5} more (column 'error')")
     if run.monitored:
         flagged = doc.get("flagged_axes", [])
-        lines.append(f"drift: {len(flagged)} axis/axes flagged" + (f" ({', '.join(flagged[:10])}"
+        lines.append(f"drift: {len(flagged)} {'axis' if len(flagged) == 1 else 'axes'} flagged" + (f" ({', '.join(flagged[:10])}"
                                                                     f"{' ...' if len(flagged) > 10 else ''})" if flagged else ""))
-    lines.append(f"wrote {out} ({len(run.table)} rows; {run.elapsed:.1f} s)")
+    lines.append(f"wrote {out} ({len(run.table)} row{'' if len(run.table) == 1 else 's'}; {run.elapsed:.1f} s)")
     if len(errs) and len(errs) == len(run.table):
         if json_out not in (None, "-"):
             chk.save_json(doc, Path(json_out))

@@ -67,3 +67,12 @@ def test_compensate_points_to_the_readme_section_that_exists():
     assert "## Command line" in readme and "**Compensate**" in readme
     res = CliRunner().invoke(app, ["compensate", "--help"])
     assert 'README "Command line", "Compensate"' in res.output
+
+
+def test_reproduce_lines_are_not_wrapped_in_a_log(stand_in, tmp_path):
+    """Redirected to a file, rich wrapped every line at 80 columns (the status line above over several)."""
+    res = CliRunner().invoke(app, ["reproduce", "zhang2023", "--quick", "--json", str(tmp_path / "z.json"),
+                                   "--no-plot"])
+    line = next(x for x in res.stdout.splitlines() if x.startswith("status 1:"))
+    assert line.endswith("more characters: the JSON's \"message\")"), line
+    assert any(x.startswith("findings: ") and x.endswith("=n/a (not evaluated)") for x in res.stdout.splitlines())

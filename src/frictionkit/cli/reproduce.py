@@ -87,6 +87,14 @@ def _save_figure(fig: Any, path: Path, summary: dict, json_out: Path, *, dpi: in
     summary["plot"] = os.path.relpath(path, json_out.parent)
 
 
+def _out():
+    """The console of the text results: a line is not wrapped at 80 columns when the output is no terminal (a log
+    file had "... before zero speed: / 55.0 ms" split over two lines; a terminal wraps it by itself)."""
+    from rich.console import Console
+
+    return Console(soft_wrap=True)
+
+
 def _agg() -> None:
     import matplotlib
 
@@ -190,9 +198,9 @@ def zhu_fujimoto(
             tab.add_column(c, justify="right")
         for k, v in t3.items():
             tab.add_row(k, *(f"{v[law]:.2f}" for law in laws))
-        Console().print(tab)
-        Console().print(f"Table 3 order sigmoid < sinc < Coulomb holds in {len(order)} of {len(t3)} variants")
-        Console().print(f"wrote {json_out}" + (f" and {out_file}" if out_file else ""))
+        _out().print(tab)
+        _out().print(f"Table 3 order sigmoid < sinc < Coulomb holds in {len(order)} of {len(t3)} variants")
+        _out().print(f"wrote {json_out}" + (f" and {out_file}" if out_file else ""))
         return
 
     console = Console(stderr=True)
@@ -219,7 +227,7 @@ def zhu_fujimoto(
     tab.add_column("paper", justify="right")
     for law, v in summary["table3"].items():
         tab.add_row(law, f"{v['max_error_um']:.2f}", "-" if v["paper_um"] is None else f"{v['paper_um']:.2f}")
-    out = Console()
+    out = _out()
     out.print(tab)
     ld = Table(title="Fig. 10: l_d / R over the deceleration")
     ld.add_column("case")
@@ -313,7 +321,7 @@ def sdss(
             _save_figure(fig, png, summary, json_out, dpi=100)
             bar.advance(task)
     chk.save_json(summary, json_out)
-    out = Console()
+    out = _out()
     for name, ax in summary["axes"].items():
         tab = Table(title=f"{name}: truth vs identified (95 % interval)")
         for c in ("parameter", "truth", "identified", "95 % interval", "error %"):
@@ -388,11 +396,11 @@ def zhang2023(
             miss = out.get("not_evaluated", {}).get(k, {})   # e.g. a fit that failed in a variant
             tab.add_row(k, ("n/a" if v is None else f"{v:.2f}")
                         + (f" (not evaluated in {len(miss)}: {', '.join(miss)})" if miss else ""))
-        Console().print(tab)
-        Console().print("sensitivity ranking: " + ", ".join(out["ranking"]))
-        Console().print(f"{out['computed']} variant(s) run, {out['skipped']} done before (skipped)"
+        _out().print(tab)
+        _out().print("sensitivity ranking: " + ", ".join(out["ranking"]))
+        _out().print(f"{out['computed']} variant(s) run, {out['skipped']} done before (skipped)"
                         + (f"; failed: {', '.join(out['failed'])}" if out["failed"] else ""))
-        Console().print(f"wrote {json_out}" + (f" and {out['out']}" if out["out"] else ""))
+        _out().print(f"wrote {json_out}" + (f" and {out['out']}" if out["out"] else ""))
         return
     with _stages(console, "zhang2023", total=10 + int(png is not None)) as (bar, task, step):
 
@@ -406,7 +414,7 @@ def zhang2023(
             _save_figure(result.plot()[0].figure, png, summary, json_out, dpi=110)
             bar.advance(task)
     chk.save_json(summary, json_out)
-    out = Console()
+    out = _out()
     for name, key in (("Table 7: ACIM vs WSIM", "method"), ("Table 8: LuGre vs GMS (WSIM)", "model")):
         tab = Table(title=f"{name}, worktable tracking error [µm] mean (std); paper beside")
         for c in ("speeds", "base mm/s", key, "simulated", "paper"):

@@ -53,12 +53,17 @@ def plot_parameter_distribution(results, parameter: str = "Fc_pos", *, period: s
     else:
         df = df[df["period"] == period]
     vals = df[parameter].to_numpy(float)
-    flag = df["drift_flag"].to_numpy(bool) if "drift_flag" in df else np.zeros(vals.size, bool)
+    monitored = "drift_flag" in df
+    flag = df["drift_flag"].to_numpy(bool) if monitored else np.zeros(vals.size, bool)
     fin = np.isfinite(vals)
     if fin.sum():
         bins = np.histogram_bin_edges(vals[fin], bins=min(30, max(5, int(np.sqrt(fin.sum())))))
+        # counts in the legend; an unmonitored table's axes were labelled "not flagged" (README walk)
+        n_ok, n_flag = int((fin & ~flag).sum()), int((fin & flag).sum())
+        labels = ([f"not flagged ({n_ok})", f"drift flagged ({n_flag})"] if monitored
+                  else [f"axes ({n_ok}; not monitored)", "_drift flagged"])
         ax.hist([vals[fin & ~flag], vals[fin & flag]], bins=bins, stacked=True, color=["#4c72b0", "#c44e52"],
-                label=["not flagged", "drift flagged"])
+                label=labels)
         ax.set_ylim(0, 1.25 * ax.get_ylim()[1])  # headroom: the legend sat on the bars
         ax.legend(fontsize=8, loc="upper center", ncols=2)
     ax.yaxis.get_major_locator().set_params(integer=True)  # counts of axes (ticks were 0.2, 0.4, ...)

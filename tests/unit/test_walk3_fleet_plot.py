@@ -31,3 +31,14 @@ def test_monitored_legend_counts_flagged_and_not():
 
 def test_unmonitored_table_is_not_called_not_flagged():
     assert _legend(plot_parameter_distribution(_table(False), "Fc_pos")) == ["axes (5; not monitored)"]
+
+
+def test_report_says_one_axis_flagged():
+    """The report's fleet section said "1 axes" (the demo's fleet, one wearing axis)."""
+    from frictionkit.report.adapters import fleet_sections
+
+    df = _table(True)
+    for c, v in (("drift_alarm_period", "2026-01-01"), ("drift_detail", "wear")):
+        df[c] = [None] * 4 + [v]
+    (sec,) = fleet_sections(df)
+    assert dict(sec.table[1:])["drift flagged"] == "1 axis"

@@ -932,7 +932,7 @@ def fleet_sections(df) -> list[Section]:
     if monitored:
         axes = drift_summary(df)
         flagged = axes[axes["drift_flag"].astype(bool)]
-        rows.append(["drift flagged", f"{len(flagged)} axes"])
+        rows.append(["drift flagged", f"{len(flagged)} {'axis' if len(flagged) == 1 else 'axes'}"])
     else:
         flagged = None
         sec.text.append("Not monitored for drift (no drift_flag column): run 'frictionkit fleet monitor' first.")

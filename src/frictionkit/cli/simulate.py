@@ -315,7 +315,8 @@ def _run_machine(model: Path, mf, specs: list[str], time, dt, duration, substeps
 
     doc = {"format": RUN_FORMAT, "model": str(model), "kind": "machine", "machine": machine.name,
            "inputs": {name: (f"{p}:{c}" if p is not None else c) for name, p, c in parsed}, "samples": n, "dt": h,
-           "substeps": res.substeps, "status": res.status, "message": res.message, "success": res.success,
+           # the fast paths choose their own steps: "substeps": 0 read as a run without steps (README walk)
+           "substeps": res.substeps or None, "kernel": res.path, "status": res.status, "message": res.message, "success": res.success,
            "dofs": {d.name: {"unit": d.unit, "final_x": float(res.q[-1, i]), "peak_v": peak(res.v[:, i])}
                     for i, d in enumerate(machine.dofs)},
            "sites": {s: {"peak_force": peak(res.site_forces[:, j]), "unit": u}

@@ -76,3 +76,17 @@ def test_reproduce_lines_are_not_wrapped_in_a_log(stand_in, tmp_path):
     line = next(x for x in res.stdout.splitlines() if x.startswith("status 1:"))
     assert line.endswith("more characters: the JSON's \"message\")"), line
     assert any(x.startswith("findings: ") and x.endswith("=n/a (not evaluated)") for x in res.stdout.splitlines())
+
+
+def test_sdss_prints_an_axis_status(monkeypatch, tmp_path):
+    """An sdss axis of status != 0 said so only in the JSON and the report."""
+    import frictionkit.reproduce.sdss as sdss_rep
+
+    axis = {"identified": {}, "truth": {}, "status": 1, "message": "sigma1 [N·m·s/rad] not identifiable"}
+    summary = {"axes": {"azimuth": axis, "rotator": {"identified": {}, "truth": {}}},
+               "sidereal_tracking_rms_arcsec": {"no_compensation": 1.0, "lugre_feedforward": 0.5}}
+    monkeypatch.setattr(sdss_rep, "run", lambda **kw: SimpleNamespace(to_dict=lambda: dict(summary)))
+    res = CliRunner().invoke(app, ["reproduce", "sdss", "--quick", "--json", str(tmp_path / "s.json"), "--no-plot"])
+    assert res.exit_code == 0, res.output
+    assert "azimuth: status 1: sigma1 [N·m·s/rad] not identifiable" in res.stdout.splitlines()
+    assert "rotator: status" not in res.stdout

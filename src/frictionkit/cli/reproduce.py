@@ -332,6 +332,10 @@ def sdss(
             tab.add_row(k, f"{tv:.5g}" if tv is not None else "-", f"{p['value']:.5g}",
                         f"[{p['ci95'][0]:.5g}, {p['ci95'][1]:.5g}]", err)
         out.print(tab)
+        if ax.get("status"):  # an axis whose fit warned or failed said so only in the JSON and the report
+            from ..report.adapters import _clip
+
+            out.print(f"{name}: status {ax['status']}: {_clip(ax.get('message') or '')}", markup=False)
         if ax.get("nrmse_by_figure_percent"):
             out.print("velocity NRMSE [%] (identified / true model on the same data): " + ", ".join(
                 f"{k} {v:.2f} / {ax['nrmse_true_model_percent'].get(k, float('nan')):.2f}"

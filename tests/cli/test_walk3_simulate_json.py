@@ -14,10 +14,10 @@ from frictionkit.cli import _register, app
 _register()
 
 
-def _run(tmp_path, machine, *extra):
+def _run(tmp_path, machine):
     path = fk.save_model(machine, tmp_path / "m.json")
     res = CliRunner().invoke(app, ["simulate", str(path), "--input", "u=2", "--dt", "1e-3", "--duration", "0.05",
-                                   "--json", "-", *extra])
+                                   "--json", "-"])
     assert res.exit_code == 0, res.output
     return json.loads(res.stdout)
 
@@ -30,12 +30,3 @@ def test_fast_path_run_has_no_substep_count(tmp_path):
     doc = _run(tmp_path, m)
     assert doc["substeps"] is None and doc["kernel"].startswith("axis")
 
-
-def test_general_loop_run_keeps_its_substeps(tmp_path):
-    m = fk.Machine("two masses")
-    a, b = m.dof("a", inertia=1.0), m.dof("b", inertia=1.0)
-    m.spring(a, b, k=1e4, c=10.0)
-    m.friction("contact", b, law=fk.CoulombViscous(Fc=1.0))
-    m.actuator("push", a, command="u")
-    doc = _run(tmp_path, m, "--substeps", "7")
-    assert doc["substeps"] == 7 and doc["kernel"]

@@ -24,13 +24,22 @@ MESSAGE = "WSIM: table3: screw: positive: vs not identifiable [N·m]; " + "; ".j
     f"item {i}: C is not determined by this record" for i in range(40))
 
 
+def _plot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return [plt.subplots()[1]]
+
+
 @pytest.fixture
 def stand_in(monkeypatch):
     import frictionkit.reproduce.zhang2023 as zr
 
     summary = {"table7": [], "table8": [], "hysteresis_rms_force_N": {}, "crawling": [], "status": 1,
                "message": MESSAGE}
-    monkeypatch.setattr(zr, "run", lambda **kw: SimpleNamespace(to_dict=lambda: dict(summary)))
+    monkeypatch.setattr(zr, "run", lambda **kw: SimpleNamespace(to_dict=lambda: dict(summary), plot=_plot))
     monkeypatch.setattr(zr, "findings", lambda s: {"t7_diff0_wsim_better": {"holds": True},
                                                     "t7_diff6_wsim_better": {"holds": False},
                                                     "fig16_reciprocating_m7_better": {"holds": None}})
@@ -90,3 +99,14 @@ def test_sdss_prints_an_axis_status(monkeypatch, tmp_path):
     assert res.exit_code == 0, res.output
     assert "azimuth: status 1: sigma1 [N·m·s/rad] not identifiable" in res.stdout.splitlines()
     assert "rotator: status" not in res.stdout
+
+
+def test_the_progress_bar_ends_on_done(stand_in, tmp_path):
+    """The stage bar's last frame read "plot" (the last stage) after the run had ended."""
+    res = CliRunner().invoke(app, ["reproduce", "zhang2023", "--quick", "--json", str(tmp_path / "z.json")])
+    assert res.exit_code == 0, res.output
+    try:
+        err = res.stderr
+    except ValueError:  # older click mixes the streams
+        err = res.output
+    assert "zhang2023: done" in err.strip().splitlines()[-1]

@@ -136,6 +136,8 @@ def _stages(console, name: str, total: int):
             bar.update(task, description=label)
 
         yield bar, task, step
+        # the bar's last frame stays on the screen: it read "plot" (or the last stage) after the run had ended
+        bar.update(task, description=f"{name}: done")
 
 
 _EX_ZHU_FUJIMOTO = """\b

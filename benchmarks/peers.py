@@ -1,6 +1,6 @@
 """Strong compiled peers for the single-axis kernels (issue 15), measured in one run.
 
-Run:  .venv/bin/python benchmarks/peers.py [--quick]
+Run:  .venv/bin/python benchmarks/peers.py [--quick] [--only gms4,gms16]
 Needs the ``bench`` extra (``pip install -e .[bench]``: numbalsoda, which builds LSODA from
 Fortran source and needs Debian's ``gfortran``).
 
@@ -393,7 +393,13 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="2 s instead of 10 s, 200 batch sets")
     ap.add_argument("--repeat", type=int, default=None)
+    ap.add_argument("--only", default="lugre,dahl,gms4,gms16,batch",
+                    help="comma-separated subset of lugre, dahl, gms4, gms16, batch (default: all)")
     args = ap.parse_args()
+    only = {w.strip().lower() for w in args.only.split(",") if w.strip()}
+    unknown = only - {"lugre", "dahl", "gms4", "gms16", "batch"}
+    if unknown:
+        ap.error(f"--only: unknown part(s) {sorted(unknown)}; choose from lugre, dahl, gms4, gms16, batch")
     repeat = args.repeat or (3 if args.quick else 10)
     duration = 2.0 if args.quick else 10.0
     u = stick_slip_force(duration=duration, dt=DT)
@@ -406,17 +412,21 @@ def main() -> None:
     lg = example_lugre()
     st = lg.static
     d = lugre_data(st.Fc, st.Fs, st.vs, lg.sigma0, lg.sigma1, st.sigma2, 1.0, u)
-    # LuGre / Dahl (issue 15): CPU time, 3x the repeats (a ~1-2 ms run: min of 10 wall-clock pairs
-    # spread ~15 % between quiet runs), half-decade peer tolerances
-    rows.append(single("LuGre", lg, 1.0, u, d, lambda r: lugre_single(d, t_eval, r, r * 1e-3), 3 * repeat,
-                       TOLS_HALF, time.process_time))
+    if "lugre" in only:
+        # LuGre / Dahl (issue 15): CPU time, 3x the repeats (a ~1-2 ms run: min of 10 wall-clock pairs
+        # spread ~15 % between quiet runs), half-decade peer tolerances
+        rows.append(single("LuGre", lg, 1.0, u, d, lambda r: lugre_single(d, t_eval, r, r * 1e-3), 3 * repeat,
+                           TOLS_HALF, time.process_time))
 
-    dahl = fk.Dahl(Fc=1.0, sigma0=1e5, sigma2=0.4)
-    dd = lugre_data(1.0, 1.0, 1.0, dahl.sigma0, 0.0, dahl.sigma2, 1.0, u)  # g = Fc: Fs = Fc
-    rows.append(single("Dahl", dahl, 1.0, u, dd, lambda r: lugre_single(dd, t_eval, r, r * 1e-3), 3 * repeat,
-                       TOLS_HALF, time.process_time))
+    if "dahl" in only:
+        dahl = fk.Dahl(Fc=1.0, sigma0=1e5, sigma2=0.4)
+        dd = lugre_data(1.0, 1.0, 1.0, dahl.sigma0, 0.0, dahl.sigma2, 1.0, u)  # g = Fc: Fs = Fc
+        rows.append(single("Dahl", dahl, 1.0, u, dd, lambda r: lugre_single(dd, t_eval, r, r * 1e-3), 3 * repeat,
+                           TOLS_HALF, time.process_time))
 
     for M in (4, 16):
+        if f"gms{M}" not in only:
+            continue
         gm = example_gms(M)
         gd = gms_data(gm, 1.0, u)
 
@@ -425,9 +435,14 @@ def main() -> None:
             ok, _ = gms_event_stepped(gd.copy(), N, r, r * 1e-3, x, F)
             return x, F, ok
 
-        rows.append(single(f"GMS-{M}", gm, 1.0, u, gd, run_g, max(2, repeat // 3)))
+        # CPU time (issue 15, gms15): both sides run single-threaded, and under a shared machine's load
+        # the wall-clock minimum of 3 pairs swung the GMS-4 ratio 2.3-5.4 between runs
+        rows.append(single(f"GMS-{M}", gm, 1.0, u, gd, run_g, repeat, clock=time.process_time))
 
     # ------------------------------------------------------------------ batch
+    if "batch" not in only:
+        _summary(rows, None, None)
+        return
     P = 200 if args.quick else 1000
     print(f"\n== batch: {P} LuGre parameter sets (the sets of benchmarks/simulate.py), 1 kg, error norm only")
     rng = np.random.default_rng(0)
@@ -474,6 +489,10 @@ def main() -> None:
         print(f"   numbalsoda prange rtol {rtol_p:.3g}: {rate_p:8,.0f} sets/s   worst max|dx| {wp * 1e6:.3f} um"
               f"   -> ratio kernel/peer {rate_k / rate_p:.2f} (interleaved: kernel {rate_k:,.0f} sets/s)")
 
+    _summary(rows, rate_k, rate_p)
+
+
+def _summary(rows, rate_k, rate_p):
     print("\nsummary (peer time / kernel time at matching accuracy; > 1: frictionkit faster)")
     for r in rows:
         print(f"  {r['model']:7s} " + ("n/a" if r["ratio"] is None else f"x{r['ratio']:.2f}"))

@@ -60,6 +60,18 @@ Round 11 (gms13), new seeds 3000-3059, 3160-3199, 4000-4159 and 5000-5079 (insid
 ranges), 340 sets, 33 twins over 40 s: f22475c -> now passed-right 275 -> 283, passed-WRONG 0 -> 0,
 flagged-right 24 -> 17 (status 3 -> right: 4157, 5010, 5011, 5054, 3186), flagged-wrong 8 -> 7.
 
+Issue 15 (gms15, 2026-11-24): every error-rejected sub-step across a reversal with slipping elements lands
+at the reversal (was: only below 1e-4 dt). New seeds 6000-6099 with 2000-2039, and 5000-5079 with
+3100-3139, 260 sets (17 without a twin within 30 s), abc898a -> now: the same class for every seed --
+passed-right 232, passed-WRONG 0, flagged-right 10, flagged-wrong 1 (5077) on both; the errors of the runs
+with a twin moved by a geometric mean x1.03 (6000s/2000s) and x0.93 (5000s/3100s), the largest passed
+error 9.3e-5 (6015) and 8.7e-5 of a range on both. Measured and not kept: refining a breakaway's landing
+on the step's Hermites (GMS-4/16 benchmark sub-steps a further -13 % / -18 %) made seed 6090 (omega dt 75,
+46-51 rtol off the twin unchecked in every version) pass its accuracy check: passed-WRONG; resuming the
+step size after a landing put seed 4141 from 7.4 to 10.8 rtol off; jumping to dt after an exact
+all-sticking step missed campaign seed 2102's breakaway at a reversal
+(tests/robustness/test_gms_breakaway_threshold.py).
+
 Compare kernel versions with ``PYTHONPATH=<worktree>/src`` on the same cache (the twins do not depend on
 the kernel).
 """

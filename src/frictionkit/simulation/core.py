@@ -324,6 +324,20 @@ def _gms_buffers(pk, state0, N: int):
     return F0, stick0, np.empty((N, M)), np.zeros((N, M), dtype=np.bool_)
 
 
+def _gms_block(N: int, M: int):
+    """The traces ``t, x, v, F`` (rows of a (4, N) array), the element forces (N, M) and the zeroed
+    stick flags (N, M) of a force-driven GMS run, as views of ONE allocation (issue 15, measured):
+    as three blocks (1.28 + 1.28 + 0.16 MB for GMS-4 over 40,001 samples) they outgrew glibc's trim
+    threshold together in some heap states, and every run page-faulted all 593 of their pages anew
+    (1.4 ms system time beside a 1.15 ms kernel; the LuGre traces' reason, see :func:`_force_run`)."""
+    nf = (4 + M) * N
+    buf = np.empty(8 * nf + N * M, dtype=np.uint8)
+    fl = buf[: 8 * nf].view(np.float64)
+    stick = buf[8 * nf :].view(np.bool_).reshape(N, M)
+    stick.fill(False)  # gms_force writes the flags only where an element sticks
+    return fl[: 4 * N].reshape(4, N), fl[4 * N :].reshape(N, M), stick
+
+
 #: The ramp ``0, 1, ..., n-1`` (float) of the longest force run so far up to ``RAMP_MAX`` samples,
 #: read-only: the times of a run are ``ramp[:N] * dt`` written straight into its trace block. A fresh
 #: ``np.arange`` temporary of 8 N bytes was freed at the top of the heap and, in some heap states,
@@ -421,7 +435,11 @@ def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, w
     # at every free -- the next run page-faulted all of them anew: 437 faults, 1.6 ms system
     # time beside a 1.0 ms kernel (10 s LuGre at 4 kHz), in some heap states and not others.
     # One block sets that threshold itself, and a run's temporaries stay below twice it.
-    tr = np.empty((5 if kind == "lugre" else 4, N))
+    if kind == "lugre":
+        tr = np.empty((5, N))
+    else:
+        F0, stick0 = _initial_states("gms", pk, state0)
+        tr, Fel, stick = _gms_block(N, F0.size)
     t = tr[0]
     np.multiply(_ramp(N), dt, out=t)  # = _times(N, dt), without a temporary (see _ramp)
     x, v, F = tr[1], tr[2], tr[3]
@@ -440,7 +458,6 @@ def _force_run(kind, pk, u, dt, m, x0, v0, state0, options, F_scale, model, *, w
             return _finish(t, x, v, F, states, st, at, nsub, model,
                            lugre_failure_detail(sigma0, damping, F_scale, m, dt), warn=warn, stacklevel=4)
     else:
-        F0, stick0, Fel, stick = _gms_buffers(pk, state0, N)
         st, at, nsub = _gms.gms_force(
             u, dt, m, pk.static, pk.k, pk.xi, pk.C, x0, v0, F0, stick0,
             options.rtol, _atol_v(options, F_scale, float(pk.k.sum(axis=1).max()), m, float(pk.static[:, 4].max())),

@@ -279,26 +279,3 @@ def test_rejected_coarse_steps_are_tried_again_at_once(jumping_flank_runs):
     # samples (fd9e18e); backing off 2, 4, ... samples from the first rejection 25 % (f1d386b),
     # 1 % before the loaded sites' profile followed their law (abc898a)
     assert _one_step_share(jumping_flank_runs, 1e-9) > 0.4
-
-
-def test_a_symmetric_deviation_passes_on_its_shape(jumping_flank_runs):
-    # the flank forces' remaining rejections were symmetric end deviations (a Dahl force lagging
-    # its load) ~1.1 of the held bound; priced through the chain's response to the quadratic
-    # shape (kernels.machine.SHAPE_CAP) 93 % of the samples are one step (fd9e18e: 53 %), and the
-    # error against 640 sub-steps stays that of the sub-steps (checked in _one_step_share)
-    assert _one_step_share(jumping_flank_runs, 1e-9) > 0.8
-
-
-@pytest.mark.parametrize("n_sub", [1, 2, 10])
-def test_ramp_maps_of_a_free_mass(n_sub):
-    # a free mass m held at each sub-step's mid value of a force shape: the end position of the
-    # ramp (t/dt - 1/2) is dt^2 (1 - 1/n^2) / (12 m) (sum over the sub-steps, closed form), that of
-    # the zero-mean quadratic (t/dt - 1/2)^2 - mean is 0 (odd about the middle): a symmetric force
-    # deviation costs a mass nothing at the step's end
-    m, dt = 2.0, 1e-3
-    h = dt / n_sub
-    Phi = np.array([[1.0, h], [0.0, 1.0]])
-    Gf = np.array([[-h * h / (2 * m)], [-h / m]])  # the site force acts against the coordinate
-    _, Rss, Qss = km._ramp_maps(Phi, Gf, np.array([[1.0]]), n_sub)
-    assert Rss[0, 0] == pytest.approx(-dt * dt * (1.0 - 1.0 / n_sub**2) / (12.0 * m), rel=1e-12, abs=1e-25)
-    assert abs(Qss[0, 0]) <= 1e-15 * dt * dt / m

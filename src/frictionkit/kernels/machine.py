@@ -127,19 +127,6 @@ SITE_XTOL = 1e-3 * COARSE_PTOL
 #: ~10 tries passed) kept as many but retried through those reversal runs: sliding +15 %.
 COARSE_RETRIES = 8
 
-#: A site with a linear force profile whose force misses the profile's ends by more than the
-#: held bound (:data:`COARSE_PTOL`) passes on the bound through its deviation's shape (``run``,
-#: "Shape of the deviation") while each end stays within this many times the held bound: the
-#: shape bound assumes a deviation quadratic in time, and an end's deviation this far below the
-#: held-force bound's scale keeps what the quadratic misses (its cubic and higher parts) small.
-#: Measured 2026-11-24 (flk; the captured benchmark workloads, same process, against fd9e18e):
-#: one-step samples flank 74 -> 96 %, Hertz 65 -> 87 %; kernel CPU 38.5 -> 27.2 ms, 58.9 -> 42.3
-#: ms; ideal sensors with 0.06 N m of white noise on the command, 1 s, table error against 640
-#: sub-steps, max 0.267 nm and median / 90th percentile / RMS 0.22 / 1.36 / 23 pm on the flank
-#: stage (10 sub-steps without coarse steps 0.267 nm, 0.21 / 1.82 / 23 pm; fd9e18e 0.267 nm,
-#: 0.29 / 1.60 / 23 pm), Hertz 0.260 nm, 0.77 / 3.17 / 23 pm (0.269 nm, 1.21 / 4.56 / 23 pm).
-SHAPE_CAP = 4.0
-
 # Site kinds
 S_STATIC, S_LUGRE, S_GMS, S_HERTZ, S_PWL, S_SINE = 0, 1, 2, 3, 4, 5
 #: Memoryless site kinds whose force is a smooth function of the site coordinate: a Hertz
@@ -874,24 +861,17 @@ def _merged_step(k, kn, dt, n_sub, X, mot, inputs, u_now, act_foh, act_col, act_
 
 @njit(error_model="numpy")
 def _ramp_maps(Phi, Gf, Cq, n_sub):
-    """``(GrT, Rss, Qss)``: the sample's response to a zero-mean force ramp ``dF (t / dt - 1/2)``
-    per site (a coarse step's linear force profile, see ``run``), as ``n_sub`` sub-steps hold it
-    (at each sub-step's mid value ``(i + 1/2) / n_sub - 1/2``), transposed, and its site
-    compliance ``Rss = -Cq GrT_q^T``; ``Qss`` the site compliance of the zero-mean quadratic shape
-    ``(t / dt - 1/2)^2 - 1/12`` held the same way (a coarse step's error bound, see ``run``).
-    Zeros for ``n_sub = 0`` (no coarse steps)."""
+    """``(GrT, Rss)``: the sample's response to a zero-mean force ramp ``dF (t / dt - 1/2)`` per
+    site (a coarse step's linear force profile, see ``run``), as ``n_sub`` sub-steps hold it (at
+    each sub-step's mid value ``(i + 1/2) / n_sub - 1/2``), transposed, and its site compliance
+    ``Rss = -Cq GrT_q^T``. Zeros for ``n_sub = 0`` (no coarse steps)."""
     n2 = Phi.shape[0]
     n = n2 // 2
     ns = Cq.shape[0]
     GrT = np.zeros((ns, n2))
     Rss = np.zeros((ns, ns))
-    Qss = np.zeros((ns, ns))
     Yr = np.zeros((n2, ns))
     Yn = np.zeros((n2, ns))
-    Yq = np.zeros((n2, ns))
-    m2 = 0.0  # the sub-steps' mean of ci^2 (the quadratic shape has zero mean as they hold it)
-    for i in range(n_sub):
-        m2 += ((i + 0.5) / n_sub - 0.5) ** 2 / n_sub
     for i in range(n_sub):
         ci = (i + 0.5) / n_sub - 0.5
         for r in range(n2):
@@ -903,15 +883,6 @@ def _ramp_maps(Phi, Gf, Cq, n_sub):
         for r in range(n2):
             for c in range(ns):
                 Yr[r, c] = Yn[r, c]
-        for r in range(n2):
-            for c in range(ns):
-                y = Gf[r, c] * (ci * ci - m2)
-                for q in range(n2):
-                    y += Phi[r, q] * Yq[q, c]
-                Yn[r, c] = y
-        for r in range(n2):
-            for c in range(ns):
-                Yq[r, c] = Yn[r, c]
     for j in range(ns):
         for r in range(n2):
             GrT[j, r] = Yr[r, j]
@@ -919,8 +890,7 @@ def _ramp_maps(Phi, Gf, Cq, n_sub):
         for i in range(ns):
             for b in range(n):
                 Rss[j, i] -= Cq[j, b] * Yr[b, i]
-                Qss[j, i] -= Cq[j, b] * Yq[b, i]
-    return GrT, Rss, Qss
+    return GrT, Rss
 
 
 @njit(inline="always", error_model="numpy")
@@ -1097,17 +1067,6 @@ def run(
     -> 69.4 ms; ideal sensors, 1 s, table error against 640 sub-steps 0.274 -> 0.269 nm (flank),
     0.280 -> 0.275 nm (Hertz) with 59 -> 93 % one-step samples.
 
-    Shape of the deviation (2026-11-24): a site with a profile whose ends miss it by more than
-    the held bound passes when the chain's response to the deviation's shape does not. With the
-    signed deviations ``a`` (start) and ``b`` (end) and the law's mean equal to the profile's,
-    the quadratic through them is ``(b - a) (t / dt - 1/2) + 3 (a + b) ((t / dt - 1/2)^2 -
-    1/12)``; its site error is ``|(b - a) RssC_jj + 3 (a + b) QssC_jj|`` (:func:`_ramp_maps`)
-    over ``1 + Gjj kt``, plus the load's term, within :data:`COARSE_PTOL`, each end within
-    :data:`SHAPE_CAP` of the held bound. A held-force bound prices a symmetric deviation
-    (``a = b``, a Dahl force lagging its load: flat at first, then following) at its full size,
-    though a zero-mean quadratic force moves a mass's end position by nothing (``QssC`` of a
-    free mass is 0): the flank sites' remaining rejections were such, ~1.1 of the bound at each end.
-
     GMS sites (2026-11-24) take the profile too, predicted by the law itself: ``dF`` is the
     law's end force minus its start force over the step from the sample's start to the
     predicted end (:func:`_predict_profile`). While every element keeps its mode (sticking
@@ -1180,8 +1139,7 @@ def run(
     # the sample's response to a zero-mean force ramp ``dF (t / dt - 1/2)`` per site (coarse
     # steps' linear force profile), as the sub-step scheme applies it: held at each sub-step's
     # mid value ``(i + 1/2) / n_sub - 1/2``; ``GrTC`` transposed, ``RssC`` its site compliance
-    GrTC, RssC, QssC = _ramp_maps(Phi, Gf, Cq, n_sub if n_c else 0)
-    ra = np.zeros(ns)  # a coarse step's signed force deviation from its profile at the start
+    GrTC, RssC = _ramp_maps(Phi, Gf, Cq, n_sub if n_c else 0)
     dFp = np.zeros(ns)  # a coarse step's predicted force change over the sample, per site
     dlam = np.zeros(ns)  # ... and its predicted load change (LuGre/Dahl sites; 0 in sub-steps)
     lpred = np.zeros(ns)  # the predicted load at a coarse step's end
@@ -1664,8 +1622,7 @@ def run(
                                 else:  # a motion's rate here is the departing one, the record's the arriving one
                                     Fs_j = _site_now(site_kind[j], par, site_po[j], sts, site_so[j], s0[j], v0s[j],
                                                      lams[j])
-                                ra[j] = Fs_j - (Fbar[j] - 0.5 * dFp[j])
-                                dev[j] = abs(ra[j]) * Gjj / (1.0 + Gjj * max(kt[j], 0.0))
+                                dev[j] = abs(Fs_j - (Fbar[j] - 0.5 * dFp[j])) * Gjj / (1.0 + Gjj * max(kt[j], 0.0))
                     for j in range(ns):  # commit the states (static and memoryless sites have none)
                         if site_kind[j] == S_LUGRE:
                             if math.isfinite(zend[j]):
@@ -1708,20 +1665,13 @@ def run(
                         for m in range(nmot):
                             vj += Cm[j, m] * w1[nact + nmot + m]
                         Fe_j = _site_now(site_kind[j], par, site_po[j], st, site_so[j], s0[j] + ds[j], vj, lam[j])
-                        rb = Fe_j - (Fbar[j] + 0.5 * dFp[j])
-                        dF_j = abs(rb)
+                        dF_j = abs(Fe_j - (Fbar[j] + 0.5 * dFp[j]))
                         lmid = lams[j] + 0.5 * dlam[j]
                         if has_load and lmid > 0.0:  # the mean's error from the load's predicted end
                             dF_j += 0.5 * abs(lam[j] - lpred[j]) * abs(Fbar[j]) / lmid
                         e_j = dF_j * Gjj / (1.0 + Gjj * max(kt[j], 0.0))
                         if not (dev[j] <= ptol and e_j <= ptol):  # NaN rejects too
-                            # a site with a profile: the deviation's shape through the chain (see
-                            # "Shape of the deviation" above), within SHAPE_CAP of the held bound
-                            es = (abs((rb - ra[j]) * RssC[j, j] + 3.0 * (rb + ra[j]) * QssC[j, j])
-                                  + (dF_j - abs(rb)) * Gjj) / (1.0 + Gjj * max(kt[j], 0.0))
-                            if not (dFp[j] != 0.0 and es <= ptol and dev[j] <= SHAPE_CAP * ptol
-                                    and e_j <= SHAPE_CAP * ptol):
-                                ok = False
+                            ok = False
                         if site_kind[j] == S_GMS:  # an element broke away or stuck: a kink in its force
                             so_j = site_so[j]
                             Mj = int(par[site_po[j] + 12])

@@ -212,7 +212,8 @@ class MachineResult(TraceAccess):
     q, v : ndarray (N, n) — positions and velocities of the degrees of freedom at the samples.
     site_forces : ndarray (N, n_sites) — site forces at the samples (friction, compliance or load;
         ``F`` is the deprecated old name): from the state for dynamic laws and
-        compliances; for a static law (no state) the mean over the last sub-step before the sample.
+        compliances; for a static law (no state) the mean over the last sub-step before the sample
+        (at t = 0, for a site at rest, its force over the first sample: the holding force).
     signals : ndarray (N, n_signals) — every controller signal after the sample's update.
     u : ndarray (N, n_actuators) — applied actuator commands (after saturation and delay).
     dof_names, site_names, signal_names, actuator_names : tuple of str.
@@ -1143,6 +1144,8 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
         kw.setdefault("coarse", True)
         status, k_end, n_bad, n_one, _ = _k.run(*[kw[name] for name in _RUN_PARAMS],
                                          **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
+    if k_end > 1:
+        _initial_static_forces(p["kargs"], v_out, mot, F_out, dt)
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
             arr[k_end:] = np.nan
@@ -1163,6 +1166,24 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
                          signal_names=tuple(sig_names), actuator_names=tuple(act_names),
                          substeps=0 if axis else int(substeps), status=int(status), message=message,
                          path=_AXIS_PATH if axis else "general loop", one_step_samples=int(n_one))
+
+
+def _initial_static_forces(ka: dict, v_out: np.ndarray, mot: np.ndarray, F_out: np.ndarray, dt: float) -> None:
+    """Set the t = 0 force of each static-law site at rest at t = 0 to its force at the next sample.
+
+    A static law's force at rest is set-valued (anything up to the breakaway level that balances
+    the other forces); both kernels only learn it by stepping the first sample, so they recorded 0
+    at t = 0 (the EMPS axis held against its 3.1648 N offset read 0, then 3.1648 N from t = dt on).
+    The force of the first sample is the consistent value: the holding force when the site stays at
+    rest over it (exact for a force held over the sample, as a controller's), else its sliding force
+    at t = dt (it broke away within the first sample). Sites that move at t = 0 keep the kernel's value."""
+    kinds = ka["site_kind"]
+    if kinds.size == 0:
+        return
+    rate0 = (mot[1] - mot[0]) / dt if mot.shape[0] > 1 else np.zeros(mot.shape[1])
+    vsite = ka["Cq"] @ v_out[0] + ka["Cm"] @ rate0
+    at_rest = (kinds == _k.S_STATIC) & (vsite == 0.0)
+    F_out[0, at_rest] = F_out[1, at_rest]
 
 
 #: ``MachineResult.path`` of a run on the one-DOF axis kernel.

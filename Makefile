@@ -46,6 +46,7 @@ $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
 bench: $(VENV)/.installed-bench
 	$(BIN)/python benchmarks/simulate.py
 	$(BIN)/python benchmarks/peers.py
+	$(BIN)/python benchmarks/machines.py --quick
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

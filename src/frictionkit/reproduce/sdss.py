@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..identify.static_map import fit_static_map
-from . import REPRODUCTION_FORMAT
+from . import REPRODUCTION_FORMAT, worst_status
 from ..errors import IdentificationError, ParameterError
 from ..identify.two_step import (MAX_RIPPLE_PERCENT, TwoStepResult, constant_velocity_ripple, fit_two_step,
                                   is_flagged, screen_constant_velocity, velocity_nrmse)
@@ -280,7 +280,9 @@ def sidereal_tracking(axis=None, model: LuGre | None = None, *, duration: float 
 @dataclass(frozen=True, eq=False)
 class SdssReproduction:
     """All three axes and the tracking extension; :meth:`to_dict` is the JSON document of issue 10,
-    :meth:`summary` its text (each identified parameter against the truth, with its interval)."""
+    :meth:`summary` its text (each identified parameter against the truth, with its interval).
+    ``status``: the worst status of its fits (0 ok, 1 failed, 2 see the fit's docstring), ``message``
+    naming each fit that is not ok (in the JSON document too)."""
 
     axes: dict
     tracking: dict
@@ -331,6 +333,7 @@ class SdssReproduction:
                 axes[name]["message"] = o.fit.message
         return {"format": REPRODUCTION_FORMAT, "reproduction": "sdss",
                 "paper": "seed 002, Friction Model of the 2.5 m SDSS Telescope", "quick": self.quick, "seed": self.seed,
+                "status": self.status, "message": self.message,
                 "axes": axes, "sidereal_tracking_rms_arcsec": self.tracking,
                 "encoder": sdss.Encoder().name, "dt_log_s": DT_LOG}
 
@@ -355,10 +358,23 @@ def run(*, quick: bool = False, seed: int = 0, progress=None,
     step("sidereal tracking (ours)")
     trk = sidereal_tracking(model=az.fit.model if az.fit.model is not None else None,
                             duration=15.0 if quick else 30.0, seed=seed)
-    bad = [o.name for o in (az, alt) if o.fit is None or o.fit.status != 0]
-    return SdssReproduction(axes={"azimuth": az, "altitude": alt, "rotator": rot}, tracking=trk, quick=quick,
-                            seed=seed, status=1 if bad else 0,
-                            message="ok" if not bad else f"estimation failed on {bad}")
+    axes = {"azimuth": az, "altitude": alt, "rotator": rot}
+    status, message = worst_status(_parts(axes))
+    return SdssReproduction(axes=axes, tracking=trk, quick=quick, seed=seed, status=status, message=message)
+
+
+def _parts(axes: dict) -> dict:
+    """``{part: (status, message)}`` of the fits of every axis (:func:`worst_status`): the azimuth
+    and altitude two-step fits, the rotator's static map and its separation fits."""
+    parts = {}
+    for name, o in axes.items():
+        if name in ("azimuth", "altitude"):
+            parts[name] = (1, "no fit") if o.fit is None else (o.fit.status, o.fit.message)
+        for key in ("static_result", "hd_result", "bearing_result"):
+            r = o.extra.get(key)
+            if r is not None:
+                parts[f"{name} {key.removesuffix('_result')}"] = (r.status, r.message)
+    return parts
 
 
 # --------------------------------------------------------------------------- interval coverage

@@ -120,7 +120,7 @@ from ..control.zero_speed import (
     reversal_lead,
     select_compensators,
 )
-from . import REPRODUCTION_FORMAT
+from . import REPRODUCTION_FORMAT, worst_status
 from ..errors import ParameterError, SimulationError
 from ..plants.ballscrew import ElasticBallScrew
 from ..presets import zhu_fujimoto as zf
@@ -517,14 +517,26 @@ class ReproductionResult:
     fig5: Fig5Result | None = None
     redesign: RedesignResult | None = None
 
+    def _parts(self) -> dict:
+        """``{part: (status, message)}`` of its simulation runs (:func:`~frictionkit.reproduce.worst_status`)."""
+        parts = {}
+        for part, runs in (("table3", self.table3.runs), ("fig10", self.fig10.runs),
+                           ("fig5", {} if self.fig5 is None else self.fig5.runs),
+                           ("table2 redesign", {} if self.redesign is None else self.redesign.runs)):
+            for k, r in runs.items():
+                parts[f"{part} {k}"] = (r.status, r.message)
+        return parts
+
     @property
     def status(self) -> int:
-        """0: every part ran (a part that cannot run raises, so a result always has status 0)."""
-        return 0
+        """The worst status of its simulation runs (0: all ok; see ``ClosedLoopResult``). :func:`run`
+        raises on a run that fails, so its results have status 0."""
+        return worst_status(self._parts())[0]
 
     @property
     def message(self) -> str:
-        return "ok"
+        """``"ok"``, or each run that is not ok with its status and message."""
+        return worst_status(self._parts())[1]
 
     def plot(self, ax=None):
         """Without ``ax``: the whole reproduction figure (Fig. 15, Fig. 10, Fig. 5, Table 2's
@@ -563,6 +575,8 @@ class ReproductionResult:
             "paper": "Zhu & Fujimoto, High-precision control for ball-screw-driven stage in zero-speed region (seed 001)",
             "quick": self.quick,
             "seed": self.seed,
+            "status": self.status,
+            "message": self.message,
             "stage": self.stage,
             "nut_model": self.nut_model,
             "table3": {k: {"max_error_um": v, "paper_um": TABLE3_PAPER_UM.get(k)} for k, v in t3.max_error_um.items()},

@@ -252,6 +252,15 @@ class TDMSRecording:
     message: str
     wall_time: float = float("nan")
 
+    def __repr__(self) -> str:
+        """Sizes, duration and mode, not the arrays (``print(rec)`` dumped every one of them)."""
+        n = self.t.size
+        dt = self.t[1] - self.t[0] if n > 1 else float("nan")
+        dur = self.t[-1] - self.t[0] if n else 0.0
+        return (f"TDMSRecording(drive={self.drive!r}, mode={self.reference.mode!r}, n={n}, dt={dt:.6g} s, "
+                f"duration={dur:.6g} s, plateaus={len(self.segments)}, sites={sorted(self.site_forces)}, "
+                f"status={self.status})")
+
     @property
     def success(self) -> bool:
         return self.status == 0

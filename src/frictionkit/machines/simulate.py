@@ -1144,8 +1144,8 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
         kw.setdefault("coarse", True)
         status, k_end, n_bad, n_one, _ = _k.run(*[kw[name] for name in _RUN_PARAMS],
                                          **{name: kw[name] for name in _RUN_OPTIONAL if name in kw})
-    if k_end > 1:
-        _initial_static_forces(p["kargs"], v_out, mot, F_out, dt)
+    if k_end > (1 if axis else 2):
+        _initial_static_forces(p["kargs"], v_out, mot, F_out, dt, axis)
     if k_end < N:
         for arr in (q_out, v_out, F_out, sig_out, u_out):
             arr[k_end:] = np.nan
@@ -1168,22 +1168,30 @@ def _run_machine(machine, dt, inputs, N, substeps, seed, raise_on_failure, axis:
                          path=_AXIS_PATH if axis else "general loop", one_step_samples=int(n_one))
 
 
-def _initial_static_forces(ka: dict, v_out: np.ndarray, mot: np.ndarray, F_out: np.ndarray, dt: float) -> None:
-    """Set the t = 0 force of each static-law site at rest at t = 0 to its force at the next sample.
+def _initial_static_forces(ka: dict, v_out: np.ndarray, mot: np.ndarray, F_out: np.ndarray, dt: float,
+                           axis: bool) -> None:
+    """Set the t = 0 force of each static-law site at rest at t = 0 from the next samples.
 
     A static law's force at rest is set-valued (anything up to the breakaway level that balances
     the other forces); both kernels only learn it by stepping the first sample, so they recorded 0
     at t = 0 (the EMPS axis held against its 3.1648 N offset read 0, then 3.1648 N from t = dt on).
-    The force of the first sample is the consistent value: the holding force when the site stays at
-    rest over it (exact for a force held over the sample, as a controller's), else its sliding force
-    at t = dt (it broke away within the first sample). Sites that move at t = 0 keep the kernel's value."""
+    The axis kernel holds the forces over a sample, so its force at t = dt is the one at t = 0 (the
+    holding force, or the sliding force when the site broke away in the first sample). The general
+    loop records a sub-step mean, and springs or motions may change the holding force within the
+    sample: a site still at rest at t = dt gets the linear extrapolation ``2 F(dt) - F(2 dt)`` (its
+    error falls with the sub-step, as the twin parity asks), one that broke away ``F(dt)``. Sites
+    moving at t = 0 keep the kernel's value."""
     kinds = ka["site_kind"]
     if kinds.size == 0:
         return
-    rate0 = (mot[1] - mot[0]) / dt if mot.shape[0] > 1 else np.zeros(mot.shape[1])
-    vsite = ka["Cq"] @ v_out[0] + ka["Cm"] @ rate0
-    at_rest = (kinds == _k.S_STATIC) & (vsite == 0.0)
+    rate = np.diff(mot[:3], axis=0) / dt if mot.shape[1] else np.zeros((2, 0))
+    v0 = ka["Cq"] @ v_out[0] + ka["Cm"] @ rate[0]
+    at_rest = (kinds == _k.S_STATIC) & (v0 == 0.0)
     F_out[0, at_rest] = F_out[1, at_rest]
+    if not axis:
+        v1 = ka["Cq"] @ v_out[1] + ka["Cm"] @ rate[1]
+        held = at_rest & (v1 == 0.0)
+        F_out[0, held] = 2.0 * F_out[1, held] - F_out[2, held]
 
 
 #: ``MachineResult.path`` of a run on the one-DOF axis kernel.

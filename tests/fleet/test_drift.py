@@ -100,4 +100,8 @@ def test_report_draws_flagged_axes_over_time(tmp_path):
     df["unit_F"], df["unit_v"], df["frictionkit_version"], df["file"], df["error"] = "N", "m/s", "x", "f", None
     doc = fleet_report(df, tmp_path / "f.html")
     assert doc["flagged"] == ["axis-0001"] and doc["drawn"] == ["axis-0001"]
-    assert "axis-0001" in (tmp_path / "f.html").read_text(encoding="utf-8")
+    text = (tmp_path / "f.html").read_text(encoding="utf-8")
+    assert "axis-0001" in text
+    assert "<td>1 axis (monitor: cusum)</td>" in text  # was "1 axes"
+    fleet_report(df, tmp_path / "g.html", max_axes=0)
+    assert "1 more flagged axis not drawn" in (tmp_path / "g.html").read_text(encoding="utf-8")

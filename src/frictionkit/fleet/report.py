@@ -91,7 +91,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
     parts.append(_table(["item", "value"], [  # was an empty header row
         ["axes", len(axes)], ["axis-periods", len(df)], ["periods", f"{periods[0]} … {periods[-1]}" if periods else ""],
         ["identified", int(ok.sum())], ["failed (see below)", int((~ok).sum())],
-        ["drift flagged", f"{len(flagged)} axes (monitor: {method})"],
+        ["drift flagged", f"{len(flagged)} {_axes(len(flagged))} (monitor: {method})"],
         ["frictionkit", ", ".join(sorted(df["frictionkit_version"].dropna().astype(str).unique()))],
     ]))
 
@@ -117,7 +117,8 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
         plt.close(fig)
         drawn.append(axis)
     if len(flagged) > len(drawn):
-        parts.append(f"<p>{len(flagged) - len(drawn)} more flagged axes not drawn (max_axes = {max_axes}).</p>")
+        more = len(flagged) - len(drawn)
+        parts.append(f"<p>{more} more flagged {_axes(more)} not drawn (max_axes = {max_axes}).</p>")
 
     bad = df[~ok]
     parts.append(f"<h2>Files that failed ({len(bad)})</h2>")
@@ -129,6 +130,11 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
     atomic_write_text(out, "\n".join(parts))
     return {"out": str(out), "axes": int(len(axes)), "rows": int(len(df)), "ok": int(ok.sum()),
             "errors": int((~ok).sum()), "flagged": flagged["axis"].tolist(), "drawn": drawn}
+
+
+def _axes(n: int) -> str:
+    """``"axis"`` for one, else ``"axes"`` (the page said "1 axes")."""
+    return "axis" if n == 1 else "axes"
 
 
 __all__ = ["HISTORY", "fleet_report"]

@@ -41,6 +41,9 @@ LAW_SOURCES = {
     "GMS": "generalized Maxwell-slip: seed 000 eqs. 1-3, 6, 9",
 }
 
+#: Width of the family column of :meth:`Catalog.summary` (the kernel families: static, lugre, gms).
+_FAMILY_WIDTH = 7
+
 
 @dataclass(frozen=True)
 class LawInfo:
@@ -105,7 +108,13 @@ class Catalog:
         lines = ["Friction laws (frictionkit.models registry):"]
         for law in self.laws:
             fields = ", ".join(f"{k} [{u}]" if u else k for k, u in law.fields.items())
-            lines += [f"  {law.name:<15} {law.family:<7} {fields}", f"  {'':<15} source: {law.source}"]
+            # a family wider than its column ("any (as the laws it holds)") ran into the fields:
+            # its first word in the column, the whole text on a line of its own
+            fam = law.family if len(law.family) <= _FAMILY_WIDTH else law.family.split()[0]
+            lines.append(f"  {law.name:<15} {fam:<{_FAMILY_WIDTH}} {fields}")
+            if fam != law.family:
+                lines.append(f"  {'':<15} family: {law.family}")
+            lines.append(f"  {'':<15} source: {law.source}")
         lines.append("Reversal compensation laws (frictionkit.models.rolling):")
         for c in self.compensators:
             lines += [f"  {c.name:<22} ({', '.join(c.parameters)})", f"  {'':<22} source: {c.source}"]

@@ -438,10 +438,11 @@ def simulate_fleet(
                     progress(done, n_files)
     except KeyboardInterrupt:  # say what is there and how to go on (the CLI prints it as its error line)
         # counted on disk, not by `done`: the interrupt can land between a log's atomic write and the
-        # count (a test saw "63 of 2000" with 64 complete logs on disk)
+        # count (a test saw "63 of 2000" with 64 complete logs on disk); by the rule a resume keeps
+        # (written since this run started: an older fleet's log of the same name is not this run's)
         on_disk = sum(1 for i in range(axes) for d in range(days)
-                      if (root / f"axis-{i + 1:0{width}d}" / f"{(day0 + _dt.timedelta(days=d)).isoformat()}."
-                          f"{formats[i % len(formats)]}").is_file())
+                      if _written_since(root / f"axis-{i + 1:0{width}d}" / f"{(day0 + _dt.timedelta(days=d)).isoformat()}."
+                                        f"{formats[i % len(formats)]}", started))
         raise KeyboardInterrupt(
             f"{on_disk} of {n_files} log files are in '{root}', each complete; no fleet.toml yet ({UNFINISHED} records "
             "the run). Run it again with the same arguments to resume: it keeps them and writes the rest") from None

@@ -419,14 +419,33 @@ def fleet(tmp_path_factory):
 
 
 def test_fleet(fleet):
-    kind, (sec,) = sections_from_file(fleet / "fleet.parquet")
+    # the numbers, then (when any) the flagged axes with their histories, then the failed files,
+    # each its own section: in one section the flagged axes' history plots came after the failed
+    # files' table (a section draws its tables before its figures), far from the flagged table
+    kind, (sec, *rest) = sections_from_file(fleet / "fleet.parquet")
     broken = (fleet / "logs" / "broken.txt").read_text().split()
     assert kind == "fleet" and sec.title == "Fleet: 2 axes, 4 axis-periods"
     numbers = dict(sec.table[1:])
     assert numbers["failed"] == str(len(broken)) and numbers["identified"] == str(4 - len(broken))
-    failed = _table(sec, "Files that failed")
+    assert rest[-1].title == f"Fleet: files that failed ({len(broken)})" and not rest[-1].figures
+    failed = _table(rest[-1], "Files that failed")
     assert [r[2] for r in failed[1:]] == broken
     assert sec.figures and all(png.startswith(PNG) for _, png in sec.figures)
+
+
+def test_fleet_flagged_axes_section_holds_their_histories():
+    from frictionkit.report.adapters import fleet_sections
+
+    df = pd.DataFrame({"axis": ["a", "a", "b", "b"], "period": ["2026-01-01", "2026-02-01"] * 2, "ok": [True, True, True, False],
+                       "Fc_pos": [1.0, 1.5, 1.0, np.nan], "file": ["f1", "f2", "f3", "f4"],
+                       "error": [None, None, None, "bad header"],
+                       "drift_flag": [False, True, False, False], "drift_alarm_period": [None, "2026-02-01", None, None],
+                       "drift_detail": [None, "drift from 2026-02-01", None, None]})
+    main, flagged, failed = fleet_sections(df)
+    assert flagged.title == "Fleet: flagged axes (1)"
+    assert [c for c, _ in flagged.tables] == ["Flagged axes (1)"] and [n for n, _ in flagged.figures] == ["fleet_a.png"]
+    assert failed.title == "Fleet: files that failed (1)" and failed.tables[0][1][1] == ["b", "2026-02-01", "f4", "bad header"]
+    assert [c for c, _ in main.tables] == []
 
 
 def test_all_kinds_on_one_page(files, study, fleet, tmp_path):
@@ -436,5 +455,5 @@ def test_all_kinds_on_one_page(files, study, fleet, tmp_path):
         rep.add_file(p)
     page = rep.write(tmp_path).read_text(encoding="utf-8")
     assert_self_contained(page)
-    assert page.count("<section") == 5 and "<nav>" in page
+    assert page.count("<section") == 6 and "<nav>" in page  # the fleet: numbers, then its failed files
     assert [i["kind"] for i in rep.to_dict()["inputs"]] == ["identification", "model", "traces", "study", "fleet"]

@@ -40,5 +40,6 @@ def test_report_says_one_axis_flagged():
     df = _table(True)
     for c, v in (("drift_alarm_period", "2026-01-01"), ("drift_detail", "wear")):
         df[c] = [None] * 4 + [v]
-    (sec,) = fleet_sections(df)
+    sec, flagged = fleet_sections(df)  # the flagged axis has a section of its own
     assert dict(sec.table[1:])["drift flagged"] == "1 axis"
+    assert flagged.title == "Fleet: flagged axes (1)"

@@ -916,7 +916,8 @@ def study_summary_sections(d: Mapping[str, Any]) -> list[Section]:
 
 # --------------------------------------------------------------------------- fleets
 def fleet_sections(df) -> list[Section]:
-    """The fleet in numbers, parameter distributions, flagged axes (drawn over time), failed files."""
+    """The fleet in numbers and parameter distributions; then, when there are any, a section of the
+    flagged axes (drawn over time) and one of the failed files."""
     from ..fleet.drift import drift_summary
     from ..fleet.report import HISTORY
     from ..plotting.fleet import plot_axis_histories, plot_parameter_distribution
@@ -943,20 +944,26 @@ def fleet_sections(df) -> list[Section]:
         for p, ax in zip(params, axs[0]):
             plot_parameter_distribution(df, p, ax=ax)
         sec.figures.append(("fleet_distribution.png", figure_png(fig, dpi=100)))
+    # the fleet page's order (fleet.report): numbers and distributions, then the flagged axes
+    # with their histories, then the failed files. A section shows its tables before its figures,
+    # so in one section the histories came after the failed files' table, far from their axes.
+    out = [sec]
     if flagged is not None and len(flagged):
         flagged = flagged.sort_values("drift_alarm_period", kind="stable")
-        sec.tables.append((f"Flagged axes ({len(flagged)})", [["axis", "alarm", "why"]] + [
+        fl = Section(f"Fleet: flagged axes ({len(flagged)})")
+        fl.tables.append((f"Flagged axes ({len(flagged)})", [["axis", "alarm", "why"]] + [
             [str(r["axis"]), str(r.get("drift_alarm_period", "")), str(r.get("drift_detail", ""))]
             for _, r in flagged.iterrows()]))
         for axis in flagged["axis"].head(5):
             fig = plot_axis_histories(df, axis, params)
-            sec.figures.append((f"fleet_{axis}.png", figure_png(fig, dpi=100)))
+            fl.figures.append((f"fleet_{axis}.png", figure_png(fig, dpi=100)))
+        out.append(fl)
     bad = df[~ok]
     if len(bad):
         cols = [c for c in ("axis", "period", "file", "error") if c in df]
-        sec.tables.append((f"Files that failed ({len(bad)})", [cols] + [[str(r[c]) for c in cols]
-                                                                      for _, r in bad.head(50).iterrows()]))
-    return [sec]
+        out.append(Section(f"Fleet: files that failed ({len(bad)})", tables=[(
+            f"Files that failed ({len(bad)})", [cols] + [[str(r[c]) for c in cols] for _, r in bad.head(50).iterrows()])]))
+    return out
 
 
 # --------------------------------------------------------------------------- simulated traces

@@ -281,8 +281,9 @@ def sidereal_tracking(axis=None, model: LuGre | None = None, *, duration: float 
 class SdssReproduction:
     """All three axes and the tracking extension; :meth:`to_dict` is the JSON document of issue 10,
     :meth:`summary` its text (each identified parameter against the truth, with its interval).
-    ``status``: the worst status of its fits (0 ok, 1 failed, 2 see the fit's docstring), ``message``
-    naming each fit that is not ok (in the JSON document too)."""
+    ``status``: the worst status of its fits, each as its docstring says (the two-step fits: 1
+    failed; the rotator's static maps: 1 converged with warnings, such as ``vs`` not identifiable,
+    2 not converged); ``message`` names each fit that is not ok (in the JSON document too)."""
 
     axes: dict
     tracking: dict
@@ -372,8 +373,9 @@ def _parts(axes: dict) -> dict:
             parts[name] = (1, "no fit") if o.fit is None else (o.fit.status, o.fit.message)
         for key in ("static_result", "hd_result", "bearing_result"):
             r = o.extra.get(key)
-            if r is not None:
-                parts[f"{name} {key.removesuffix('_result')}"] = (r.status, r.message)
+            if r is not None:  # a static map's status 1 is "converged with warnings": name them
+                why = "; ".join(getattr(r, "warnings", ())) or r.message
+                parts[f"{name} {key.removesuffix('_result')}"] = (r.status, why)
     return parts
 
 

@@ -894,8 +894,9 @@ def _drive(
                     # start, apply it there (the landing rule of the accepted steps below). Until issue 15
                     # (gms15) only once the error-based shrinking (x 0.2 a rejection) had reached 1e-4 dt:
                     # every reversal of the GMS-4 stick-slip benchmark then marched to it in ~8 rejected
-                    # and ~6 accepted sub-steps; with the landing everywhere 1843 -> 1739 sub-steps, GMS-16
-                    # 15710 -> 12808, GMS-4 closer to the twin (max |dx| 0.203 -> 0.175 um, GMS-16 0.095).
+                    # and ~6 accepted sub-steps; with the landing everywhere (capped at 0.9 h) 1843 -> 1733
+                    # sub-steps, GMS-16 15710 -> 13675, GMS-4 closer to the reference (max |dx| 0.203 ->
+                    # 0.175 um; GMS-16 0.0949 -> 0.0951 um; benchmarks/peers.py, 2026-11-24).
                     th_r = v / (v - vn)
                     if th_r * h <= h_ev:
                         for i in range(M):

@@ -1076,7 +1076,7 @@ def gms_force(
     """Force-driven run; fills ``x, v, F`` (N,), ``Fel`` (N, M) and ``stick_out`` (N, M).
 
     ``stick_out`` must arrive zeroed (all False): spans write the flags only where an element
-    sticks (``simulation.core._gms_buffers`` allocates it with ``np.zeros``).
+    sticks (``simulation.core._gms_block`` zeroes it; the motion path's ``_gms_buffers`` uses ``np.zeros``).
 
     ``v_floor``: as in :func:`frictionkit.kernels.lugre.lugre_force`. ``span``: spanning steps
     (module docstring); False gives the adaptive sub-steps in every interval (tests compare)."""

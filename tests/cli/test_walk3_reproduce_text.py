@@ -101,6 +101,19 @@ def test_sdss_prints_an_axis_status(monkeypatch, tmp_path):
     assert "rotator: status" not in res.stdout
 
 
+def test_sdss_prints_the_runs_status(monkeypatch, tmp_path):
+    """The run's top-level status (worst of its parts, e.g. the rotator's static maps) was only in the JSON."""
+    import frictionkit.reproduce.sdss as sdss_rep
+
+    summary = {"axes": {"rotator": {"identified": {}, "truth": {}}},
+               "sidereal_tracking_rms_arcsec": {"no_compensation": 1.0, "lugre_feedforward": 0.5},
+               "status": 1, "message": "rotator static map (positive): vs not identifiable"}
+    monkeypatch.setattr(sdss_rep, "run", lambda **kw: SimpleNamespace(to_dict=lambda: dict(summary)))
+    res = CliRunner().invoke(app, ["reproduce", "sdss", "--quick", "--json", str(tmp_path / "s.json"), "--no-plot"])
+    assert res.exit_code == 0, res.output
+    assert "status 1: rotator static map (positive): vs not identifiable" in res.stdout.splitlines()
+
+
 def test_the_progress_bar_ends_on_done(stand_in, tmp_path):
     """The stage bar's last frame read "plot" (the last stage) after the run had ended."""
     res = CliRunner().invoke(app, ["reproduce", "zhang2023", "--quick", "--json", str(tmp_path / "z.json")])

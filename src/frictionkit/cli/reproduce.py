@@ -352,6 +352,10 @@ def sdss(
     trk = summary["sidereal_tracking_rms_arcsec"]
     out.print(f"sidereal tracking RMS (ours): no compensation {trk['no_compensation']:.4f} arcsec, "
               f"LuGre feed-forward {trk['lugre_feedforward']:.4f} arcsec")
+    if summary.get("status"):  # the whole run's (worst of its parts: the rotator's maps too), as zhang2023 prints it
+        from ..report.adapters import _clip
+
+        out.print(f"status {summary['status']}: {_clip(summary.get('message') or '')}", markup=False)
     out.print(f"wrote {json_out}" + (f" and {png}" if png is not None else ""))
 
 

@@ -141,6 +141,7 @@ def identify(
     from ..errors import IdentificationError, ParameterError
     from ..fleet import identify_fleet
     from ..fleet.identify import resolve_config
+    from ..fleet.report import axes_word
 
     chk.folder(dataset, "DATASET")
     workers = dask_options(workers, scheduler)
@@ -169,7 +170,7 @@ def identify(
         lines.append(f"  ... {len(errs) - 5} more (column 'error')")
     if run.monitored:
         flagged = doc.get("flagged_axes", [])
-        lines.append(f"drift: {len(flagged)} {'axis' if len(flagged) == 1 else 'axes'} flagged" + (f" ({', '.join(flagged[:10])}"
+        lines.append(f"drift: {len(flagged)} {axes_word(len(flagged))} flagged" + (f" ({', '.join(flagged[:10])}"
                                                                     f"{' ...' if len(flagged) > 10 else ''})" if flagged else ""))
     lines.append(f"wrote {out} ({len(run.table)} row{'' if len(run.table) == 1 else 's'}; {run.elapsed:.1f} s)")
     if len(errs) and len(errs) == len(run.table):

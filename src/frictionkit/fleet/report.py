@@ -91,7 +91,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
     parts.append(_table(["item", "value"], [  # was an empty header row
         ["axes", len(axes)], ["axis-periods", len(df)], ["periods", f"{periods[0]} … {periods[-1]}" if periods else ""],
         ["identified", int(ok.sum())], ["failed (see below)", int((~ok).sum())],
-        ["drift flagged", f"{len(flagged)} {_axes(len(flagged))} (monitor: {method})"],
+        ["drift flagged", f"{len(flagged)} {axes_word(len(flagged))} (monitor: {method})"],
         ["frictionkit", ", ".join(sorted(df["frictionkit_version"].dropna().astype(str).unique()))],
     ]))
 
@@ -118,7 +118,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
         drawn.append(axis)
     if len(flagged) > len(drawn):
         more = len(flagged) - len(drawn)
-        parts.append(f"<p>{more} more flagged {_axes(more)} not drawn (max_axes = {max_axes}).</p>")
+        parts.append(f"<p>{more} more flagged {axes_word(more)} not drawn (max_axes = {max_axes}).</p>")
 
     bad = df[~ok]
     parts.append(f"<h2>Files that failed ({len(bad)})</h2>")
@@ -132,7 +132,7 @@ def fleet_report(results: pd.DataFrame | str | Path, out: str | Path, *, max_axe
             "errors": int((~ok).sum()), "flagged": flagged["axis"].tolist(), "drawn": drawn}
 
 
-def _axes(n: int) -> str:
+def axes_word(n: int) -> str:
     """``"axis"`` for one, else ``"axes"`` (the page said "1 axes")."""
     return "axis" if n == 1 else "axes"
 

@@ -402,11 +402,21 @@ def simulate_fleet(
 
     t, vref = daily_test_motion()
     width = max(4, len(str(axes)))
+
+    def axis_name(i: int) -> str:
+        return f"axis-{i + 1:0{width}d}"
+
+    def period_of(d: int) -> str:
+        return (day0 + _dt.timedelta(days=d)).isoformat()
+
+    def log_path(i: int, d: int) -> str:  # axis i's log of day d, relative to root (the loop's and the count's)
+        return f"{axis_name(i)}/{period_of(d)}.{formats[i % len(formats)]}"
+
     truth, truth_days, files, broken_list = [], [], [], []
     done = kept = 0
     try:
         for i in range(axes):
-            axis = f"axis-{i + 1:0{width}d}"
+            axis = axis_name(i)
             p = _axis_params(np.random.default_rng([int(seed), 1, i]), days, i in drift_set, (lo_w, hi_w))
             fmt = formats[i % len(formats)]
             truth.append({"axis": axis, "drifting": i in drift_set, "format": fmt,
@@ -416,9 +426,9 @@ def simulate_fleet(
             (root / axis).mkdir(exist_ok=True)
             for d in range(days):
                 rng = np.random.default_rng([int(seed), 2, i, d])
-                period = (day0 + _dt.timedelta(days=d)).isoformat()
+                period = period_of(d)
                 q = _day_params(p, d, rng)
-                rel = f"{axis}/{period}.{fmt}"
+                rel = log_path(i, d)
                 k = i * days + d
                 if resume and _written_since(root / rel, started):  # complete: written atomically
                     kept += 1
@@ -440,9 +450,7 @@ def simulate_fleet(
         # counted on disk, not by `done`: the interrupt can land between a log's atomic write and the
         # count (a test saw "63 of 2000" with 64 complete logs on disk); by the rule a resume keeps
         # (written since this run started: an older fleet's log of the same name is not this run's)
-        on_disk = sum(1 for i in range(axes) for d in range(days)
-                      if _written_since(root / f"axis-{i + 1:0{width}d}" / f"{(day0 + _dt.timedelta(days=d)).isoformat()}."
-                                        f"{formats[i % len(formats)]}", started))
+        on_disk = sum(_written_since(root / log_path(i, d), started) for i in range(axes) for d in range(days))
         raise KeyboardInterrupt(
             f"{on_disk} of {n_files} log files are in '{root}', each complete; no fleet.toml yet ({UNFINISHED} records "
             "the run). Run it again with the same arguments to resume: it keeps them and writes the rest") from None

@@ -919,7 +919,7 @@ def fleet_sections(df) -> list[Section]:
     """The fleet in numbers and parameter distributions; then, when there are any, a section of the
     flagged axes (drawn over time) and one of the failed files."""
     from ..fleet.drift import drift_summary
-    from ..fleet.report import HISTORY
+    from ..fleet.report import HISTORY, axes_word
     from ..plotting.fleet import plot_axis_histories, plot_parameter_distribution
 
     plt = _plt()
@@ -933,7 +933,7 @@ def fleet_sections(df) -> list[Section]:
     if monitored:
         axes = drift_summary(df)
         flagged = axes[axes["drift_flag"].astype(bool)]
-        rows.append(["drift flagged", f"{len(flagged)} {'axis' if len(flagged) == 1 else 'axes'}"])
+        rows.append(["drift flagged", f"{len(flagged)} {axes_word(len(flagged))}"])
     else:
         flagged = None
         sec.text.append("Not monitored for drift (no drift_flag column): run 'frictionkit fleet monitor' first.")
